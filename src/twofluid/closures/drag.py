@@ -1,0 +1,157 @@
+"""Interphase drag coefficient β [N·s/m⁴] (SPEC 4.1).
+
+Every law has the signature ``law(n, slip, d, rho_f, mu_f, *, stokes=False,
+per_solids=False, **params)``:
+
+- ``n`` porosity [-], ``slip`` = |U_f − U_s| [m/s] (arrays, broadcast together);
+- ``d`` = ψ d_p the drag diameter [m]; ``rho_f`` [kg/m³]; ``mu_f`` [Pa·s];
+- ``stokes=True`` drops the inertial part (β independent of slip);
+- ``per_solids=True`` returns β/(1 − n), which stays finite in clear liquid
+  (n = 1), where β itself vanishes (SPEC 5.2a).
+
+The drag force on the liquid per unit mixture volume is −β (U_f − U_s).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .registry import register
+
+__all__ = ["ergun", "wen_yu", "gidaspow", "schiller_naumann_cd", "hydraulic_conductivity",
+           "steady_fluidization_velocity"]
+
+G = 9.81
+
+
+def schiller_naumann_cd(re):
+    """Schiller–Naumann (Rowe) drag coefficient of a sphere [-].
+
+    C_D = 24/Re (1 + 0.15 Re^0.687) for Re < 1000, 0.44 above.
+    Returns C_D·Re (finite at Re = 0, where it tends to 24).
+
+    >>> float(schiller_naumann_cd(0.0))
+    24.0
+    >>> round(float(schiller_naumann_cd(2000.0)) / 2000.0, 2)
+    0.44
+
+    Reference: Schiller & Naumann (1933); Rowe (1961).
+    """
+    re = np.asarray(re, dtype=float)
+    return np.where(re < 1000.0, 24.0 * (1.0 + 0.15 * re ** 0.687), 0.44 * re)
+
+
+@register("drag", "ergun", porosity_range=(0.0, 0.8),
+          reference="Ergun (1952), in Gidaspow (1994) form; SPEC 4.1, 8.3")
+def ergun(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False):
+    """Ergun (dense) drag: β = 150 (1−n)² μ_f/(n d²) + 1.75 (1−n) ρ_f |U_f−U_s|/d.
+
+    Units: β [N·s/m⁴]. Valid for packed and dense beds (n ≲ 0.6–0.8). The Stokes
+    limit keeps only the first (viscous) term, which is Kozeny–Carman with 150.
+
+    >>> b = ergun(0.4, 0.01, 1e-3, 1000.0, 1e-3)
+    >>> round(float(b), 1)   # 150*0.36*1e-3/(0.4e-6) + 1.75*0.6*1000*0.01/1e-3
+    145500.0
+
+    Reference: Ergun, Chem. Eng. Prog. 48 (1952) 89; Gidaspow, Multiphase Flow
+    and Fluidization (1994), eq. 5.72.
+    """
+    n = np.asarray(n, dtype=float)
+    k = 150.0 * (1.0 - n) * mu_f / (n * d * d)
+    if not stokes:
+        k = k + 1.75 * rho_f * np.abs(slip) / d
+    return k if per_solids else (1.0 - n) * k
+
+
+@register("drag", "wen_yu", porosity_range=(0.2, 1.0),
+          reference="Wen & Yu (1966); SPEC 4.1, 8.4")
+def wen_yu(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False):
+    """Wen–Yu (dilute) drag: β = (3/4) C_D ρ_f n (1−n) |U_f−U_s| n^−2.65 / d.
+
+    C_D from Schiller–Naumann at Re = ρ_f n |U_f−U_s| d / μ_f; the Stokes limit
+    (C_D = 24/Re) is β = 18 μ_f (1−n) n^−2.65 / d², which makes a uniform bed
+    fluidize at the Richardson–Zaki velocity U = U_t n^4.65. Units: β [N·s/m⁴].
+
+    >>> b = wen_yu(0.7, 0.0, 1e-3, 1000.0, 1e-3, stokes=True)
+    >>> round(float(b), 3)   # 18*1e-3*0.3*0.7**-2.65/1e-6
+    13895.813
+
+    Reference: Wen & Yu, Chem. Eng. Prog. Symp. Ser. 62 (1966) 100;
+    Gidaspow (1994), eq. 5.73.
+    """
+    n = np.asarray(n, dtype=float)
+    if stokes:
+        cd_re = 24.0
+    else:
+        cd_re = schiller_naumann_cd(rho_f * n * np.abs(slip) * d / mu_f)
+    # (3/4) C_D ρ_f n |s| / d  with C_D = (C_D Re)/Re and Re = ρ_f n |s| d/μ_f
+    k = 0.75 * cd_re * mu_f / (d * d) * n ** -2.65
+    return k if per_solids else (1.0 - n) * k
+
+
+@register("drag", "gidaspow", params={"n_switch": 0.6, "blend_width": 0.0},
+          porosity_range=(0.0, 1.0), reference="Gidaspow (1994); SPEC 4.1")
+def gidaspow(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False,
+             n_switch=0.6, blend_width=0.0):
+    """Gidaspow's switched drag: Ergun below ``n_switch``, Wen–Yu above.
+
+    With ``blend_width`` = w > 0 the two laws are blended smoothly,
+    β = (1−φ) β_Ergun + φ β_WenYu with φ = 1/2 + arctan((n − n_switch)/w)/π
+    (Huilin & Gidaspow 2003); w = 0 (default) is the sharp switch of the thesis.
+    Units: β [N·s/m⁴].
+
+    >>> import numpy as np
+    >>> b = gidaspow(np.array([0.5, 0.7]), 0.0, 1e-3, 1000.0, 1e-3, stokes=True)
+    >>> bool(b[0] == ergun(0.5, 0.0, 1e-3, 1000.0, 1e-3, stokes=True))
+    True
+
+    Reference: Gidaspow, Multiphase Flow and Fluidization (1994), ch. 5.
+    """
+    n = np.asarray(n, dtype=float)
+    args = (n, slip, d, rho_f, mu_f)
+    ke = ergun(*args, stokes=stokes, per_solids=True)
+    kw = wen_yu(*args, stokes=stokes, per_solids=True)
+    if blend_width > 0.0:
+        phi = 0.5 + np.arctan((n - n_switch) / blend_width) / np.pi
+    else:
+        phi = (n >= n_switch).astype(float)
+    k = (1.0 - phi) * ke + phi * kw
+    return k if per_solids else (1.0 - n) * k
+
+
+def hydraulic_conductivity(beta, n, rho_f, g=G):
+    """Equivalent hydraulic conductivity k = ρ_f g n² / β [m/s] (SPEC 4.1).
+
+    >>> round(float(hydraulic_conductivity(1e6, 0.4, 1000.0)), 5)
+    0.00157
+    """
+    return rho_f * g * np.asarray(n, float) ** 2 / beta
+
+
+def steady_fluidization_velocity(law, n, d, rho_s, rho_f, mu_f, g=G, **params):
+    """Superficial liquid velocity U [m/s] that holds a uniform bed at porosity n.
+
+    With the solids at rest the liquid equation gives ∇P = ρ_f g − β s/n
+    (s = U/n the slip) and the solid equation then balances
+    β(n, s) s / n = (1 − n)(ρ_s − ρ_f) g: the drag carries the buoyant weight of
+    the solids through the liquid pressure gradient. Solved with scipy's brentq.
+    ``law`` is a drag function of this module.
+
+    >>> u = steady_fluidization_velocity(wen_yu, 0.7, 1e-4, 2600., 1000., 1e-3, stokes=True)
+    >>> ut = 1600*9.81*1e-8/18e-3
+    >>> round(u / (ut * 0.7**4.65), 9)
+    1.0
+    """
+    from scipy.optimize import brentq
+
+    weight = n * (1.0 - n) * (rho_s - rho_f) * g
+
+    def residual(u):
+        s = u / n
+        return float(law(n, s, d, rho_f, mu_f, **params)) * s - weight
+
+    hi = 1e-3
+    while residual(hi) < 0.0:
+        hi *= 2.0
+        if hi > 1e3:
+            raise ValueError("no fluidization velocity below 1000 m/s")
+    return brentq(residual, 0.0, hi, xtol=1e-14, rtol=1e-13)

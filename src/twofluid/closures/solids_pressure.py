@@ -1,0 +1,52 @@
+"""Granular (effective) pressure P_s(n, n̄) [Pa] (SPEC 4.4)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .registry import register
+
+__all__ = ["exponential", "reference_porosity_for"]
+
+_MAX_EXPONENT = 700.0  # exp(700) ~ 1e304: beyond it the state is meaningless anyway
+
+
+@register("solids_pressure", "exponential", params={"A": 0.015, "p_ref": 1.0},
+          porosity_range=(0.0, 1.0), reference="Pringle (2001) eq. 3.4x, 4.30; SPEC 4.4")
+def exponential(n, n_bar, A, p_ref=1.0, derivative=False):
+    """P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))] [Pa], and ∂P_s/∂n if asked.
+
+    ``A`` is the compressibility [-] (thesis: 0.015 sand, 0.1075 illite),
+    ``n_bar`` the reference porosity (state variable), ``p_ref`` = 1 Pa.
+    ∂P_s/∂n = −P_s (1 − n̄)/(A (1 − n)²). P_s → 0 in clear liquid (n → 1).
+
+    >>> float(exponential(0.4, 0.4, 0.015))
+    1.0
+    >>> p, dp = exponential(0.45, 0.4, 0.1, derivative=True)
+    >>> round(float(p), 6), round(float(dp), 3)
+    (0.40289, -7.991)
+    >>> float(exponential(1.0, 0.4, 0.015))
+    0.0
+
+    Reference: Pringle (2001), eq. 4.30; Gidaspow (1994) ch. 9 for the form.
+    """
+    n = np.asarray(n, dtype=float)
+    one_m = 1.0 - n
+    solid = one_m > 0.0
+    safe = np.where(solid, one_m, 1.0)
+    expo = np.minimum((1.0 - (1.0 - n_bar) / safe) / A, _MAX_EXPONENT)
+    ps = np.where(solid, p_ref * np.exp(np.where(solid, expo, 0.0)), 0.0)
+    if not derivative:
+        return ps
+    dps = np.where(solid, -ps * (1.0 - n_bar) / (A * safe * safe), 0.0)
+    return ps, dps
+
+
+def reference_porosity_for(n, p_s, A, p_ref=1.0):
+    """n̄ such that P_s(n, n̄) = p_s: n̄ = 1 − (1 − n)(1 − A ln(p_s/p_ref)) (SPEC 5.4).
+
+    >>> round(float(reference_porosity_for(0.45, 1e5, 0.015)), 6)
+    0.544982
+    >>> round(float(exponential(0.45, reference_porosity_for(0.45, 1e5, 0.015), 0.015)), 3)
+    100000.0
+    """
+    return 1.0 - (1.0 - np.asarray(n, float)) * (1.0 - A * np.log(np.asarray(p_s, float) / p_ref))

@@ -1,0 +1,242 @@
+"""Earthquake ground motions: reading PEER NGA AT2 and two-column CSV records.
+
+Records enter the program here and leave this module in SI units: time [s],
+acceleration [m/s²]. A record given in g is converted with standard gravity
+g = 9.80665 m/s² (the unit of the record, not the gravity of a case).
+
+>>> m = load(bundled_record("RSN6_IMPVALL.I_I-ELC180-hor1.AT2"))
+>>> m.npts, m.dt, round(m.pga_g, 3)
+(5372, 0.01, 0.281)
+>>> round(scale_to_pga(m, 0.1).pga_g, 6)
+0.1
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, replace
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["G_STANDARD", "GroundMotion", "GroundMotionError", "read_at2", "read_csv",
+           "load", "scale_to_pga", "baseline_correct", "value_at", "bundled_record",
+           "write_csv"]
+
+G_STANDARD = 9.80665  # [m/s²] the unit "g" of strong-motion records
+_HEADER = re.compile(r"NPTS\s*=\s*([^,\s]+)\s*,\s*DT\s*=\s*([^\s,]+)", re.IGNORECASE)
+
+
+class GroundMotionError(ValueError):
+    """A ground-motion file that cannot be read; the message names file and line."""
+
+
+@dataclass(frozen=True)
+class GroundMotion:
+    """An acceleration record.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times [s], strictly increasing.
+    acceleration : ndarray
+        Ground acceleration [m/s²].
+    name : str
+        Short name (file stem by default).
+    source : str
+        Path the record was read from ("" if built in memory).
+    dt : float or None
+        Constant sample interval [s], or None for an uneven record.
+    """
+
+    time: np.ndarray
+    acceleration: np.ndarray
+    name: str = ""
+    source: str = ""
+    dt: float | None = None
+
+    @property
+    def npts(self) -> int:
+        return int(self.time.size)
+
+    @property
+    def duration(self) -> float:
+        """Time of the last sample [s]."""
+        return float(self.time[-1])
+
+    @property
+    def pga(self) -> float:
+        """Peak absolute acceleration [m/s²]."""
+        return float(np.max(np.abs(self.acceleration)))
+
+    @property
+    def pga_g(self) -> float:
+        """Peak absolute acceleration in units of standard gravity [g]."""
+        return self.pga / G_STANDARD
+
+
+def _fail(path, line: int | None, what: str) -> GroundMotionError:
+    where = f"{path}" if line is None else f"{path}, line {line}"
+    return GroundMotionError(f"{where}: {what}")
+
+
+def read_at2(path: str | Path) -> GroundMotion:
+    """Read a PEER NGA ``.AT2`` file (acceleration in g) into SI units.
+
+    Format: four header lines, the fourth holding ``NPTS= <int>, DT= <float> SEC``,
+    then ``NPTS`` values in g, any number per line (five in PEER files).
+    Values beyond NPTS are an error, as are fewer values than NPTS.
+    """
+    path = Path(path)
+    lines = path.read_text(errors="replace").splitlines()
+    if len(lines) < 4:
+        raise _fail(path, len(lines) + 1, "truncated header: an AT2 file has 4 header lines")
+    match = _HEADER.search(lines[3])
+    if match is None:
+        raise _fail(path, 4, f"expected 'NPTS=..., DT=...' in the header, found {lines[3]!r}")
+    try:
+        npts = int(match.group(1))
+        dt = float(match.group(2))
+    except ValueError:
+        raise _fail(path, 4, f"bad NPTS/DT header values {match.group(0)!r}") from None
+    if npts <= 0 or not dt > 0.0 or not np.isfinite(dt):
+        raise _fail(path, 4, f"NPTS must be > 0 and DT > 0, got NPTS={npts}, DT={dt}")
+    values: list[float] = []
+    for number, line in enumerate(lines[4:], start=5):
+        for token in line.split():
+            try:
+                values.append(float(token))
+            except ValueError:
+                raise _fail(path, number, f"non-numeric value {token!r}") from None
+            if not np.isfinite(values[-1]):
+                raise _fail(path, number, f"non-finite value {token!r}")
+        if len(values) > npts:
+            raise _fail(path, number, f"more values than NPTS={npts}")
+    if len(values) < npts:
+        raise _fail(path, len(lines), f"fewer values ({len(values)}) than NPTS={npts}")
+    accel = np.asarray(values) * G_STANDARD
+    return GroundMotion(np.arange(npts) * dt, accel, path.stem, str(path), dt)
+
+
+def read_csv(path: str | Path, units: str = "g") -> GroundMotion:
+    """Read a two-column ``time_s, acceleration`` CSV file.
+
+    ``units`` is the unit of the acceleration column: ``"g"`` or ``"m/s2"``.
+    Blank lines and text after ``#`` are ignored; the first data line may be a
+    header (it is skipped if its first field is not a number). Times must be
+    strictly increasing.
+    """
+    path = Path(path)
+    factor = _unit_factor(units, path)
+    times: list[float] = []
+    accel: list[float] = []
+    seen_data = False
+    for number, raw in enumerate(path.read_text(errors="replace").splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        fields = [f.strip() for f in re.split(r"[,;\s]+", line) if f.strip()]
+        if not seen_data:
+            seen_data = True
+            try:
+                float(fields[0])
+            except ValueError:
+                continue  # header line
+        if len(fields) != 2:
+            raise _fail(path, number, f"expected 2 columns (time_s, acceleration), found {len(fields)}")
+        try:
+            t, a = float(fields[0]), float(fields[1])
+        except ValueError:
+            raise _fail(path, number, f"non-numeric value in {line!r}") from None
+        if not (np.isfinite(t) and np.isfinite(a)):
+            raise _fail(path, number, f"non-finite value in {line!r}")
+        if times and t <= times[-1]:
+            raise _fail(path, number, f"non-increasing time {t} after {times[-1]}")
+        times.append(t)
+        accel.append(a)
+    if len(times) < 2:
+        raise _fail(path, None, f"needs at least 2 samples, found {len(times)}")
+    time = np.asarray(times)
+    steps = np.diff(time)
+    dt = float(steps[0]) if np.allclose(steps, steps[0], rtol=1e-6, atol=0.0) else None
+    return GroundMotion(time, np.asarray(accel) * factor, path.stem, str(path), dt)
+
+
+def _unit_factor(units: str, path) -> float:
+    key = units.strip().lower().replace("²", "2").replace("^", "").replace(" ", "")
+    if key == "g":
+        return G_STANDARD
+    if key in ("m/s2", "m/s/s", "si"):
+        return 1.0
+    raise _fail(path, None, f"unknown acceleration units {units!r}; use 'g' or 'm/s2'")
+
+
+def load(path: str | Path, units: str | None = None) -> GroundMotion:
+    """Read a record, choosing the reader by extension (``.at2`` or ``.csv``/``.txt``).
+
+    AT2 records are always in g; ``units`` applies to CSV (default ``"g"``).
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".at2":
+        if units is not None and _unit_factor(units, path) != G_STANDARD:
+            raise _fail(path, None, "AT2 records are in g; units must be 'g' or omitted")
+        return read_at2(path)
+    if suffix in (".csv", ".txt", ".dat"):
+        return read_csv(path, units or "g")
+    raise _fail(path, None, f"unknown ground-motion format {suffix!r}; use .AT2 or .csv")
+
+
+def write_csv(motion: GroundMotion, path: str | Path, units: str = "m/s2") -> Path:
+    """Write ``time_s, acceleration`` with a header (round trip of :func:`read_csv`)."""
+    path = Path(path)
+    factor = _unit_factor(units, path)
+    data = np.column_stack([motion.time, motion.acceleration / factor])
+    label = "acceleration_g" if factor != 1.0 else "acceleration_m_s2"
+    np.savetxt(path, data, delimiter=",", header=f"time_s,{label}", comments="", fmt="%.10g")
+    return path
+
+
+def scale_to_pga(motion: GroundMotion, pga_g: float) -> GroundMotion:
+    """Return the record multiplied so that its peak |a| is ``pga_g`` [g]."""
+    if motion.pga == 0.0:
+        raise GroundMotionError(f"{motion.source or motion.name}: cannot scale a zero record")
+    factor = pga_g * G_STANDARD / motion.pga
+    return replace(motion, acceleration=motion.acceleration * factor)
+
+
+def baseline_correct(motion: GroundMotion, order: int = 1) -> GroundMotion:
+    """Remove a polynomial trend from the velocity (classic baseline correction).
+
+    The velocity v(t) = ∫ a dt (trapezoidal) is fitted in least squares by a
+    polynomial p(t) of degree ``order`` [m/s]; the corrected acceleration is
+    a − dp/dt. A constant (order 0) fit of v removes nothing from a, so
+    ``order`` must be ≥ 1: order 1 removes a constant acceleration offset, order 2
+    also a linear drift. The corrected record ends with a much smaller velocity
+    (and displacement) drift, which is what a shaking base should do.
+
+    Reference: Boore, D. M. (2001), Effect of baseline corrections on
+    displacements and response spectra, BSSA 91(5), 1199–1211.
+    """
+    if order < 1:
+        raise ValueError("baseline_correct: order must be >= 1")
+    t, a = motion.time, motion.acceleration
+    velocity = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] + a[:-1]) * np.diff(t))])
+    coeffs = np.polynomial.polynomial.polyfit(t, velocity, order)
+    trend = np.polynomial.polynomial.polyval(t, np.polynomial.polynomial.polyder(coeffs))
+    return replace(motion, acceleration=a - trend)
+
+
+def value_at(motion: GroundMotion, t) -> np.ndarray:
+    """Acceleration [m/s²] at time(s) ``t`` [s]: linear interpolation, 0 outside the record."""
+    return np.interp(t, motion.time, motion.acceleration, left=0.0, right=0.0)
+
+
+def bundled_record(name: str) -> Path:
+    """Path of a record shipped in ``twofluid/data/ground_motions`` (see PROVENANCE.md)."""
+    folder = resources.files("twofluid") / "data" / "ground_motions"
+    entry = folder / name
+    if not entry.is_file():
+        shipped = sorted(p.name for p in folder.iterdir() if p.name.lower().endswith((".at2", ".csv")))
+        raise FileNotFoundError(f"no bundled record {name!r}; shipped: {', '.join(shipped)}")
+    return Path(str(entry))

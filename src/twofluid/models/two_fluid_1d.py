@@ -1,0 +1,399 @@
+"""The 1D two-component model: unknowns V, W (nodal), P, n (per element).
+
+Equations (SPEC 3), y along the line, g_y = −g cos θ the gravity along it:
+
+- mixture, tested with δV:  ∂t(ρ̂V − ΔρW) = −∂y(P + P_s) + ∂y τ + ρ̄ g_y
+- liquid, tested with δW:   (ρ_f/2) ∂t(V + W) = −n ∂yP + ∂y(n τ_f) + n ρ_f g_y − β s
+- continuity, tested with δP:  ∇·V = 0
+- porosity, tested with δn:   2 ∂t n + ∇·W = 0
+
+with the slip s = U_f − U_s = [(1 − 2n)V + W] / (2n(1 − n)). ``assemble`` builds the
+backward-Euler system [M/Δt + K(aᵏ)] aᵏ⁺¹ = f + M aᵗ/Δt of one Picard iterate:
+β, μ_s, the face porosities and the upwind ratios are frozen at iterate k, P_s is
+Taylor-linearised about it (SPEC 4.4), ρ̄ and the liquid weight n ρ_f g are
+implicit in n.
+
+Pressure gradients (P constant per element): the mixture term is integrated by
+parts, −∫ ∇·δV (P + P_s) plus the traction of the prescribed pressure on an
+outlet; the liquid term n ∂yP lives on the vertices as n_f A [[P]], with n_f the
+∫N_i n dΩ / ∫N_i dΩ average of the two neighbours — this makes a settled bed with
+a porosity gradient an exact discrete equilibrium (SPEC 3). With the linear,
+continuous pressure of ``2VW/1P/0n`` the liquid term is ∫ δW n ∂yP dΩ.
+
+Solids flux (``solids_flux = "upwind"``, default): the porosity equation uses the
+vertex solids flux F = (V − W)/2 scaled by (1 − n_up)/(1 − n_f), n_up the porosity
+of the element the solids come from (clear liquid outside an outlet). It equals
+the Galerkin form where the porosity is smooth and keeps an element from giving
+away solids it does not hold (SPEC 5.2a), e.g. at a descending bed surface.
+``"galerkin"`` is the thesis's form.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Callable
+
+import numpy as np
+
+from ..closures import drag as drag_laws
+from ..closures.solids_pressure import exponential
+from ..closures.viscosity import solid_viscosity
+from ..fem import terms_1d as terms
+from ..fem.assembly import BlockSystem
+from ..fem.line import LINE1, LINE2, Lagrange1D, element_values
+from ..mesh.line import LineMesh
+
+__all__ = ["Materials", "Closures", "Boundary", "State", "TwoFluid1D", "ELEMENTS"]
+
+ELEMENTS = {"1VW/0P/0n": (LINE1, 0), "2VW/1P/0n": (LINE2, 1)}
+_CLEAR = 1e-6  # 1 − n below this counts as clear liquid (slip taken as zero: Stokes drag)
+
+
+@dataclass(frozen=True)
+class Materials:
+    """Liquid and particle properties (SI)."""
+
+    rho_f: float  # liquid density [kg/m³]
+    mu_f: float  # liquid viscosity [Pa·s]
+    rho_s: float  # particle density [kg/m³]
+    d_p: float  # particle diameter [m]
+    sphericity: float = 1.0  # ψ [-]; drag laws use d = ψ d_p
+    g: float = 9.81  # |g| [m/s²]
+
+    @property
+    def d(self) -> float:
+        return self.sphericity * self.d_p
+
+
+@dataclass(frozen=True)
+class Closures:
+    """The closure choices of a run (functions from the registry with their parameters)."""
+
+    drag: Callable = drag_laws.gidaspow
+    drag_params: dict = field(default_factory=dict)
+    A: float = 0.015  # solids-pressure compressibility [-]
+    p_ref: float = 1.0  # [Pa]
+    viscous: bool = True
+    viscosity_params: dict = field(default_factory=dict)
+
+    def beta_per_solids(self, n, slip, mat: Materials):
+        return self.drag(n, slip, mat.d, mat.rho_f, mat.mu_f, per_solids=True,
+                         **self.drag_params)
+
+
+@dataclass(frozen=True)
+class Boundary:
+    """One end of the line.
+
+    kind: ``"inlet"`` (porous distributor: V = W = velocity(t)), ``"wall"``
+    (V = W = 0) or ``"outlet"`` (prescribed liquid pressure [Pa]; solids may leave).
+    """
+
+    kind: str
+    velocity: Callable[[float], float] | None = None  # superficial velocity into the domain [m/s]
+    pressure: float = 0.0  # [Pa]
+
+
+@dataclass
+class State:
+    """Fields at time t: V, W [m/s] nodal; P [Pa] (per element or nodal); n, n_bar per element."""
+
+    t: float
+    V: np.ndarray
+    W: np.ndarray
+    P: np.ndarray
+    n: np.ndarray
+    n_bar: np.ndarray
+
+    def copy(self, **changes) -> "State":
+        s = replace(self, **{k: np.array(v, copy=True) if isinstance(v, np.ndarray) else v
+                             for k, v in changes.items()})
+        for k in ("V", "W", "P", "n", "n_bar"):
+            if k not in changes:
+                setattr(s, k, getattr(self, k).copy())
+        return s
+
+
+class TwoFluid1D:
+    """Assembles and solves the 1D two-component equations on a LineMesh."""
+
+    def __init__(self, mesh: LineMesh, materials: Materials, closures: Closures,
+                 bottom: Boundary, top: Boundary, element: str = "1VW/0P/0n",
+                 solids_flux: str = "upwind"):
+        if element not in ELEMENTS:
+            raise ValueError(f"element must be one of {list(ELEMENTS)}")
+        if "outlet" not in (bottom.kind, top.kind):
+            raise ValueError("at least one end must be an outlet (it fixes the pressure datum)")
+        self.mesh, self.mat, self.clo = mesh, materials, closures
+        self.bottom, self.top = bottom, top
+        self.element, self.solids_flux = element, solids_flux
+        self.basis, self.p_order = ELEMENTS[element]
+        ne = mesh.n_elements
+        self.nv = self.basis.n_nodes(ne)
+        self.np = ne if self.p_order == 0 else ne + 1
+        self.sizes = {"V": self.nv, "W": self.nv, "P": self.np, "n": ne}
+        self.g_y = mesh.gravity_along(materials.g)
+        self._precompute()
+
+    # ------------------------------------------------------------------ setup
+    def _precompute(self):
+        mesh, ne = self.mesh, self.mesh.n_elements
+        ev = element_values(mesh, self.basis, n_quad=4)
+        self.ev = ev
+        self.vdofs = self.basis.dofs(ne)
+        self.edofs = np.arange(ne)[:, None]
+        self.M = terms.mass(ev)
+        self.Kvis = terms.diffusion(ev, 4.0 / 3.0)
+        self.src = terms.source(ev)  # ∫ N_i dΩ
+        ones = np.ones((ev.N.shape[0], 1))
+        self.B0 = terms.divergence(ev, ones)  # (ne, 1, nl): ∫ ∇·N_j dΩ
+        if self.p_order == 0:
+            self.pdofs = self.edofs
+            self.Bp = self.B0
+        else:
+            pb = LINE1
+            x, _ = np.polynomial.legendre.leggauss(4)
+            xi = 0.5 * (x + 1.0)
+            self.pdofs = pb.dofs(ne)
+            self.Bp = terms.divergence(ev, pb.shape(xi))
+            dq = pb.dshape(xi)[None, :, :] / mesh.lengths[:, None, None]
+            self.Gp = terms.weighted_gradient(ev, np.broadcast_to(dq, (ne, len(xi), 2)))
+        # vertex bookkeeping: vertex i is velocity node p*i; element below / above
+        p = self.basis.order
+        self.vert_node = p * np.arange(ne + 1)
+        last = self.basis.n_local - 1
+        w_below = np.zeros(ne + 1)
+        w_above = np.zeros(ne + 1)
+        w_below[1:] = self.src[:, last]
+        w_above[:-1] = self.src[:, 0]
+        self.w_below, self.w_above = w_below, w_above
+        self.vert_area = mesh.area
+        self.volumes = mesh.volumes
+        self.avg_weights = ev.N.T @ (ev.JxW / ev.JxW.sum(axis=1, keepdims=True)).T  # (nl, ne)
+
+    # --------------------------------------------------------------- helpers
+    def element_mean(self, nodal: np.ndarray) -> np.ndarray:
+        """Volume average over each element of a nodal field."""
+        return np.einsum("ei,ie->e", nodal[self.vdofs], self.avg_weights)
+
+    def slip(self, V, W, n) -> np.ndarray:
+        """Element slip U_f − U_s [m/s]; zero in clear liquid (the Stokes limit applies there)."""
+        v, w = self.element_mean(V), self.element_mean(W)
+        one_m = 1.0 - n
+        clear = one_m < _CLEAR
+        s = ((1.0 - 2.0 * n) * v + w) / (2.0 * n * np.where(clear, 1.0, one_m))
+        return np.where(clear, 0.0, s)
+
+    def vertex_porosity(self, n: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(n_below, n_above, n_f) at vertices; outside the domain counts as clear liquid."""
+        nb = np.concatenate([[1.0], n])
+        na = np.concatenate([n, [1.0]])
+        wb, wa = self.w_below, self.w_above
+        nf = (wb * nb + wa * na) / (wb + wa)
+        return nb, na, nf
+
+    def solids_pressure(self, n, n_bar, derivative=False):
+        return exponential(n, n_bar, self.clo.A, self.clo.p_ref, derivative=derivative)
+
+    def inlet_value(self, b: Boundary, t: float, sign: float) -> float:
+        return sign * b.velocity(t) if b.kind == "inlet" else 0.0
+
+    def dirichlet(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Global indices (into the full system) and values of prescribed V and W."""
+        idx, val = [], []
+        for b, node, sign in ((self.bottom, 0, 1.0), (self.top, self.nv - 1, -1.0)):
+            if b.kind in ("inlet", "wall"):
+                u = self.inlet_value(b, t, sign)
+                idx += [node, self.nv + node]
+                val += [u, u]
+        return np.array(idx, dtype=int), np.array(val, dtype=float)
+
+    # -------------------------------------------------------------- assembly
+    def assemble(self, k: State, old: State, dt: float, t_new: float):
+        """Matrix and right-hand side of one Picard iterate (see module docstring)."""
+        mat, clo, ne = self.mat, self.clo, self.mesh.n_elements
+        S = BlockSystem(self.sizes)
+        vd, ed, pd = self.vdofs, self.edofs, self.pdofs
+        n = k.n
+        rho_hat = 0.5 * (mat.rho_s + mat.rho_f)
+        d_rho = 0.5 * (mat.rho_s - mat.rho_f)
+        M, Kv, src = self.M, self.Kvis, self.src
+
+        # mixture (rows V)
+        S.add("V", "V", vd, vd, rho_hat / dt * M)
+        S.add("V", "W", vd, vd, -d_rho / dt * M)
+        S.add_rhs("V", vd, np.einsum("eij,ej->ei", M, rho_hat * old.V[vd] - d_rho * old.W[vd]) / dt)
+        if clo.viscous:
+            mu_s = solid_viscosity(n, mat.mu_f, **clo.viscosity_params)[:, None, None]
+            S.add("V", "V", vd, vd, 0.5 * (mat.mu_f + mu_s) * Kv)
+            S.add("V", "W", vd, vd, 0.5 * (mat.mu_f - mu_s) * Kv)
+            S.add("W", "V", vd, vd, 0.5 * mat.mu_f * Kv)
+            S.add("W", "W", vd, vd, 0.5 * mat.mu_f * Kv)
+        BpT = -np.swapaxes(self.Bp, 1, 2)
+        S.add("V", "P", vd, pd, BpT)
+        ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
+        B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1)
+        S.add("V", "n", vd, ed, B0T * dps[:, None, None])
+        S.add_rhs("V", vd, -B0T[:, :, 0] * (ps - dps * n)[:, None])
+        S.add("V", "n", vd, ed, ((mat.rho_s - mat.rho_f) * self.g_y * src)[:, :, None])
+        S.add_rhs("V", vd, mat.rho_s * self.g_y * src)
+
+        # liquid (rows W)
+        S.add("W", "V", vd, vd, 0.5 * mat.rho_f / dt * M)
+        S.add("W", "W", vd, vd, 0.5 * mat.rho_f / dt * M)
+        S.add_rhs("W", vd, np.einsum("eij,ej->ei", M, 0.5 * mat.rho_f * (old.V[vd] + old.W[vd])) / dt)
+        S.add("W", "n", vd, ed, (-mat.rho_f * self.g_y * src)[:, :, None])
+        self._drag(S, k)
+        self._liquid_pressure(S, n, k.P)
+
+        # continuity (rows P) and porosity (rows n)
+        S.add("P", "V", pd, vd, self.Bp)
+        S.add("n", "n", ed, ed, (2.0 * self.volumes / dt)[:, None, None])
+        S.add_rhs("n", ed[:, 0], 2.0 * self.volumes / dt * old.n)
+        self._solids_flux(S, k)
+
+        # prescribed pressure on outlets: traction in the mixture row
+        for b, v, sign in ((self.bottom, 0, -1.0), (self.top, self.mesh.n_elements, 1.0)):
+            if b.kind == "outlet":
+                S.add_rhs("V", np.array([self.vert_node[v]]), np.array([-sign * b.pressure * self.vert_area[v]]))
+        return S
+
+    def _drag_force(self, n, V, W):
+        """Element drag vectors ∫ N_i β s dΩ (n_el, nl) with β from the element-mean slip."""
+        q = (1.0 - 2.0 * n)[:, None] * V[self.vdofs] + W[self.vdofs]
+        s_abs = np.abs(self.slip(V, W, n))
+        K = self.clo.beta_per_solids(n, s_abs, self.mat)
+        return (K / (2.0 * n))[:, None] * np.einsum("eij,ej->ei", self.M, q), K, s_abs, q
+
+    def _drag(self, S: BlockSystem, k: State):
+        """β s tested with δW, Newton-linearised about iterate k.
+
+        D = K(n, |s̄|) M q / (2n), K = β/(1−n), q = (1−2n)V + W, s̄ = q̄/(2n(1−n)) the
+        element-mean slip. The V, W derivatives are exact (with the element mean
+        q̄ = w·q); the n derivative is a finite difference per element.
+        """
+        vd, ed, n, M = self.vdofs, self.edofs, k.n, self.M
+        D0, K0, s_abs, qk = self._drag_force(n, k.V, k.W)
+        ds = 1e-6 * np.maximum(s_abs, 1e-6)
+        dK = (self.clo.beta_per_solids(n, s_abs + ds, self.mat) - K0) / ds * s_abs  # K'|s|
+        qbar = np.einsum("ei,ie->e", qk, self.avg_weights)
+        gain = np.where(np.abs(qbar) > 0.0, dK / np.where(qbar != 0.0, qbar, 1.0), 0.0)
+        Mq = np.einsum("eij,ej->ei", M, qk)
+        Jq = (K0 / (2.0 * n))[:, None, None] * M \
+            + (gain / (2.0 * n))[:, None, None] * Mq[:, :, None] * self.avg_weights.T[:, None, :]
+        JV = (1.0 - 2.0 * n)[:, None, None] * Jq
+        dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
+        Dn, _, _, _ = self._drag_force(n + dn, k.V, k.W)
+        Jn = (Dn - D0) / dn[:, None]
+        S.add("W", "V", vd, vd, JV)
+        S.add("W", "W", vd, vd, Jq)
+        S.add("W", "n", vd, ed, Jn[:, :, None])
+        lin = np.einsum("eij,ej->ei", JV, k.V[vd]) + np.einsum("eij,ej->ei", Jq, k.W[vd])
+        S.add_rhs("W", vd, lin + Jn * n[:, None] - D0)
+
+    def _liquid_pressure(self, S: BlockSystem, n: np.ndarray, P: np.ndarray):
+        """n ∂P/∂y tested with δW."""
+        if self.p_order == 1:
+            S.add("W", "P", self.vdofs, self.pdofs, n[:, None, None] * self.Gp)
+            return
+        ne = self.mesh.n_elements
+        _, _, nf = self.vertex_porosity(n)
+        coef = nf * self.vert_area  # (ne+1,)
+        node = self.vert_node
+        inner = np.arange(1, ne)
+        # [[P]] = P_above − P_below at inner vertices
+        S.add_entries("W", "P", node[inner], inner, coef[inner])
+        S.add_entries("W", "P", node[inner], inner - 1, -coef[inner])
+        # Newton on n_f: + A [[Pᵏ]] (∂n_f/∂n)(n − nᵏ)
+        tb = (self.w_below / (self.w_below + self.w_above))[inner]
+        g = self.vert_area[inner] * (P[inner] - P[inner - 1])
+        for el, th in ((inner - 1, tb), (inner, 1.0 - tb)):
+            S.add_entries("W", "n", node[inner], el, g * th)
+            S.add_rhs("W", node[inner], g * th * n[el])
+        for b, v, e, sign in ((self.bottom, 0, 0, 1.0), (self.top, ne, ne - 1, -1.0)):
+            if b.kind == "outlet":
+                # jump to the prescribed pressure outside: element side carries sign
+                S.add_entries("W", "P", [node[v]], [e], [sign * n[e] * self.vert_area[v]])
+                S.add_rhs("W", np.array([node[v]]), np.array([sign * n[e] * self.vert_area[v] * b.pressure]))
+
+    def _upwind_ratio(self, n: np.ndarray, F: np.ndarray):
+        """r = (1 − n_up)/(1 − n_f) at vertices and its derivatives in n_below, n_above."""
+        nb, na, nf = self.vertex_porosity(n)
+        below = F >= 0.0
+        n_up = np.where(below, nb, na)
+        one_f = 1.0 - nf
+        ok = one_f > _CLEAR
+        inv = np.where(ok, 1.0 / np.where(ok, one_f, 1.0), 0.0)
+        r = (1.0 - n_up) * inv
+        tb = self.w_below / (self.w_below + self.w_above)
+        dr_b = np.where(below, -inv, 0.0) + r * inv * tb
+        dr_a = np.where(below, 0.0, -inv) + r * inv * (1.0 - tb)
+        dr_b[0] = 0.0  # outside the domain the porosity is fixed
+        dr_a[-1] = 0.0
+        return r, dr_b, dr_a
+
+    def _solids_flux(self, S: BlockSystem, k: State):
+        """∇·W tested with δn, written with the vertex solids flux F = (V − W)/2.
+
+        Element e gains solids through its bottom vertex e and loses them through
+        its top vertex e+1: 2 Vol ṅ_e − [2 A r F]_bottom^top = 0 (r = 1: Galerkin).
+        The upwind ratio r(n) is Newton-linearised about iterate k.
+        """
+        ne = self.mesh.n_elements
+        node = self.vert_node
+        e = np.arange(ne)
+        Fk = 0.5 * (k.V[node] - k.W[node])
+        if self.solids_flux == "upwind":
+            r, dr_b, dr_a = self._upwind_ratio(k.n, Fk)
+        else:
+            r, dr_b, dr_a = np.ones(ne + 1), np.zeros(ne + 1), np.zeros(ne + 1)
+        a = self.vert_area * r
+        for v, sgn in ((e + 1, -1.0), (e, 1.0)):  # top vertex, bottom vertex of element e
+            S.add_entries("n", "V", e, node[v], sgn * a[v])
+            S.add_entries("n", "W", e, node[v], -sgn * a[v])
+            g = 2.0 * sgn * self.vert_area[v] * Fk[v]
+            for dr, nb_el in ((dr_b[v], v - 1), (dr_a[v], v)):
+                inside = (nb_el >= 0) & (nb_el < ne) & (dr != 0.0)
+                S.add_entries("n", "n", e[inside], nb_el[inside], (g * dr)[inside])
+                S.add_rhs("n", e[inside], (g * dr * k.n[np.clip(nb_el, 0, ne - 1)])[inside])
+
+    # ------------------------------------------------ interface to the stepper
+    def pack(self, s: State) -> np.ndarray:
+        return np.concatenate([s.V, s.W, s.P, s.n])
+
+    def unpack(self, a: np.ndarray, like: State, t: float) -> State:
+        nv, np_ = self.nv, self.np
+        return like.copy(t=t, V=a[:nv], W=a[nv:2 * nv], P=a[2 * nv:2 * nv + np_],
+                         n=a[2 * nv + np_:])
+
+    def check(self, s: State) -> str | None:
+        """Why a state is not admissible (porosity outside (0, 1]), or None."""
+        if not np.all(np.isfinite(s.n)) or not np.all(np.isfinite(s.V)):
+            return "non-finite values"
+        if s.n.min() <= 0.0:
+            return f"porosity {s.n.min():.6g} <= 0 in element {int(s.n.argmin())}"
+        if s.n.max() > 1.0 + 1e-9:
+            return f"porosity {s.n.max():.12g} > 1 in element {int(s.n.argmax())}"
+        return None
+
+    def velocity_scale(self, s: State) -> float:
+        return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), 1e-6)
+
+    def end_step(self, old: State, new: State, dt: float) -> State:
+        """Hook after a converged step (state variables such as n̄ update here)."""
+        return new
+
+    # ---------------------------------------------------------- diagnostics
+    def solids_volume(self, s: State) -> float:
+        """∫ (1 − n) dΩ [m³]."""
+        return float(((1.0 - s.n) * self.volumes).sum())
+
+    def solids_outflow(self, s: State) -> float:
+        """Rate [m³/s] at which solids leave through the ends (upwinded as in the porosity equation)."""
+        nb, na, nf = self.vertex_porosity(s.n)
+        node = self.vert_node
+        F = 0.5 * (s.V[node] - s.W[node])
+        if self.solids_flux == "upwind":
+            n_up = np.where(F >= 0.0, nb, na)
+            one_f = 1.0 - nf
+            F = F * np.where(one_f > _CLEAR, (1.0 - n_up) / np.where(one_f > _CLEAR, one_f, 1.0), 0.0)
+        return float(F[-1] * self.vert_area[-1] - F[0] * self.vert_area[0])

@@ -1,0 +1,106 @@
+"""Backward Euler with Picard iterations, as a generator of converged steps.
+
+``integrate`` yields a :class:`Step` after every converged time step; output,
+probes, progress bars and plots consume the stream. The step size shrinks
+(halves) when the Picard loop does not converge or the model rejects the state
+(e.g. porosity leaving (0, 1]) and grows back (×1.5) after easy steps; it lands
+exactly on the requested ``stops`` (output times). A step that cannot be made
+even at ``dt_min`` raises :class:`StepFailure`, which says where and why.
+
+The model must provide ``assemble(k, old, dt, t) -> BlockSystem``,
+``dirichlet(t)``, ``pack``, ``unpack``, ``check``, ``velocity_scale`` and
+``end_step`` (see :class:`twofluid.models.two_fluid_1d.TwoFluid1D`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterable, Iterator
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+__all__ = ["Step", "StepFailure", "PicardSettings", "picard_step", "integrate"]
+
+
+@dataclass(frozen=True)
+class PicardSettings:
+    tol: float = 1e-7  # relative change of velocities, absolute change of porosity
+    max_iter: int = 40
+    dt_min: float = 1e-7  # [s]
+    grow: float = 1.5
+    easy_iters: int = 4  # grow Δt again after a step needing at most this many iterations
+
+
+@dataclass(frozen=True)
+class Step:
+    t: float
+    dt: float
+    iterations: int
+    state: object
+    n_steps: int
+
+
+class StepFailure(RuntimeError):
+    def __init__(self, t: float, dt: float, reason: str, state=None):
+        super().__init__(f"step from t = {t:.6g} s failed at dt = {dt:.3g} s: {reason}")
+        self.t, self.dt, self.reason, self.state = t, dt, reason, state
+
+
+def _solve(model, S, t_new):
+    A = S.matrix().tocsr()
+    idx, val = model.dirichlet(t_new)
+    a = np.zeros(S.size)
+    a[idx] = val
+    free = np.setdiff1d(np.arange(S.size), idx)
+    rhs = S.rhs[free] - A[free][:, idx] @ val
+    Aff = A[free][:, free].tocsc()
+    a[free] = spla.spsolve(Aff, rhs)
+    return a
+
+
+def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings()):
+    """One backward-Euler step from ``old``; returns (state, iterations) or (None, reason)."""
+    t_new = old.t + dt
+    k = old.copy(t=t_new)
+    for it in range(1, settings.max_iter + 1):
+        S = model.assemble(k, old, dt, t_new)
+        with np.errstate(all="ignore"):
+            a = _solve(model, S, t_new)
+        new = model.unpack(a, k, t_new)
+        if not np.all(np.isfinite(a)):
+            return None, "linear solve gave non-finite values"
+        scale = model.velocity_scale(new)
+        dv = max(np.abs(new.V - k.V).max(), np.abs(new.W - k.W).max()) / scale
+        dn = np.abs(new.n - k.n).max()
+        k = new
+        if dv < settings.tol and dn < settings.tol:
+            reason = model.check(new)
+            if reason:
+                return None, reason
+            return model.end_step(old, new, dt), it
+    return None, f"Picard did not converge in {settings.max_iter} iterations (dv={dv:.2e}, dn={dn:.2e})"
+
+
+def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = (),
+              settings: PicardSettings = PicardSettings()) -> Iterator[Step]:
+    """Advance ``state`` to ``t_end`` with target step ``dt`` [s], yielding each step."""
+    stops = sorted(t for t in stops if state.t < t <= t_end) + [t_end]
+    h = dt
+    n_steps = 0
+    eps = 1e-9 * max(dt, 1e-12)
+    for stop in stops:
+        while state.t < stop - eps:
+            h_try = min(h, stop - state.t)
+            if stop - state.t - h_try < 0.01 * dt:  # avoid a sliver before the stop
+                h_try = stop - state.t
+            new, info = picard_step(model, state, h_try, settings)
+            if new is None:
+                if h_try / 2 < settings.dt_min:
+                    raise StepFailure(state.t, h_try, info, state)
+                h = h_try / 2
+                continue
+            n_steps += 1
+            state = new
+            if info <= settings.easy_iters and h < dt:
+                h = min(dt, h * settings.grow)
+            yield Step(state.t, h_try, info, state, n_steps)
