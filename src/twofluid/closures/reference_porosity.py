@@ -31,7 +31,7 @@ __all__ = ["ShearState", "byrne", "byrne_constants", "ann", "AnnWeights", "AnnWe
 #: Shipped weights, trained on the byrne law by scripts/train_ann.py.
 DEFAULT_WEIGHTS = "default_weights.json"
 
-DR_DEFAULT = 40.0  # [%] relative density of the default loose sand (see models.element_test)
+DR_DEFAULT = 47.0  # [%] relative density of the default loose sand (models.element_test)
 
 
 @dataclass(frozen=True)

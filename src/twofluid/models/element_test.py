@@ -59,8 +59,8 @@ class LooseSand:
     """
 
     porosity: float = 0.44
-    dr: float = 40.0
-    A: float = 0.002
+    dr: float = 47.0
+    A: float = 6e-4
     k2max: float = 30.0
     gamma_ref: float = 1e-3
     p_ref: float = 1.0

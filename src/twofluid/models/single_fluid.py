@@ -6,11 +6,12 @@ pressure p [Pa]::
     ∫ τ(u) : ∇δu dΩ − ∫ p ∇·δu dΩ = ∫ ρ g · δu dΩ        for all δu
     −∫ q ∇·u dΩ − C(p, q)        = 0                      for all q (P0)
 
-τ = μ(∇u + ∇uᵀ − (2/3)(∇·u)I), C the pressure-jump stabilisation
+τ = μ(∇u + ∇uᵀ − (2/3)(∇·u)I), C the pressure stabilisation
 (by default the macroelement checkerboard penalty, parameter δ). The optional third
 velocity component is the swirl u_θ (axisymmetric) or the out-of-plane velocity
-(planar); it is coupled to the in-plane flow only through the viscous term's
-structure (it is not, since the convective terms are dropped, SPEC §3).
+(planar); with the convective terms dropped (SPEC §3) it does not interact with the
+in-plane flow, but it shares the matrix so the two-component model can add
+couplings.
 
 Boundaries not listed with a Dirichlet value are traction free (σ·ν = 0). If every
 boundary node has both in-plane components prescribed (enclosed flow), the

@@ -315,10 +315,21 @@ class TwoFluid1D:
                 S.add_entries("W", "P", [node[v]], [e], [sign * n[e] * self.vert_area[v]])
                 S.add_rhs("W", np.array([node[v]]), np.array([sign * n[e] * self.vert_area[v] * b.pressure]))
 
-    def _upwind_ratio(self, n: np.ndarray, F: np.ndarray):
+    def begin_iteration(self, it: int, k: State) -> None:
+        """Picard hook: fix the upwind side of every vertex after the first iteration.
+
+        Deciding it from iterate 1 and keeping it for the rest of the step stops a
+        flux that is nearly zero from flipping the upwind side at every iteration.
+        """
+        if it <= 2:
+            node = self.vert_node
+            self._below = (k.V[node] - k.W[node]) >= 0.0
+
+    def _upwind_ratio(self, n: np.ndarray, F: np.ndarray, below: np.ndarray | None = None):
         """r = (1 − n_up)/(1 − n_f) at vertices and its derivatives in n_below, n_above."""
         nb, na, nf = self.vertex_porosity(n)
-        below = F >= 0.0
+        if below is None:
+            below = F >= 0.0
         n_up = np.where(below, nb, na)
         one_f = 1.0 - nf
         ok = one_f > _CLEAR
@@ -343,7 +354,7 @@ class TwoFluid1D:
         e = np.arange(ne)
         Fk = 0.5 * (k.V[node] - k.W[node])
         if self.solids_flux == "upwind":
-            r, dr_b, dr_a = self._upwind_ratio(k.n, Fk)
+            r, dr_b, dr_a = self._upwind_ratio(k.n, Fk, getattr(self, "_below", None))
         else:
             r, dr_b, dr_a = np.ones(ne + 1), np.zeros(ne + 1), np.zeros(ne + 1)
         a = self.vert_area * r
@@ -389,11 +400,36 @@ class TwoFluid1D:
 
     def solids_outflow(self, s: State) -> float:
         """Rate [m³/s] at which solids leave through the ends (upwinded as in the porosity equation)."""
-        nb, na, nf = self.vertex_porosity(s.n)
         node = self.vert_node
         F = 0.5 * (s.V[node] - s.W[node])
         if self.solids_flux == "upwind":
-            n_up = np.where(F >= 0.0, nb, na)
-            one_f = 1.0 - nf
-            F = F * np.where(one_f > _CLEAR, (1.0 - n_up) / np.where(one_f > _CLEAR, one_f, 1.0), 0.0)
+            F = F * self._upwind_ratio(s.n, F)[0]
         return float(F[-1] * self.vert_area[-1] - F[0] * self.vert_area[0])
+
+    def settled_solids_pressure(self, n: np.ndarray) -> np.ndarray:
+        """P_s per element [Pa] that makes porosity ``n`` a discrete equilibrium at rest.
+
+        Marches the mixture-minus-liquid balance at each vertex from the top
+        (P_s = 0 above the column): A_i [[P_s]] = g_y (ρ_s − ρ_f) Σ_e (1 − n_e) ∫_e N_i dΩ.
+        """
+        ne = self.mesh.n_elements
+        d_rho = self.mat.rho_s - self.mat.rho_f
+        i = np.arange(1, ne + 1)  # vertices above each element
+        n_above = np.append(n, 1.0)[i]
+        load = (1.0 - n[i - 1]) * self.w_below[i] + (1.0 - n_above) * self.w_above[i]
+        jump = -self.g_y * d_rho * load / self.vert_area[i]  # P_s below − P_s above
+        return np.cumsum(jump[::-1])[::-1]
+
+    def element_fields(self, s: State) -> dict[str, np.ndarray]:
+        """Per-element values at the centres: the fields a user looks at (SI units).
+
+        U_s is undefined in clear liquid (n = 1) and given as NaN there.
+        """
+        v, w = self.element_mean(s.V), self.element_mean(s.W)
+        P = s.P if self.p_order == 0 else 0.5 * (s.P[:-1] + s.P[1:])
+        one_m = 1.0 - s.n
+        with np.errstate(divide="ignore", invalid="ignore"):
+            us = np.where(one_m > _CLEAR, (v - w) / (2.0 * one_m), np.nan)
+        return {"y_m": self.mesh.centres, "porosity": s.n, "reference_porosity": s.n_bar,
+                "P_Pa": P, "Ps_Pa": self.solids_pressure(s.n, s.n_bar), "V_m_s": v, "W_m_s": w,
+                "Uf_m_s": (v + w) / (2.0 * s.n), "Us_m_s": us}

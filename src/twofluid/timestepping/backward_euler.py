@@ -62,7 +62,10 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
     """One backward-Euler step from ``old``; returns (state, iterations) or (None, reason)."""
     t_new = old.t + dt
     k = old.copy(t=t_new)
+    hook = getattr(model, "begin_iteration", None)
     for it in range(1, settings.max_iter + 1):
+        if hook:
+            hook(it, k)
         S = model.assemble(k, old, dt, t_new)
         with np.errstate(all="ignore"):
             a = _solve(model, S, t_new)

@@ -1,0 +1,112 @@
+"""Turn a resolved case into a model, an initial state and run settings."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..closures import drag as drag_laws
+from ..closures.registry import get
+from ..closures.solids_pressure import reference_porosity_for
+from ..mesh.line import uniform_line
+from ..models.two_fluid_1d import Boundary, Closures, Materials, State, TwoFluid1D
+from ..timestepping.backward_euler import PicardSettings
+
+__all__ = ["Schedule", "Built", "build"]
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """Piecewise-linear function of time; a repeated time is a step (right value after it).
+
+    >>> s = Schedule((0.0, 0.0, 10.0), (1.0, 2.0, 4.0))
+    >>> s(-1.0), s(0.0), s(1e-9) > 1.99, s(5.0), s(20.0)
+    (1.0, 1.0, True, 3.0, 4.0)
+    """
+
+    times: tuple
+    values: tuple
+
+    def __call__(self, t: float) -> float:
+        ts, vs = np.asarray(self.times), np.asarray(self.values)
+        i = int(np.searchsorted(ts, t, side="left"))
+        if i == 0:
+            return float(vs[0])
+        if i >= len(ts):
+            return float(vs[-1])
+        # ts[i-1] < t <= ts[i]; with a step at ts[i] the left value holds up to it
+        t0, t1 = ts[i - 1], ts[i]
+        return float(vs[i - 1] + (vs[i] - vs[i - 1]) * (t - t0) / (t1 - t0))
+
+
+@dataclass
+class Built:
+    model: TwoFluid1D
+    state: State
+    t_end: float
+    dt: float
+    settings: PicardSettings
+    inlet_velocities: tuple  # resolved inlet schedule [m/s] (for the summary)
+
+
+def _closures(case: dict) -> Closures:
+    d = case["closures.drag"]
+    law = get("drag", d["law"]).func
+    params = {"stokes": d["stokes"]}
+    if d["law"] == "gidaspow":
+        params.update(n_switch=d["n_switch"], blend_width=d["blend_width"])
+    sp = case["closures.solids_pressure"]
+    return Closures(drag=law, drag_params=params, A=sp["compressibility"], p_ref=sp["p_ref"],
+                    viscous=case["closures.viscosity"]["law"] != "none")
+
+
+def _boundary(b: dict, closures: Closures, mat: Materials) -> tuple[Boundary, tuple]:
+    if b["kind"] != "inlet":
+        return Boundary(b["kind"], pressure=b["pressure"]), ()
+    if b["porosities"]:
+        vel = tuple(drag_laws.steady_fluidization_velocity(
+            closures.drag, n, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **closures.drag_params)
+            for n in b["porosities"])
+    else:
+        vel = tuple(b["velocities"])
+    return Boundary("inlet", velocity=Schedule(tuple(b["times"]), vel)), vel
+
+
+def build(case: dict) -> Built:
+    m, ma = case["mesh"], case["materials"]
+    area = m["area"] if m["area_top"] == -1.0 else (m["area"], m["area_top"])
+    mesh = uniform_line(m["length"], m["elements"], area=area,
+                        inclination_rad=np.deg2rad(m["inclination_deg"]))
+    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
+                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
+    clo = _closures(case)
+    bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
+    top, vt = _boundary(case["boundary.top"], clo, mat)
+    model = TwoFluid1D(mesh, mat, clo, bottom, top, element=m["element"],
+                       solids_flux=case["numerics"]["solids_flux"])
+    state = initial_state(model, case)
+    tm = case["time"]
+    settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
+                              dt_min=min(1e-7, tm["step"] * 1e-4))
+    return Built(model, state, tm["end"], tm["step"], settings, vb or vt)
+
+
+def initial_state(model: TwoFluid1D, case: dict) -> State:
+    """Uniform bed (clear liquid above ``bed_height``) at rest in the initial inflow."""
+    init = case["initial"]
+    mesh = model.mesh
+    h = init["bed_height"] if init["bed_height"] > 0 else mesh.y[-1] - mesh.y[0]
+    n = np.where(mesh.centres - mesh.y[0] < h, init["porosity"], 1.0)
+    u = 0.0
+    if model.bottom.kind == "inlet":
+        u = model.bottom.velocity(0.0)
+    elif model.top.kind == "inlet":
+        u = -model.top.velocity(0.0)
+    n_bar = np.full(mesh.n_elements, case["closures.solids_pressure"]["reference_porosity"])
+    if init["state"] == "settled":
+        ps = model.settled_solids_pressure(n)
+        solid = ps > 0.0
+        n_bar[solid] = reference_porosity_for(n[solid], ps[solid], model.clo.A, model.clo.p_ref)
+    P = np.zeros(model.np)
+    return State(0.0, np.full(model.nv, u), np.full(model.nv, u), P, n, n_bar)

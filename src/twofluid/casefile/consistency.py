@@ -1,0 +1,61 @@
+"""Checks across keys of a resolved case (each key alone is checked by the schema)."""
+from __future__ import annotations
+
+from .schema import CaseError
+
+__all__ = ["check_consistency"]
+
+
+def _boundary(case: dict, end: str, source: str) -> None:
+    b = case[f"boundary.{end}"]
+    where = f"[boundary.{end}]"
+    times, vel, por = b["times"], b["velocities"], b["porosities"]
+    if b["kind"] != "inlet":
+        for key, val in (("velocities", vel), ("porosities", por)):
+            if val:
+                raise CaseError(source, f"{where} {key}", f"only an inlet takes a schedule (kind = {b['kind']!r})")
+        return
+    if bool(vel) == bool(por):
+        raise CaseError(source, f"{where} velocities/porosities",
+                        "an inlet needs exactly one of velocities [m/s] or porosities [-]")
+    values = vel or por
+    name = "velocities" if vel else "porosities"
+    if len(values) != len(times):
+        raise CaseError(source, f"{where} {name}", f"needs one value per entry of times ({len(times)}), "
+                        f"got {len(values)}")
+    if any(t2 < t1 for t1, t2 in zip(times, times[1:])):
+        raise CaseError(source, f"{where} times", "must be non-decreasing")
+    if any(t1 == t2 == t3 for t1, t2, t3 in zip(times, times[1:], times[2:])):
+        raise CaseError(source, f"{where} times", "a time may appear at most twice (a step)")
+    if por and not all(0.0 < p < 1.0 for p in por):
+        raise CaseError(source, f"{where} porosities", "each must lie in (0, 1)")
+
+
+def check_consistency(case: dict, source: str) -> None:
+    mesh, init, time, out = case["mesh"], case["initial"], case["time"], case["output"]
+    if mesh["area_top"] != -1.0 and mesh["area_top"] <= 0.0:
+        raise CaseError(source, "[mesh] area_top", "must be > 0 [m²] (or -1 for a constant area)")
+    h = init["bed_height"]
+    if h != -1.0 and not 0.0 < h <= mesh["length"]:
+        raise CaseError(source, "[initial] bed_height", f"must lie in (0, {mesh['length']:g}] [m] "
+                        "(the column length), or be -1 for the whole column")
+    for end in ("bottom", "top"):
+        _boundary(case, end, source)
+    kinds = (case["boundary.bottom"]["kind"], case["boundary.top"]["kind"])
+    if "outlet" not in kinds:
+        raise CaseError(source, "[boundary.bottom/top] kind", "one end must be an outlet: it fixes the "
+                        "pressure datum")
+    if time["step"] > time["end"]:
+        raise CaseError(source, "[time] step", f"must not exceed [time] end = {time['end']:g} s")
+    for t in out["times"]:
+        if not 0.0 <= t <= time["end"]:
+            raise CaseError(source, "[output] times", f"{t:g} lies outside [0, {time['end']:g}] s")
+    for y in out["probes"]:
+        if not 0.0 <= y <= mesh["length"]:
+            raise CaseError(source, "[output] probes", f"{y:g} lies outside [0, {mesh['length']:g}] m")
+    study = case["case"]["study"]
+    if study == "step_change":
+        b = case["boundary.bottom"]
+        if b["kind"] != "inlet" or len(b["times"]) < 2:
+            raise CaseError(source, "[case] study", "step_change needs an inlet at the bottom with a "
+                            "schedule of at least two values")

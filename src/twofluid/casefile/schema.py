@@ -1,0 +1,235 @@
+"""The one schema of twofluid case files: every key with type, default, unit, range, doc.
+
+Sections mirror the package (``[mesh]``, ``[materials]``, ``[closures.drag]`` …).
+``validate`` checks a parsed TOML document against it before any computation and
+returns the fully resolved case (defaults filled in); ``markdown`` renders the
+reference table of ``docs/case-file.md`` from the same data.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["Key", "SCHEMA", "CaseError", "validate", "markdown"]
+
+REQUIRED = object()
+
+
+@dataclass(frozen=True)
+class Key:
+    name: str
+    type: type | tuple  # float, int, str, bool, or ("list", float)
+    default: Any
+    unit: str
+    doc: str
+    lo: float | None = None  # inclusive lower bound unless lo_open
+    hi: float | None = None
+    lo_open: bool = False
+    hi_open: bool = False
+    choices: tuple | None = None
+
+    def range_text(self) -> str:
+        if self.choices:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.lo is None and self.hi is None:
+            return ""
+        lo = "-inf" if self.lo is None else f"{self.lo:g}"
+        hi = "inf" if self.hi is None else f"{self.hi:g}"
+        return f"{'(' if self.lo_open or self.lo is None else '['}{lo}, {hi}{')' if self.hi_open or self.hi is None else ']'}"
+
+
+def K(name, type_, default, unit, doc, **kw) -> Key:
+    return Key(name, type_, default, unit, doc, **kw)
+
+
+FLOATS = ("list", float)
+BOUNDARY = [
+    K("kind", str, REQUIRED, "-", "inlet (porous distributor, V = W = inflow), wall (V = W = 0) "
+      "or outlet (prescribed liquid pressure)", choices=("inlet", "wall", "outlet")),
+    K("pressure", float, 0.0, "Pa", "liquid pressure on an outlet"),
+    K("times", FLOATS, [0.0], "s", "inlet schedule: times, non-decreasing; a repeated time is a step "
+      "(value before = first, after = second); constant before the first and after the last"),
+    K("velocities", FLOATS, [], "m/s", "inlet schedule: superficial liquid velocity into the column at `times`"),
+    K("porosities", FLOATS, [], "-", "inlet schedule instead of velocities: the velocity that holds a "
+      "uniform bed fluidized at each porosity (computed with the drag law)"),
+]
+
+SCHEMA: dict[str, list[Key]] = {
+    "case": [
+        K("name", str, REQUIRED, "-", "short name used in outputs"),
+        K("description", str, "", "-", "one line shown by `twofluid cases`"),
+        K("model", str, "two_fluid_1d", "-", "equation set", choices=("two_fluid_1d",)),
+        K("study", str, "general", "-", "which key figures the summary reports: step_change (t1, bed "
+          "heights), settling (interface heights) or general", choices=("step_change", "settling", "general")),
+    ],
+    "mesh": [
+        K("length", float, REQUIRED, "m", "column length along the line", lo=0.0, lo_open=True),
+        K("elements", int, REQUIRED, "-", "number of elements", lo=1, hi=100000),
+        K("element", str, "1VW/0P/0n", "-", "1D element: linear V, W with constant P (default) or "
+          "quadratic V, W with linear P", choices=("1VW/0P/0n", "2VW/1P/0n")),
+        K("area", float, 1.0, "m²", "cross-section area at the bottom (and everywhere unless area_top)",
+          lo=0.0, lo_open=True),
+        K("area_top", float, -1.0, "m²", "cross-section area at the top for a linear taper (-1: same as area)"),
+        K("inclination_deg", float, 0.0, "deg", "angle of the column to the vertical", lo=-89.0, hi=89.0),
+    ],
+    "materials": [
+        K("liquid_density", float, REQUIRED, "kg/m³", "ρ_f", lo=0.0, lo_open=True),
+        K("liquid_viscosity", float, REQUIRED, "Pa·s", "μ_f", lo=0.0, lo_open=True),
+        K("particle_density", float, REQUIRED, "kg/m³", "ρ_s", lo=0.0, lo_open=True),
+        K("particle_diameter", float, REQUIRED, "m", "d_p", lo=0.0, lo_open=True),
+        K("sphericity", float, 1.0, "-", "ψ; the drag laws use d = ψ d_p", lo=0.0, hi=1.0, lo_open=True),
+        K("gravity", float, 9.81, "m/s²", "|g|", lo=0.0),
+    ],
+    "closures.drag": [
+        K("law", str, "gidaspow", "-", "drag law (SPEC 4.1)", choices=("gidaspow", "ergun", "wen_yu")),
+        K("stokes", bool, False, "-", "drop the inertial part of the drag (Stokes limits)"),
+        K("n_switch", float, 0.6, "-", "gidaspow: Ergun below, Wen–Yu above", lo=0.0, hi=1.0),
+        K("blend_width", float, 0.0, "-", "gidaspow: half-width of a C¹ smoothstep blend across n_switch (0: the sharp switch of the thesis)", lo=0.0),
+    ],
+    "closures.solids_pressure": [
+        K("law", str, "exponential", "-", "P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]", choices=("exponential",)),
+        K("compressibility", float, 0.015, "-", "A", lo=0.0, lo_open=True),
+        K("reference_porosity", float, 0.4, "-", "n̄ (P_s = p_ref at n = n̄); ignored where [initial] "
+          "state = \"settled\" computes it", lo=0.0, hi=1.0, lo_open=True),
+        K("p_ref", float, 1.0, "Pa", "reference pressure", lo=0.0, lo_open=True),
+    ],
+    "closures.viscosity": [
+        K("law", str, "mooney_pringle", "-", "mixture viscosity (SPEC 4.3)", choices=("mooney_pringle", "none")),
+    ],
+    "initial": [
+        K("porosity", float, REQUIRED, "-", "porosity of the bed", lo=0.0, hi=1.0, lo_open=True),
+        K("bed_height", float, -1.0, "m", "height of the bed above the bottom; clear liquid (n = 1) "
+          "above it (-1: the whole column)"),
+        K("state", str, "uniform", "-", "uniform: n̄ from [closures.solids_pressure]; settled: n̄ such "
+          "that P_s carries the buoyant weight of the solids above (a deposit at rest)",
+          choices=("uniform", "settled")),
+    ],
+    "boundary.bottom": BOUNDARY,
+    "boundary.top": BOUNDARY,
+    "time": [
+        K("end", float, REQUIRED, "s", "end time", lo=0.0, lo_open=True),
+        K("step", float, REQUIRED, "s", "time step (shrinks by itself where needed)", lo=0.0, lo_open=True),
+        K("picard_tol", float, 1e-7, "-", "convergence tolerance of the Picard/Newton iterations",
+          lo=0.0, hi=1e-2, lo_open=True),
+        K("picard_max_iter", int, 40, "-", "iterations before the step is retried with half the step",
+          lo=1, hi=1000),
+    ],
+    "output": [
+        K("times", FLOATS, [], "s", "times at which profiles are written (the end time always is)"),
+        K("probes", FLOATS, [], "m", "heights above the bottom whose time series are written"),
+        K("probe_interval", float, 0.0, "s", "time between probe samples (0: every step)", lo=0.0),
+        K("plots", bool, True, "-", "write PNG plots"),
+    ],
+    "numerics": [
+        K("solids_flux", str, "upwind", "-", "porosity equation: upwind solids flux at vertices (keeps "
+          "n ≤ 1 at a descending bed surface) or the thesis's galerkin form", choices=("upwind", "galerkin")),
+    ],
+}
+
+
+class CaseError(ValueError):
+    """A case file problem: names the file, the key and what is valid."""
+
+    def __init__(self, source: str, key: str, message: str):
+        super().__init__(f"{source}: {key}: {message}")
+        self.source, self.key = source, key
+
+
+def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
+    full = f"[{where}] {key.name}"
+    if key.type == FLOATS:
+        if not isinstance(value, list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                  for v in value):
+            raise CaseError(source, full, f"must be a list of numbers, got {value!r}")
+        return [float(v) for v in value]
+    if key.type is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise CaseError(source, full, f"must be a number, got {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise CaseError(source, full, "must be finite")
+    elif key.type is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise CaseError(source, full, f"must be an integer, got {value!r}")
+    elif key.type is bool:
+        if not isinstance(value, bool):
+            raise CaseError(source, full, f"must be true or false, got {value!r}")
+    elif key.type is str:
+        if not isinstance(value, str):
+            raise CaseError(source, full, f"must be a string, got {value!r}")
+    if key.choices and value not in key.choices:
+        raise CaseError(source, full, f"{value!r} is not valid; valid: {key.range_text()}")
+    if key.lo is not None or key.hi is not None:
+        bad = ((key.lo is not None and (value < key.lo or (key.lo_open and value == key.lo)))
+               or (key.hi is not None and (value > key.hi or (key.hi_open and value == key.hi))))
+        if bad:
+            raise CaseError(source, full, f"{value!r} is outside the valid range {key.range_text()} "
+                            f"[{key.unit}]")
+    return value
+
+
+def validate(doc: dict, source: str = "<case>") -> dict:
+    """Check ``doc`` against the schema; return the resolved case (all keys, defaults filled)."""
+    resolved: dict[str, dict] = {}
+    flat = _flatten_sections(doc, source)
+    for where in flat:
+        if where not in SCHEMA:
+            raise CaseError(source, f"[{where}]", f"unknown section; valid sections: {', '.join(SCHEMA)}")
+    for where, keys in SCHEMA.items():
+        given = flat.get(where, {})
+        known = {k.name for k in keys}
+        for name in given:
+            if name not in known:
+                raise CaseError(source, f"[{where}] {name}", f"unknown key; valid keys: {', '.join(sorted(known))}")
+        out = {}
+        for key in keys:
+            if key.name in given:
+                out[key.name] = _check_value(source, where, key, given[key.name])
+            elif key.default is REQUIRED:
+                raise CaseError(source, f"[{where}] {key.name}", f"missing (required; {key.doc} [{key.unit}])")
+            else:
+                out[key.name] = list(key.default) if isinstance(key.default, list) else key.default
+        resolved[where] = out
+    from .consistency import check_consistency
+
+    check_consistency(resolved, source)
+    return resolved
+
+
+def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
+    """{"closures": {"drag": {...}}} -> {"closures.drag": {...}}."""
+    flat: dict[str, dict] = {}
+
+    def walk(prefix: str, table: dict):
+        plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
+        subs = {k: v for k, v in table.items() if isinstance(v, dict)}
+        if prefix and (plain or not subs):
+            flat[prefix] = plain
+        elif not prefix and plain:
+            raise CaseError(source, ", ".join(plain), "keys must sit inside a [section]")
+        for k, v in subs.items():
+            walk(f"{prefix}.{k}" if prefix else k, v)
+
+    walk("", doc)
+    return flat
+
+
+def markdown() -> str:
+    """The case-file reference (docs/case-file.md), generated from SCHEMA."""
+    lines = ["# Case-file reference", "",
+             "Generated from `twofluid.casefile.schema.SCHEMA` (`python -m twofluid.casefile.schema "
+             "> docs/case-file.md`). All values in SI units. Unknown sections or keys are errors.", ""]
+    for where, keys in SCHEMA.items():
+        lines += [f"## [{where}]", "", "| key | type | default | unit | valid | meaning |",
+                  "|---|---|---|---|---|---|"]
+        for k in keys:
+            t = "list of numbers" if k.type == FLOATS else k.type.__name__
+            d = "required" if k.default is REQUIRED else repr(k.default)
+            lines.append(f"| `{k.name}` | {t} | {d} | {k.unit} | {k.range_text()} | {k.doc} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    print(markdown())

@@ -1,0 +1,75 @@
+"""Figures of 1D runs: porosity and pressure profiles, bed height or interfaces in time."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+__all__ = ["profile_plots", "history_plot"]
+
+
+def _by_time(profiles: dict[float, dict]):
+    return sorted(profiles.items())
+
+
+def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> list[Path]:
+    """porosity.png (n against height at each output time) and pressure.png (P, P_s)."""
+    out = []
+    fig, ax = plt.subplots(figsize=(5.5, 6))
+    cmap = plt.get_cmap("viridis")
+    items = _by_time(profiles)
+    for i, (t, f) in enumerate(items):
+        ax.plot(f["porosity"], f["y_m"], drawstyle="steps-mid", color=cmap(i / max(len(items) - 1, 1)),
+                label=f"t = {t:g} s")
+    ax.set_xlabel("porosity n [-]")
+    ax.set_ylabel("height y [m]")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    out.append(Path(out_dir) / "porosity.png")
+    fig.savefig(out[-1], dpi=120)
+    plt.close(fig)
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 5.5), sharey=True)
+    for i, (t, f) in enumerate(items):
+        c = cmap(i / max(len(items) - 1, 1))
+        a1.plot(f["P_Pa"], f["y_m"], color=c, label=f"t = {t:g} s")
+        a2.plot(f["Ps_Pa"], f["y_m"], color=c)
+    a1.set_xlabel("liquid pressure P [Pa]")
+    a2.set_xlabel("granular pressure P_s [Pa]")
+    a1.set_ylabel("height y [m]")
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+    a1.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    out.append(Path(out_dir) / "pressure.png")
+    fig.savefig(out[-1], dpi=120)
+    plt.close(fig)
+    return out
+
+
+def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, title: str,
+                 ylabel: str = "height [m]", marks: dict[str, float] | None = None) -> Path:
+    """Curves against time (e.g. bed height, interface heights) with optional vertical marks."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    for name, y in series.items():
+        ax.plot(t, y, label=name)
+    for name, tm in (marks or {}).items():
+        if np.isfinite(tm):
+            ax.axvline(tm, ls="--", color="k", lw=0.8)
+            ax.text(tm, ax.get_ylim()[1], f" {name} = {tm:.3g} s", va="top", fontsize=8)
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out_path, dpi=120)
+    plt.close(fig)
+    return Path(out_path)

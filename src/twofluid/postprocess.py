@@ -1,0 +1,69 @@
+"""Key figures of a run, with their written definitions.
+
+Bed surface height H(t): scanning down from the top, the height where the
+element-centre porosity first falls below a threshold (linear interpolation
+between the two centres around the crossing). The default threshold is midway
+between clear liquid and the bed porosity, which places a sharp surface at the
+element face and a smeared one at its middle.
+
+t1 of a step change: the first time after which the bed surface stays within
+``band`` (default 2 %) of the total change |H_end − H_0| of its final height.
+Applied unchanged to the exact Kynch trajectory when comparing (issue 3).
+
+Settling interfaces: the top (clear liquid / suspension) interface is the bed
+surface with threshold (1 + n0)/2; the sediment interface is the highest height
+below it where the porosity falls below n0 − ``drop`` (default 0.01).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["surface_height", "t1_from_history", "sediment_height"]
+
+
+def surface_height(y: np.ndarray, n: np.ndarray, threshold: float, bottom: float = 0.0) -> float:
+    """Height [m] (above ``bottom``) of the highest downward crossing of ``threshold``.
+
+    >>> surface_height(np.array([0.5, 1.5, 2.5]), np.array([0.6, 0.6, 1.0]), 0.8)
+    2.0
+    >>> surface_height(np.array([0.5, 1.5]), np.array([1.0, 1.0]), 0.8)
+    0.0
+    """
+    below = np.nonzero(n < threshold)[0]
+    if below.size == 0:
+        return 0.0
+    j = below[-1]
+    if j == len(n) - 1:
+        return float(y[-1] + 0.5 * (y[-1] - y[-2]) - bottom) if len(y) > 1 else float(y[-1] - bottom)
+    f = (threshold - n[j]) / (n[j + 1] - n[j])
+    return float(y[j] + f * (y[j + 1] - y[j]) - bottom)
+
+
+def sediment_height(y: np.ndarray, n: np.ndarray, n0: float, top: float, drop: float = 0.01,
+                    bottom: float = 0.0) -> float:
+    """Height [m] of the sediment interface below ``top`` (see module docstring)."""
+    keep = (y - bottom) < top
+    if not keep.any():
+        return 0.0
+    return surface_height(y[keep], n[keep], n0 - drop, bottom) if (n[keep] < n0 - drop).any() else 0.0
+
+
+def t1_from_history(t: np.ndarray, h: np.ndarray, band: float = 0.02) -> float:
+    """First time after which |h − h[-1]| ≤ band·|h[-1] − h[0]| holds to the end [s].
+
+    >>> t = np.linspace(0, 10, 101); h = np.minimum(t, 5.0)
+    >>> round(t1_from_history(t, h), 6)
+    4.9
+    """
+    t, h = np.asarray(t), np.asarray(h)
+    tol = band * abs(h[-1] - h[0])
+    outside = np.nonzero(np.abs(h - h[-1]) > tol)[0]
+    if outside.size == 0:
+        return float(t[0])
+    i = outside[-1]
+    if i + 1 >= len(t):
+        return float("nan")
+    # interpolate the crossing of the band between samples i and i+1
+    target = h[-1] + np.sign(h[i] - h[-1]) * tol
+    f = (h[i] - target) / (h[i] - h[i + 1]) if h[i] != h[i + 1] else 1.0
+    return float(t[i] + f * (t[i + 1] - t[i]))

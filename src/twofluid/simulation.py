@@ -1,0 +1,202 @@
+"""Run a case: build it, consume the time-step stream, write results and figures.
+
+``run_case`` is what ``twofluid run`` calls. Output, probes, the progress bar
+and plots all consume the generator of :func:`twofluid.timestepping.integrate`
+from outside the solver.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from . import postprocess as pp
+from .casefile.builder import build
+from .casefile.loader import load_case
+from .io.results import ResultWriter, write_json, write_resolved_case
+from .timestepping.backward_euler import StepFailure, integrate, picard_step
+
+__all__ = ["RunResult", "run_case"]
+
+PROFILE_COLUMNS = ["y_m", "porosity", "reference_porosity", "P_Pa", "Ps_Pa", "V_m_s", "W_m_s",
+                   "Uf_m_s", "Us_m_s"]
+
+
+@dataclass
+class RunResult:
+    status: str  # completed | interrupted | failed
+    out_dir: Path
+    summary: dict
+    profiles: dict = field(default_factory=dict)  # t -> element fields
+    history: dict = field(default_factory=dict)  # name -> array over steps
+
+
+def _initial_pressure(model, state, dt):
+    """P consistent with the initial state: one step of negligible length (1e-6 Δt)."""
+    new, _ = picard_step(model, state, 1e-6 * dt)
+    if new is not None:
+        state = state.copy(P=new.P)
+    return state
+
+
+class _Figures:
+    """Tracks the case's key heights at every step (cheap: one scan of the porosity)."""
+
+    def __init__(self, case, model, state):
+        self.study = case["case"]["study"]
+        self.model = model
+        self.y = model.mesh.centres
+        self.y0 = model.mesh.y[0]
+        n_bed = state.n[state.n < 1.0]
+        self.n0 = float(n_bed.mean()) if n_bed.size else 1.0
+        self.thr = 0.5 * (1.0 + self.n0)
+        if self.study == "step_change" and case["boundary.bottom"]["porosities"]:
+            self.thr = 0.5 * (1.0 + max(case["boundary.bottom"]["porosities"]))
+        self.t, self.rows = [], []
+
+    def heights(self, s) -> dict[str, float]:
+        top = pp.surface_height(self.y, s.n, self.thr, self.y0)
+        out = {"bed_height_m": top}
+        if self.study == "settling":
+            out["sediment_height_m"] = pp.sediment_height(self.y, s.n, self.n0, top, bottom=self.y0)
+        return out
+
+    def record(self, s):
+        self.t.append(s.t)
+        self.rows.append(self.heights(s))
+
+    def series(self) -> dict[str, np.ndarray]:
+        if not self.rows:
+            return {}
+        return {k: np.array([r[k] for r in self.rows]) for k in self.rows[0]}
+
+
+def _probe_values(model, s, probes, heights):
+    vals = dict(heights)
+    f = model.element_fields(s)
+    e_of = np.clip(np.searchsorted(model.mesh.y, np.asarray(probes) + model.mesh.y[0], side="right") - 1,
+                   0, model.mesh.n_elements - 1)
+    for y, e in zip(probes, e_of):
+        for name in ("porosity", "P_Pa", "Ps_Pa", "Us_m_s"):
+            vals[f"{name}@{y:g}m"] = float(f[name][e])
+    return vals
+
+
+def run_case(case, out_dir=None, progress: bool = False) -> RunResult:
+    """Run ``case`` (resolved dict, bundled name or TOML path); write results to ``out_dir``."""
+    if not isinstance(case, dict):
+        case = load_case(case)
+    name = case["case"]["name"]
+    out = Path(out_dir or f"twofluid-out/{name}")
+    out.mkdir(parents=True, exist_ok=True)
+    write_resolved_case(out / "case.resolved.toml", case)
+    b = build(case)
+    model, state = b.model, _initial_pressure(b.model, b.state, b.dt)
+    fig = _Figures(case, model, state)
+    probes = case["output"]["probes"]
+    heights0 = fig.heights(state)
+    probe_cols = list(_probe_values(model, state, probes, heights0))
+    writer = ResultWriter(out, PROFILE_COLUMNS, probe_cols)
+    out_times = sorted(set(case["output"]["times"]) | {0.0, b.t_end})
+    profiles: dict[float, dict] = {}
+
+    def save_profile(s):
+        f = model.element_fields(s)
+        profiles[round(s.t, 12)] = f
+        writer.profile(s.t, f)
+
+    solids0 = model.solids_volume(state)
+    outflow = 0.0
+    save_profile(state)
+    fig.record(state)
+    writer.probe(state.t, _probe_values(model, state, probes, heights0))
+    next_probe = case["output"]["probe_interval"]
+    status, reason, n_steps, last = "completed", "", 0, state
+    wall0 = time.perf_counter()
+    bar = tqdm(total=b.t_end, unit="s", disable=not progress, leave=False,
+               bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated [{elapsed}<{remaining}]")
+    try:
+        for step in integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings):
+            s = step.state
+            outflow += step.dt * model.solids_outflow(s)
+            n_steps, last = step.n_steps, s
+            fig.record(s)
+            if s.t >= next_probe - 1e-12 or s.t >= b.t_end - 1e-12:
+                writer.probe(s.t, _probe_values(model, s, probes, fig.rows[-1]))
+                next_probe = s.t + case["output"]["probe_interval"]
+            if any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times):
+                save_profile(s)
+            bar.update(s.t - bar.n)
+    except KeyboardInterrupt:
+        status, reason = "interrupted", "interrupted by the user (Ctrl-C)"
+    except StepFailure as exc:
+        status, reason = "failed", str(exc)
+    finally:
+        bar.close()
+        writer.close()
+    wall = time.perf_counter() - wall0
+    if status != "completed" and round(last.t, 12) not in profiles:
+        f = model.element_fields(last)
+        profiles[round(last.t, 12)] = f
+    summary = _summary(case, b, model, fig, status, reason, last, n_steps, wall,
+                       solids0, outflow)
+    write_json(out / "summary.json", summary)
+    if case["output"]["plots"]:
+        _plots(case, fig, profiles, out, summary)
+    return RunResult(status, out, summary, profiles, {"t": np.array(fig.t), **fig.series()})
+
+
+def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, outflow):
+    solids = model.solids_volume(last)
+    balance = (solids - solids0 + outflow) / solids0 if solids0 > 0 else 0.0
+    s = {
+        "case": case["case"]["name"], "status": status, "stopped_at_s": last.t,
+        "reason": reason, "end_time_s": b.t_end, "wall_time_s": wall, "steps": n_steps,
+        "element": model.element, "elements": model.mesh.n_elements,
+        "solids_volume_m3": {"initial": solids0, "final": solids, "outflow": outflow},
+        "solids_volume_balance_error": balance,
+        "solids_volume_balance_error_definition":
+            "(solids volume now − initial + solids that left through the ends) / initial",
+        "porosity_range": [float(last.n.min()), float(last.n.max())],
+    }
+    ser, t = fig.series(), np.array(fig.t)
+    if fig.study == "step_change" and len(t) > 1:
+        h = ser["bed_height_m"]
+        por = case["boundary.bottom"]["porosities"]
+        s["inlet_velocities_m_s"] = list(b.inlet_velocities)
+        s["bed_height_initial_m"] = float(h[0])
+        s["bed_height_final_m"] = float(h[-1])
+        if por:
+            s["bed_height_theory_final_m"] = float(h[0] * (1 - por[0]) / (1 - por[-1]))
+        s["t1_s"] = pp.t1_from_history(t, h) if status == "completed" else None
+        s["t1_definition"] = ("first time after which the bed surface height stays within 2 % of "
+                              "|H_final − H_initial| of its final height; the surface is where the "
+                              "porosity first falls below (1 + n_after)/2 scanning down from the top")
+    if fig.study == "settling":
+        times = sorted(set(case["output"]["times"]) | {0.0, last.t})
+        idx = [int(np.argmin(np.abs(t - tt))) for tt in times]
+        s["interfaces"] = {
+            "definition": ("top: height where the porosity first falls below (1 + n0)/2 scanning "
+                           "down; sediment: highest height below it where n < n0 − 0.01"),
+            "time_s": [float(t[i]) for i in idx],
+            "top_interface_m": [float(ser["bed_height_m"][i]) for i in idx],
+            "sediment_interface_m": [float(ser["sediment_height_m"][i]) for i in idx],
+        }
+    return s
+
+
+def _plots(case, fig, profiles, out, summary):
+    from .plots.profiles import history_plot, profile_plots
+
+    title = case["case"]["name"]
+    profile_plots(profiles, out, title)
+    ser = fig.series()
+    if ser:
+        labels = {"bed_height_m": "bed surface" if fig.study != "settling" else "top interface",
+                  "sediment_height_m": "sediment interface"}
+        marks = {"t1": summary["t1_s"]} if summary.get("t1_s") is not None else None
+        history_plot(np.array(fig.t), {labels[k]: v for k, v in ser.items()},
+                     out / "heights.png", title, marks=marks)
