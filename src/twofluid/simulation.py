@@ -85,10 +85,26 @@ def _probe_values(model, s, probes, heights):
     return vals
 
 
+# Runners of the models whose output is not a 1D column profile: "module:function".
+RUNNERS = {"two_fluid_2d": "twofluid.simulation_2d:run_2d",
+           "liquefaction_1d": "twofluid.liquefaction:run_liquefaction"}
+
+
 def run_case(case, out_dir=None, progress: bool = False) -> RunResult:
     """Run ``case`` (resolved dict, bundled name or TOML path); write results to ``out_dir``."""
     if not isinstance(case, dict):
         case = load_case(case)
+    model = case["case"]["model"]
+    if model in RUNNERS:
+        import importlib
+
+        mod, func = RUNNERS[model].split(":")
+        return getattr(importlib.import_module(mod), func)(case, out_dir, progress=progress)
+    return run_1d(case, out_dir, progress)
+
+
+def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
+    """The column runner of ``two_fluid_1d`` and ``reduced_1d``."""
     name = case["case"]["name"]
     out = Path(out_dir or f"twofluid-out/{name}")
     out.mkdir(parents=True, exist_ok=True)

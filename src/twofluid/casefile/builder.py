@@ -83,8 +83,11 @@ def build(case: dict) -> Built:
     clo = _closures(case)
     bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
     top, vt = _boundary(case["boundary.top"], clo, mat)
-    model = TwoFluid1D(mesh, mat, clo, bottom, top, element=m["element"],
-                       solids_flux=case["numerics"]["solids_flux"])
+    cls = TwoFluid1D
+    if case["case"]["model"] == "reduced_1d":
+        from ..models.reduced_1d import Reduced1D as cls
+    model = cls(mesh, mat, clo, bottom, top, element=m["element"],
+                solids_flux=case["numerics"]["solids_flux"])
     state = initial_state(model, case)
     tm = case["time"]
     settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],

@@ -1,7 +1,7 @@
 """Checks across keys of a resolved case (each key alone is checked by the schema)."""
 from __future__ import annotations
 
-from .schema import CaseError
+from .schema import SCHEMA, CaseError, register_model
 
 __all__ = ["check_consistency"]
 
@@ -59,3 +59,9 @@ def check_consistency(case: dict, source: str) -> None:
         if b["kind"] != "inlet" or len(b["times"]) < 2:
             raise CaseError(source, "[case] study", "step_change needs an inlet at the bottom with a "
                             "schedule of at least two values")
+
+
+_SECTIONS_1D = ("mesh", "closures.drag", "closures.solids_pressure", "closures.viscosity", "initial",
+                "boundary.bottom", "boundary.top", "numerics")
+register_model("two_fluid_1d", {k: SCHEMA[k] for k in _SECTIONS_1D}, check_consistency)
+register_model("reduced_1d", {k: SCHEMA[k] for k in _SECTIONS_1D}, check_consistency)

@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Key", "SCHEMA", "CaseError", "validate", "markdown"]
+__all__ = ["Key", "SCHEMA", "SCHEMAS", "COMMON", "register_model", "CaseError", "validate", "markdown"]
 
 REQUIRED = object()
 
@@ -59,7 +59,8 @@ SCHEMA: dict[str, list[Key]] = {
     "case": [
         K("name", str, REQUIRED, "-", "short name used in outputs"),
         K("description", str, "", "-", "one line shown by `twofluid cases`"),
-        K("model", str, "two_fluid_1d", "-", "equation set", choices=("two_fluid_1d",)),
+        K("model", str, "two_fluid_1d", "-", "equation set; each model has its own sections (below)",
+          choices=("two_fluid_1d", "reduced_1d", "two_fluid_2d", "liquefaction_1d")),
         K("study", str, "general", "-", "which key figures the summary reports: step_change (t1, bed "
           "heights), settling (interface heights) or general", choices=("step_change", "settling", "general")),
     ],
@@ -128,6 +129,33 @@ SCHEMA: dict[str, list[Key]] = {
 }
 
 
+# Sections every model shares; a model adds its own with ``register_model``.
+COMMON = ("case", "materials", "time", "output")
+SCHEMAS: dict[str, dict[str, list[Key]]] = {}
+MODEL_CHECKS: dict[str, object] = {}
+
+
+def register_model(model: str, sections: dict[str, list[Key]], check=None) -> None:
+    """Declare the sections (besides COMMON) of ``model``; ``check(case, source)`` runs after."""
+    SCHEMAS[model] = {**{k: SCHEMA[k] for k in COMMON}, **sections}
+    if check is not None:
+        MODEL_CHECKS[model] = check
+
+
+def _model_schema(model: str) -> dict[str, list[Key]]:
+    if model not in SCHEMAS:  # the modules of other models register on import
+        import importlib
+
+        importlib.import_module(_MODEL_MODULES[model])
+    return SCHEMAS[model]
+
+
+_MODEL_MODULES = {"two_fluid_1d": "twofluid.casefile.consistency",
+                  "reduced_1d": "twofluid.casefile.consistency",
+                  "two_fluid_2d": "twofluid.casefile.schema_2d",
+                  "liquefaction_1d": "twofluid.casefile.schema_liquefaction"}
+
+
 class CaseError(ValueError):
     """A case file problem: names the file, the key and what is valid."""
 
@@ -171,30 +199,35 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
 
 def validate(doc: dict, source: str = "<case>") -> dict:
     """Check ``doc`` against the schema; return the resolved case (all keys, defaults filled)."""
-    resolved: dict[str, dict] = {}
     flat = _flatten_sections(doc, source)
+    case = _resolve_section(source, "case", SCHEMA["case"], flat.get("case", {}))
+    schema = _model_schema(case["model"])
     for where in flat:
-        if where not in SCHEMA:
-            raise CaseError(source, f"[{where}]", f"unknown section; valid sections: {', '.join(SCHEMA)}")
-    for where, keys in SCHEMA.items():
-        given = flat.get(where, {})
-        known = {k.name for k in keys}
-        for name in given:
-            if name not in known:
-                raise CaseError(source, f"[{where}] {name}", f"unknown key; valid keys: {', '.join(sorted(known))}")
-        out = {}
-        for key in keys:
-            if key.name in given:
-                out[key.name] = _check_value(source, where, key, given[key.name])
-            elif key.default is REQUIRED:
-                raise CaseError(source, f"[{where}] {key.name}", f"missing (required; {key.doc} [{key.unit}])")
-            else:
-                out[key.name] = list(key.default) if isinstance(key.default, list) else key.default
-        resolved[where] = out
-    from .consistency import check_consistency
-
-    check_consistency(resolved, source)
+        if where not in schema:
+            raise CaseError(source, f"[{where}]", f"unknown section for model {case['model']!r}; "
+                            f"valid sections: {', '.join(schema)}")
+    resolved = {where: _resolve_section(source, where, keys, flat.get(where, {}))
+                for where, keys in schema.items()}
+    check = MODEL_CHECKS.get(case["model"])
+    if check is not None:
+        check(resolved, source)
     return resolved
+
+
+def _resolve_section(source: str, where: str, keys: list[Key], given: dict) -> dict:
+    known = {k.name for k in keys}
+    for name in given:
+        if name not in known:
+            raise CaseError(source, f"[{where}] {name}", f"unknown key; valid keys: {', '.join(sorted(known))}")
+    out = {}
+    for key in keys:
+        if key.name in given:
+            out[key.name] = _check_value(source, where, key, given[key.name])
+        elif key.default is REQUIRED:
+            raise CaseError(source, f"[{where}] {key.name}", f"missing (required; {key.doc} [{key.unit}])")
+        else:
+            out[key.name] = list(key.default) if isinstance(key.default, list) else key.default
+    return out
 
 
 def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
@@ -216,20 +249,37 @@ def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
 
 
 def markdown() -> str:
-    """The case-file reference (docs/case-file.md), generated from SCHEMA."""
+    """The case-file reference (docs/case-file.md), generated from the registered schemas."""
+    for model in _MODEL_MODULES:
+        try:
+            _model_schema(model)
+        except ModuleNotFoundError:  # a model whose module is not written yet
+            pass
     lines = ["# Case-file reference", "",
-             "Generated from `twofluid.casefile.schema.SCHEMA` (`python -m twofluid.casefile.schema "
-             "> docs/case-file.md`). All values in SI units. Unknown sections or keys are errors.", ""]
-    for where, keys in SCHEMA.items():
-        lines += [f"## [{where}]", "", "| key | type | default | unit | valid | meaning |",
-                  "|---|---|---|---|---|---|"]
-        for k in keys:
-            t = "list of numbers" if k.type == FLOATS else k.type.__name__
-            d = "required" if k.default is REQUIRED else repr(k.default)
-            lines.append(f"| `{k.name}` | {t} | {d} | {k.unit} | {k.range_text()} | {k.doc} |")
-        lines.append("")
+             "Generated from the schemas in `twofluid.casefile` (`python -m twofluid.casefile.schema "
+             "> docs/case-file.md`). All values in SI units. Unknown sections or keys are errors.",
+             "`[case] model` chooses the equation set; each model lists its sections below.", ""]
+    seen: set[str] = set()
+    for model, schema in SCHEMAS.items():
+        lines += [f"## model = \"{model}\"", "", "Sections: " + ", ".join(f"[{w}]" for w in schema), ""]
+    for model, schema in SCHEMAS.items():
+        for where, keys in schema.items():
+            ident = f"{where}:{id(keys)}"
+            if ident in seen:
+                continue
+            seen.add(ident)
+            owners = [m for m, sc in SCHEMAS.items() if sc.get(where) is keys]
+            lines += [f"### [{where}] ({', '.join(owners)})", "",
+                      "| key | type | default | unit | valid | meaning |", "|---|---|---|---|---|---|"]
+            for k in keys:
+                t = "list of numbers" if k.type == FLOATS else k.type.__name__
+                d = "required" if k.default is REQUIRED else repr(k.default)
+                lines.append(f"| `{k.name}` | {t} | {d} | {k.unit} | {k.range_text()} | {k.doc} |")
+            lines.append("")
     return "\n".join(lines)
 
 
 if __name__ == "__main__":  # pragma: no cover
-    print(markdown())
+    from twofluid.casefile.schema import markdown as _markdown  # the registered instance
+
+    print(_markdown())

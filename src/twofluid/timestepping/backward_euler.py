@@ -9,7 +9,9 @@ even at ``dt_min`` raises :class:`StepFailure`, which says where and why.
 
 The model must provide ``assemble(k, old, dt, t) -> BlockSystem``,
 ``dirichlet(t)``, ``pack``, ``unpack``, ``check``, ``velocity_scale`` and
-``end_step`` (see :class:`twofluid.models.two_fluid_1d.TwoFluid1D`).
+``end_step`` (see :class:`twofluid.models.two_fluid_1d.TwoFluid1D`); optional
+hooks: ``begin_iteration(it, k)`` before each Picard iteration and
+``solve(system, t)`` to replace the default sparse direct solve.
 """
 from __future__ import annotations
 
@@ -68,7 +70,7 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
             hook(it, k)
         S = model.assemble(k, old, dt, t_new)
         with np.errstate(all="ignore"):
-            a = _solve(model, S, t_new)
+            a = model.solve(S, t_new) if hasattr(model, "solve") else _solve(model, S, t_new)
         new = model.unpack(a, k, t_new)
         if not np.all(np.isfinite(a)):
             return None, "linear solve gave non-finite values"
