@@ -38,29 +38,37 @@ HELD_OUT_CSR = [0.12]
 POROSITIES = [0.40, 0.44, 0.48]
 STRESSES = [50e3, 100e3, 200e3]  # [Pa]
 CYCLES = 30.0
+SAMPLES_PER_TEST = 250
 
 
 def element_samples(sand: LooseSand, strains, csrs):
     """Rows (path, |Δγ|, n̄_old, n̄_new, weight) from byrne element tests."""
     rows = []
+    rng = np.random.default_rng(7)
     for n in POROSITIES:
         for sig in STRESSES:
             mat = LooseSand(**{**asdict(sand), "porosity": n})
-            runs = [cyclic_simple_shear(gamma_amplitude=g, sigma_v0=sig, sand=mat,
-                                        max_cycles=CYCLES, stop_at_liquefaction=False,
-                                        steps_per_cycle=STEPS_PER_CYCLE) for g in strains]
-            runs += [cyclic_simple_shear(csr=c, sigma_v0=sig, sand=mat, max_cycles=CYCLES,
-                                         steps_per_cycle=STEPS_PER_CYCLE) for c in csrs]
-            for r in runs:
-                last = r.cycles.size - 1 if not np.isfinite(r.cycles_to_liquefaction[0]) \
-                    else int(np.searchsorted(r.cycles, r.cycles_to_liquefaction[0]))
-                g = r.gamma[: last + 1, 0]
-                nb = r.n_bar[: last + 1, 0]
+            runs = [cyclic_simple_shear(gamma_amplitude=np.asarray(strains, float), sigma_v0=sig,
+                                        sand=mat, max_cycles=CYCLES, stop_at_liquefaction=False,
+                                        steps_per_cycle=STEPS_PER_CYCLE)]
+            if csrs:
+                runs.append(cyclic_simple_shear(csr=np.asarray(csrs, float), sigma_v0=sig, sand=mat,
+                                                max_cycles=CYCLES, steps_per_cycle=STEPS_PER_CYCLE))
+            for r, j in ((r, j) for r in runs for j in range(r.gamma.shape[1])):
+                # stress control: keep the steps before liquefaction (no run-away strains)
+                stop = r.cycles.size if r.settings["mode"] == "strain" or \
+                    not np.isfinite(r.cycles_to_liquefaction[j]) else \
+                    int(np.searchsorted(r.cycles, r.cycles_to_liquefaction[j]))
+                g = r.gamma[:stop, j]
+                nb = r.n_bar[:stop, j]
                 step = np.abs(np.diff(g))
                 path = np.cumsum(step)
                 keep = step > 0
                 weight = step / step[keep].mean()
-                rows.append(np.column_stack([path, step, nb[:-1], nb[1:], weight])[keep])
+                sample = np.column_stack([path, step, nb[:-1], nb[1:], weight])[keep]
+                # every test keeps at most SAMPLES_PER_TEST steps (random, seeded)
+                pick = rng.choice(len(sample), min(len(sample), SAMPLES_PER_TEST), replace=False)
+                rows.append(sample[np.sort(pick)])
     return np.concatenate(rows)
 
 
@@ -135,7 +143,7 @@ def main(argv=None) -> None:
                           "strain_amplitudes": TRAIN_STRAINS, "csr": TRAIN_CSR,
                           "porosities": POROSITIES, "sigma_v0_Pa": STRESSES},
         "held_out": {"strain_amplitudes": HELD_OUT_STRAINS, "csr": HELD_OUT_CSR},
-        "samples": {"training": int(train.shape[0]), "held_out": int(held.shape[0])},
+        "samples": {"per_test_at_most": SAMPLES_PER_TEST, "training": int(train.shape[0]), "held_out": int(held.shape[0])},
         "fit": "scipy.optimize.least_squares (trf), residual = output error / (rate_max |dgamma|) "
                "weighted by |dgamma| / mean |dgamma| of its test; best of seeded random starts",
         "rms_error_normalised": {"training": rms_normalised(weights, train),

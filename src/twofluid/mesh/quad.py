@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["QuadMesh", "rectangle", "annular_sector", "graded_points", "block_patches"]
+__all__ = ["QuadMesh", "rectangle", "annular_sector", "graded_points", "block_patches",
+           "remove_block"]
 
 
 @dataclass
@@ -271,3 +272,51 @@ def annular_sector(r_i: float, r_o: float, angle_rad: float, nr: int, nt: int) -
     bnd = {names[k]: v for k, v in bnd.items()}
     pts = np.column_stack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel()])
     return QuadMesh(pts, cells, bnd, axisymmetric=False, patches=block_patches(nr, nt))
+
+
+def remove_block(mesh: QuadMesh, x0: float, x1: float, y0: float, y1: float,
+                 name: str = "cut") -> QuadMesh:
+    """Mesh without the elements whose centroid lies in [x0, x1] × [y0, y1] [m].
+
+    The edges the removed elements shared with kept ones form the new boundary
+    group ``name`` (e.g. the wetted surface of a spindle); existing edge groups keep
+    only edges of kept elements. Nodes are renumbered; macroelement patches cut by
+    the block are dropped (then ``patches`` is None), so cut along even element
+    lines of a structured mesh to keep the checkerboard stabilisation.
+
+    Examples
+    --------
+    >>> m = remove_block(rectangle(0.0, 4.0, 0.0, 4.0, 4, 4), 0.0, 2.0, 2.0, 4.0, "spindle")
+    >>> m.n_elements, m.boundary_edges("spindle").shape[0], m.patches is not None
+    (12, 4, True)
+    """
+    xc = mesh.points[mesh.cells].mean(axis=1)
+    gone = (xc[:, 0] >= x0) & (xc[:, 0] <= x1) & (xc[:, 1] >= y0) & (xc[:, 1] <= y1)
+    local = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+
+    def keys(cells):
+        e = np.sort(cells[:, local].reshape(-1, 2), axis=1)
+        return e[:, 0] * mesh.n_nodes + e[:, 1]
+
+    kept_cells = mesh.cells[~gone]
+    kept_keys = keys(kept_cells)
+    cut = np.isin(kept_keys, keys(mesh.cells[gone]))
+    new_edges = kept_cells[:, local].reshape(-1, 2)[cut]  # ccw as seen from the kept element
+    used = np.unique(kept_cells)
+    renum = np.full(mesh.n_nodes, -1, dtype=np.int64)
+    renum[used] = np.arange(used.size)
+    groups = {}
+    for gname, g in mesh.boundaries.items():
+        if g.ndim == 2:
+            g = g[np.isin(np.sort(g, axis=1) @ np.array([mesh.n_nodes, 1]), kept_keys)]
+        else:
+            g = g[renum[g] >= 0]
+        if g.size:
+            groups[gname] = renum[g]
+    groups[name] = renum[new_edges]
+    patches = None
+    if mesh.patches is not None:
+        p = mesh.patches[~gone]
+        if not np.any(np.isin(p, mesh.patches[gone])):
+            patches = np.unique(p, return_inverse=True)[1]
+    return QuadMesh(mesh.points[used], renum[kept_cells], groups, mesh.axisymmetric, patches)

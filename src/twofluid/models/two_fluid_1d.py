@@ -226,8 +226,8 @@ class TwoFluid1D:
             mu_s = solid_viscosity(n, mat.mu_f, **clo.viscosity_params)[:, None, None]
             S.add("V", "V", vd, vd, 0.5 * (mat.mu_f + mu_s) * Kv)
             S.add("V", "W", vd, vd, 0.5 * (mat.mu_f - mu_s) * Kv)
-            S.add("W", "V", vd, vd, 0.5 * mat.mu_f * Kv)
-            S.add("W", "W", vd, vd, 0.5 * mat.mu_f * Kv)
+            S.add("W", "V", vd, vd, 0.5 * mat.mu_f / n[:, None, None] * Kv)
+            S.add("W", "W", vd, vd, 0.5 * mat.mu_f / n[:, None, None] * Kv)
         BpT = -np.swapaxes(self.Bp, 1, 2)
         S.add("V", "P", vd, pd, BpT)
         ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
@@ -237,11 +237,12 @@ class TwoFluid1D:
         S.add("V", "n", vd, ed, ((mat.rho_s - mat.rho_f) * self.g_y * src)[:, :, None])
         S.add_rhs("V", vd, mat.rho_s * self.g_y * src)
 
-        # liquid (rows W)
-        S.add("W", "V", vd, vd, 0.5 * mat.rho_f / dt * M)
-        S.add("W", "W", vd, vd, 0.5 * mat.rho_f / dt * M)
-        S.add_rhs("W", vd, np.einsum("eij,ej->ei", M, 0.5 * mat.rho_f * (old.V[vd] + old.W[vd])) / dt)
-        S.add("W", "n", vd, ed, (-mat.rho_f * self.g_y * src)[:, :, None])
+        # liquid (rows W), per unit liquid volume: tested with δW/n (see module docstring)
+        inv_n = (1.0 / n)[:, None, None]
+        S.add("W", "V", vd, vd, 0.5 * mat.rho_f / dt * inv_n * M)
+        S.add("W", "W", vd, vd, 0.5 * mat.rho_f / dt * inv_n * M)
+        S.add_rhs("W", vd, np.einsum("eij,ej->ei", inv_n * M, 0.5 * mat.rho_f * (old.V[vd] + old.W[vd])) / dt)
+        S.add_rhs("W", vd, mat.rho_f * self.g_y * src)
         self._drag(S, k)
         self._liquid_pressure(S, n, k.P)
 
@@ -262,7 +263,7 @@ class TwoFluid1D:
         q = (1.0 - 2.0 * n)[:, None] * V[self.vdofs] + W[self.vdofs]
         s_abs = np.abs(self.slip(V, W, n))
         K = self.clo.beta_per_solids(n, s_abs, self.mat)
-        return (K / (2.0 * n))[:, None] * np.einsum("eij,ej->ei", self.M, q), K, s_abs, q
+        return (K / (2.0 * n * n))[:, None] * np.einsum("eij,ej->ei", self.M, q), K, s_abs, q
 
     def _drag(self, S: BlockSystem, k: State):
         """β s tested with δW, Newton-linearised about iterate k.
@@ -278,8 +279,8 @@ class TwoFluid1D:
         qbar = np.einsum("ei,ie->e", qk, self.avg_weights)
         gain = np.where(np.abs(qbar) > 0.0, dK / np.where(qbar != 0.0, qbar, 1.0), 0.0)
         Mq = np.einsum("eij,ej->ei", M, qk)
-        Jq = (K0 / (2.0 * n))[:, None, None] * M \
-            + (gain / (2.0 * n))[:, None, None] * Mq[:, :, None] * self.avg_weights.T[:, None, :]
+        Jq = (K0 / (2.0 * n * n))[:, None, None] * M \
+            + (gain / (2.0 * n * n))[:, None, None] * Mq[:, :, None] * self.avg_weights.T[:, None, :]
         JV = (1.0 - 2.0 * n)[:, None, None] * Jq
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
         Dn, _, _, _ = self._drag_force(n + dn, k.V, k.W)
@@ -291,29 +292,22 @@ class TwoFluid1D:
         S.add_rhs("W", vd, lin + Jn * n[:, None] - D0)
 
     def _liquid_pressure(self, S: BlockSystem, n: np.ndarray, P: np.ndarray):
-        """n ∂P/∂y tested with δW."""
+        """∂P/∂y tested with δW (the liquid equation per unit liquid volume)."""
         if self.p_order == 1:
-            S.add("W", "P", self.vdofs, self.pdofs, n[:, None, None] * self.Gp)
+            S.add("W", "P", self.vdofs, self.pdofs, self.Gp)
             return
         ne = self.mesh.n_elements
-        _, _, nf = self.vertex_porosity(n)
-        coef = nf * self.vert_area  # (ne+1,)
+        coef = self.vert_area
         node = self.vert_node
         inner = np.arange(1, ne)
         # [[P]] = P_above − P_below at inner vertices
         S.add_entries("W", "P", node[inner], inner, coef[inner])
         S.add_entries("W", "P", node[inner], inner - 1, -coef[inner])
-        # Newton on n_f: + A [[Pᵏ]] (∂n_f/∂n)(n − nᵏ)
-        tb = (self.w_below / (self.w_below + self.w_above))[inner]
-        g = self.vert_area[inner] * (P[inner] - P[inner - 1])
-        for el, th in ((inner - 1, tb), (inner, 1.0 - tb)):
-            S.add_entries("W", "n", node[inner], el, g * th)
-            S.add_rhs("W", node[inner], g * th * n[el])
         for b, v, e, sign in ((self.bottom, 0, 0, 1.0), (self.top, ne, ne - 1, -1.0)):
             if b.kind == "outlet":
                 # jump to the prescribed pressure outside: element side carries sign
-                S.add_entries("W", "P", [node[v]], [e], [sign * n[e] * self.vert_area[v]])
-                S.add_rhs("W", np.array([node[v]]), np.array([sign * n[e] * self.vert_area[v] * b.pressure]))
+                S.add_entries("W", "P", [node[v]], [e], [sign * coef[v]])
+                S.add_rhs("W", np.array([node[v]]), np.array([sign * coef[v] * b.pressure]))
 
     def begin_iteration(self, it: int, k: State) -> None:
         """Picard hook: fix the upwind side of every vertex after the first iteration.
