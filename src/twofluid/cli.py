@@ -41,6 +41,30 @@ def _cmd_show(args) -> int:
     return 0
 
 
+def _cmd_verify(args) -> int:
+    from .verification.suite import format_table, verify
+
+    print("twofluid verify: running the checks ...", file=sys.stderr)
+    rows, _ = verify(out=None if args.no_write else args.out, quick=args.quick, slis=not args.no_slis,
+                     only=args.only, log=lambda m: print(m, file=sys.stderr))
+    print(format_table(rows))
+    if not args.no_write:
+        print(f"report written to {args.out}", file=sys.stderr)
+    return 0 if all(r["pass"] for r in rows) else 1
+
+
+def _cmd_sensitivity(args) -> int:
+    from .sensitivity import parse_change, sensitivity_study
+
+    changes = [parse_change(v, b) for v, b in zip(args.vary, args.by or [])] if args.by \
+        and len(args.by) == len(args.vary) else [parse_change(v, (args.by or ["10%"])[0]) for v in args.vary]
+    res = sensitivity_study(args.case, changes, figure=args.figure, csv_path=args.csv)
+    print(res.markdown())
+    if args.csv:
+        print(f"table written to {args.csv}", file=sys.stderr)
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="twofluid", description="Finite element model of saturated "
                                 "granular material and liquid moving together (Pringle 2001).")
@@ -58,6 +82,21 @@ def parser() -> argparse.ArgumentParser:
     s = sub.add_parser("show", help="print a case's TOML (copy it to edit)")
     s.add_argument("case")
     s.set_defaults(func=_cmd_show)
+    v = sub.add_parser("verify", help="run the verification checks and the Slis validation table")
+    v.add_argument("--out", default="docs/verification.md", help="report file (default: docs/verification.md)")
+    v.add_argument("--no-write", action="store_true", help="print the table only")
+    v.add_argument("--quick", action="store_true", help="cheaper settings and a subset (as in the tests)")
+    v.add_argument("--no-slis", action="store_true", help="skip the twelve Slis et al. runs")
+    v.add_argument("--only", nargs="+", help="run only the checks whose name contains one of these words")
+    v.set_defaults(func=_cmd_verify)
+    se = sub.add_parser("sensitivity", help="change parameters by a fraction and report the key figure")
+    se.add_argument("case", help="bundled case name or TOML file")
+    se.add_argument("--vary", nargs="+", required=True,
+                    help="parameters as section.key, e.g. materials.particle_diameter (short: particle.diameter)")
+    se.add_argument("--by", nargs="+", help="relative change per parameter (one for all), e.g. 10%% or -0.05")
+    se.add_argument("--figure", help="key figure: t1 (step_change) or porosity_error@T (default from the study)")
+    se.add_argument("--csv", help="also write the table as CSV")
+    se.set_defaults(func=_cmd_sensitivity)
     return p
 
 

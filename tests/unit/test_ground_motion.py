@@ -46,7 +46,8 @@ def test_csv_round_trip(el_centro, tmp_path):
 
 def test_csv_comments_header_and_units(tmp_path):
     path = tmp_path / "rec.csv"
-    path.write_text("# a comment\ntime_s, accel\n0.0, 0.5  # trailing comment\n\n0.1, -1.0\n0.2, 0.0\n")
+    path.write_text("# a comment\ntime_s, accel\n0.0, 0.5  # trailing comment\n\n"
+                    "0.1, -1.0\n0.2, 0.0\n")
     g = gm.read_csv(path, units="g")
     si = gm.read_csv(path, units="m/s2")
     assert np.allclose(g.acceleration, [0.5 * 9.80665, -9.80665, 0.0])
@@ -87,7 +88,7 @@ def _at2(tmp_path, header4: str, body: str, name="bad.AT2"):
 
 
 @pytest.mark.parametrize("header4, body, line, words", [
-    ("NPTS=  3 DT= .01 SEC", "0.1 0.2 0.3\n", 4, "NPTS"),
+    ("POINTS=  3, STEP= .01 SEC", "0.1 0.2 0.3\n", 4, "NPTS"),
     ("NPTS= x3, DT= .01 SEC", "0.1 0.2 0.3\n", 4, "NPTS"),
     ("NPTS=  3, DT= -.01 SEC", "0.1 0.2 0.3\n", 4, "DT"),
     ("NPTS=  3, DT= .01 SEC", "0.1 0.2\n0.3 abc\n", 6, "non-numeric"),
@@ -102,6 +103,13 @@ def test_malformed_at2_names_file_and_line(tmp_path, header4, body, line, words)
     assert str(path) in message
     assert f"line {line}" in message
     assert words in message
+
+
+def test_older_peer_header_layout(tmp_path):
+    for header in ("  3    .0200    NPTS, DT", "NPTS=  3 DT= .02 SEC"):
+        m = gm.read_at2(_at2(tmp_path, header, "0.1 -0.2\n0.05\n"))
+        assert m.npts == 3 and m.dt == pytest.approx(0.02)
+        assert np.allclose(m.acceleration, np.array([0.1, -0.2, 0.05]) * 9.80665)
 
 
 def test_truncated_at2_header(tmp_path):

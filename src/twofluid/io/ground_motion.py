@@ -24,7 +24,9 @@ __all__ = ["G_STANDARD", "GroundMotion", "GroundMotionError", "read_at2", "read_
            "write_csv"]
 
 G_STANDARD = 9.80665  # [m/s²] the unit "g" of strong-motion records
-_HEADER = re.compile(r"NPTS\s*=\s*([^,\s]+)\s*,\s*DT\s*=\s*([^\s,]+)", re.IGNORECASE)
+_HEADER = re.compile(r"NPTS\s*=\s*([^,\s]+)\s*,?\s*DT\s*=\s*([^\s,]+)", re.IGNORECASE)
+# the older PEER layout: "  5372    .0100    NPTS, DT"
+_HEADER_OLD = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
 
 
 class GroundMotionError(ValueError):
@@ -83,7 +85,8 @@ def _fail(path, line: int | None, what: str) -> GroundMotionError:
 def read_at2(path: str | Path) -> GroundMotion:
     """Read a PEER NGA ``.AT2`` file (acceleration in g) into SI units.
 
-    Format: four header lines, the fourth holding ``NPTS= <int>, DT= <float> SEC``,
+    Format: four header lines, the fourth holding ``NPTS= <int>, DT= <float> SEC``
+    (or, in the older PEER layout, ``<int> <float> NPTS, DT``),
     then ``NPTS`` values in g, any number per line (five in PEER files).
     Values beyond NPTS are an error, as are fewer values than NPTS.
     """
@@ -91,7 +94,7 @@ def read_at2(path: str | Path) -> GroundMotion:
     lines = path.read_text(errors="replace").splitlines()
     if len(lines) < 4:
         raise _fail(path, len(lines) + 1, "truncated header: an AT2 file has 4 header lines")
-    match = _HEADER.search(lines[3])
+    match = _HEADER.search(lines[3]) or _HEADER_OLD.search(lines[3])
     if match is None:
         raise _fail(path, 4, f"expected 'NPTS=..., DT=...' in the header, found {lines[3]!r}")
     try:
@@ -143,7 +146,8 @@ def read_csv(path: str | Path, units: str = "g") -> GroundMotion:
             except ValueError:
                 continue  # header line
         if len(fields) != 2:
-            raise _fail(path, number, f"expected 2 columns (time_s, acceleration), found {len(fields)}")
+            raise _fail(path, number,
+                        f"expected 2 columns (time_s, acceleration), found {len(fields)}")
         try:
             t, a = float(fields[0]), float(fields[1])
         except ValueError:
@@ -237,6 +241,7 @@ def bundled_record(name: str) -> Path:
     folder = resources.files("twofluid") / "data" / "ground_motions"
     entry = folder / name
     if not entry.is_file():
-        shipped = sorted(p.name for p in folder.iterdir() if p.name.lower().endswith((".at2", ".csv")))
+        shipped = sorted(p.name for p in folder.iterdir()
+                         if p.name.lower().endswith((".at2", ".csv")))
         raise FileNotFoundError(f"no bundled record {name!r}; shipped: {', '.join(shipped)}")
     return Path(str(entry))

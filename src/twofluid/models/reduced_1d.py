@@ -30,7 +30,7 @@ import numpy as np
 from scipy.linalg import solve_banded
 
 from ..closures.viscosity import solid_viscosity
-from .two_fluid_1d import State, TwoFluid1D
+from .two_fluid_1d import _CLEAR, State, TwoFluid1D
 
 __all__ = ["Reduced1D", "ReducedSystem"]
 
@@ -103,20 +103,43 @@ class Reduced1D(TwoFluid1D):
             XW = XW + 0.5 * (mat.mu_f - mu_s) * Kv
             L = L + 0.5 * mat.mu_f * mv(inv_n * Kv, Ve + We)
             LW = LW + 0.5 * mat.mu_f * inv_n * Kv
-        D0, K0, s_abs, q = self._drag_force(n, V, W)
-        ds = 1e-6 * np.maximum(s_abs, 1e-6)
-        dK = (self.clo.beta_per_solids(n, s_abs + ds, mat) - K0) / ds * s_abs
-        qbar = np.einsum("ei,ie->e", q, self.avg_weights)
-        gain = np.where(qbar != 0.0, dK / np.where(qbar != 0.0, qbar, 1.0), 0.0)
-        Jq = (K0 / (2.0 * n * n))[:, None, None] * M \
-            + (gain / (2.0 * n * n))[:, None, None] * mv(M, q)[:, :, None] * self.avg_weights.T[:, None, :]
-        dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
-        Jn = (self._drag_force(n + dn, V, W)[0] - D0) / dn[:, None]
+        D0, Jq, Jn = self._drag_terms(n, Ve, We)
         return X, XW, Xn, L + D0, LW + Jq, Jn
 
+    def _drag_terms(self, n, Ve, We):
+        """Drag D = K M q/(2n²) (K = β/(1 − n), q = (1 − 2n)V + W) and its Jacobians.
+
+        Same law and linearisation as the full model's ``_drag`` (exact in V, W
+        through the element-mean slip; finite difference in n), with the three
+        closure evaluations (at |s|, |s| + δs and n + δn) fused into one call.
+        """
+        w = self.avg_weights.T  # (ne, 2)
+        dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
+        nn = np.concatenate([n, n + dn])
+        q = (1.0 - 2.0 * nn)[:, None] * np.concatenate([Ve, Ve]) + np.concatenate([We, We])
+        qbar = (q * np.concatenate([w, w])).sum(axis=1)
+        one_m = 1.0 - nn
+        clear = one_m < _CLEAR
+        s_abs = np.where(clear, 0.0, np.abs(qbar) / (2.0 * nn * np.where(clear, 1.0, one_m)))
+        ne = n.size
+        ds = 1e-6 * np.maximum(s_abs[:ne], 1e-6)
+        K = self.clo.beta_per_solids(np.concatenate([nn, n]), np.concatenate([s_abs, s_abs[:ne] + ds]),
+                                     self.mat)
+        K0, Kn, Ks = K[:ne], K[ne:2 * ne], K[2 * ne:]
+        Mq = np.einsum("eij,ej->ei", np.concatenate([self.M, self.M]), q)
+        D0 = (K0 / (2.0 * n * n))[:, None] * Mq[:ne]
+        Dn = (Kn / (2.0 * nn[ne:] ** 2))[:, None] * Mq[ne:]
+        qb = qbar[:ne]
+        gain = np.where(qb != 0.0, (Ks - K0) / ds * s_abs[:ne] / np.where(qb != 0.0, qb, 1.0), 0.0)
+        Jq = (K0 / (2.0 * n * n))[:, None, None] * self.M \
+            + (gain / (2.0 * n * n))[:, None, None] * Mq[:ne, :, None] * w[:, None, :]
+        return D0, Jq, (Dn - D0) / dn[:, None]
+
     def _assemble_nodal(self, E: np.ndarray) -> np.ndarray:
+        """Sum element contributions (ne, 2) at the vertices (linear element: node = vertex)."""
         out = np.zeros(self.nv)
-        np.add.at(out, self._loc.ravel(), E.ravel())
+        out[:-1] += E[:, 0]
+        out[1:] += E[:, 1]
         return out
 
     # ---------------------------------------------------- stepper interface
@@ -127,6 +150,7 @@ class Reduced1D(TwoFluid1D):
         n = k.n
         X, XW, Xn, L, LW, Ln = self._rows(V, k.W, n, old, dt, k.n_bar)
         R = self._assemble_nodal(X - L)  # residual at iterate k
+        self._liquid = (k.W[self.vdofs], n, L, LW, Ln)  # for the pressure of the step
         if self.top.kind == "outlet":
             R[-1] += self.surcharge * self.vert_area[-1]
         JW, Jn = XW - LW, Xn - Ln
@@ -172,13 +196,21 @@ class Reduced1D(TwoFluid1D):
         return like.copy(t=t, V=a[:nv], W=a[nv:2 * nv], n=a[2 * nv:])
 
     def end_step(self, old: State, new: State, dt: float) -> State:
-        """Recover P [Pa] per element from the liquid rows, marching from the outlet."""
-        new.P = self.recover_pressure(new, old, dt)
+        """Recover P [Pa] per element from the liquid rows linearised about the last iterate.
+
+        That is the liquid equation the full model's P satisfies in its last solve.
+        """
+        Wk, nk, L, LW, Ln = self._liquid
+        L = L + np.einsum("eij,ej->ei", LW, new.W[self.vdofs] - Wk) + Ln * (new.n - nk)[:, None]
+        new.P = self._pressure_from(self._assemble_nodal(L))
         return new
 
     def recover_pressure(self, s: State, old: State, dt: float) -> np.ndarray:
+        """Element pressures [Pa] of state ``s`` (after a step of ``dt`` from ``old``)."""
+        return self._pressure_from(self._assemble_nodal(self._rows(s.V, s.W, s.n, old, dt, s.n_bar)[3]))
+
+    def _pressure_from(self, L: np.ndarray) -> np.ndarray:
         """Element pressures [Pa] from [[P]]_i = −L_i/A_i and the outlet pressure."""
-        L = self._assemble_nodal(self._rows(s.V, s.W, s.n, old, dt, s.n_bar)[3])
         jump = -L / self.vert_area  # P above − P below at vertex i
         if self.top.kind == "outlet":
             return self.top.pressure - np.cumsum(jump[1:][::-1])[::-1]

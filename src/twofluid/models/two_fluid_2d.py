@@ -15,7 +15,7 @@ backward Euler (SPEC 3, 5.2):
 - continuity (δP): −∫δP ∇·V − C(P, δP) = 0, C the macroelement checkerboard
   penalty (:func:`~twofluid.fem.terms_2d.checkerboard_penalty`, scale δ/μ_f), which
   leaves pressures linear on a 2×2 patch alone;
-- porosity (δn): 2|e|(n − nᵗ)/Δt + 2 Σ_F r_F Φ_F = 0, Φ_F = ∫_F (V − W)/2 · ν the
+- porosity (δn): 2|e|(n − nᵗ)/Δt − 2 Σ_F r_F Φ_F = 0, Φ_F = ∫_F (V − W)/2 · ν the
   outward Galerkin solids flux of each face and r_F = (1 − n_up)/(1 − n̄_F) its
   upwind ratio (as the 1D vertex flux: solids balance exact per element, an element
   cannot give away solids it does not hold; r = 1 on inlets, clear liquid outside
@@ -41,10 +41,9 @@ from ..fem.quad import FaceBasis, QuadBasis, SparsityPattern, element_dofs, noda
 from ..fem.terms_2d import (body_force, checkerboard_penalty, divergence, mass,
                             pressure_face_gradient, viscous)
 from ..mesh.quad import QuadMesh
-from .linear_2d import LaggedSolver
 from .two_fluid_1d import Closures, Materials, State
 
-__all__ = ["Boundary2D", "TwoFluid2D", "KINDS", "State"]
+__all__ = ["Boundary2D", "TwoFluid2D", "LaggedSolver", "KINDS", "State"]
 
 _CLEAR = 1e-6
 #: boundary kinds, in the order their Dirichlet values are applied (later wins at shared nodes)
@@ -68,6 +67,86 @@ class Boundary2D:
     solids_velocity: float = 0.0  # superficial solids inflow [m/s]
     pressure: float = 0.0  # [Pa]
     omega: float = 0.0  # [rad/s]
+
+
+class LaggedSolver:
+    """Sparse solves of A x = b with prescribed entries, on a fixed sparsity pattern.
+
+    The reduction to free unknowns is indexed once (the pattern never changes).
+    ``kind="lagged"``: the LU factors of an earlier matrix precondition GMRES for
+    the current one (Picard iterates and neighbouring steps change little); a new
+    factorisation is made only when GMRES does not reach ``rtol`` in ``max_inner``
+    iterations. Rows are equilibrated (by their largest entry in the first matrix) so the
+    tolerance means the same for momentum, continuity and porosity rows.
+    ``kind="direct"``: a fresh SuperLU factorisation every solve.
+    """
+
+    def __init__(self, size: int, fixed: np.ndarray, kind: str = "lagged", rtol: float = 1e-10,
+                 max_inner: int = 25):
+        if kind not in ("lagged", "direct"):
+            raise ValueError("solver must be 'lagged' or 'direct'")
+        self.size, self.kind, self.rtol, self.max_inner = size, kind, rtol, max_inner
+        self.fixed = np.asarray(fixed)
+        self.free = np.ones(size, dtype=bool)
+        self.free[self.fixed] = False
+        self.map = np.full(size, -1, dtype=np.int64)
+        self.map[self.free] = np.arange(int(self.free.sum()))
+        self._keep = None
+        self.lu = None
+        self.stats = {"factorisations": 0, "solves": 0, "gmres_iterations": 0}
+
+    def _reduce(self, A):
+        import scipy.sparse as sp
+
+        nf = int(self.free.sum())
+        if self._keep is None:
+            rows = np.repeat(np.arange(self.size), np.diff(A.indptr))
+            keep = self.free[rows] & self.free[A.indices]
+            self._keep, self._ind = keep, self.map[A.indices[keep]].astype(np.int32)
+            cnt = np.bincount(self.map[rows[keep]], minlength=nf)
+            self._ptr = np.concatenate([[0], np.cumsum(cnt)]).astype(np.int32)
+            self._row = np.repeat(np.arange(nf), cnt)
+        data = A.data[self._keep]
+        if not hasattr(self, "scale"):  # row equilibration, fixed at the first matrix
+            big = np.zeros(nf)
+            np.maximum.at(big, self._row, np.abs(data))
+            self.scale = 1.0 / np.where(big > 0.0, big, 1.0)
+        return sp.csr_matrix((data * self.scale[self._row], self._ind, self._ptr), shape=(nf, nf))
+
+    def _factor(self, Aff):
+        import scipy.sparse.linalg as spla
+
+        self.lu = spla.splu(Aff.tocsc(), permc_spec="COLAMD")
+        self.stats["factorisations"] += 1
+
+    def solve(self, A, b: np.ndarray, values: np.ndarray) -> np.ndarray:
+        """Solution with x[fixed] = values."""
+        import scipy.sparse.linalg as spla
+
+        x = np.zeros(self.size)
+        x[self.fixed] = values
+        Aff = self._reduce(A)
+        r = (b - A @ x)[self.free] * self.scale
+        self.stats["solves"] += 1
+        if self.kind == "direct" or self.lu is None:
+            self._factor(Aff)
+            x[self.free] = self.lu.solve(r)
+            return x
+        op = spla.LinearOperator(Aff.shape, matvec=lambda v: Aff @ self.lu.solve(v))
+        count = [0]
+
+        def cb(_):
+            count[0] += 1
+
+        z, info = spla.gmres(op, r, x0=r.copy(), rtol=self.rtol, atol=0.0, restart=self.max_inner,
+                             maxiter=1, callback=cb, callback_type="pr_norm")
+        self.stats["gmres_iterations"] += count[0]
+        if info != 0:
+            self._factor(Aff)
+            x[self.free] = self.lu.solve(r)
+            return x
+        x[self.free] = self.lu.solve(z)
+        return x
 
 
 def _edge_geometry(mesh: QuadMesh, edges: np.ndarray, order: int = 2):
@@ -113,6 +192,10 @@ class TwoFluid2D:
     """
 
     element = "2DQ1"
+    #: keep n fixed (porosity rows n = nᵗ): a steady solve of V, W, P for a given porosity
+    freeze_porosity = False
+    #: which porosity dependences are Newton-linearised (the rest are Picard, frozen at the iterate)
+    newton_n = ("drag", "face", "upwind")
 
     def __init__(self, mesh: QuadMesh, materials: Materials, closures: Closures,
                  boundaries: list[Boundary2D], swirl: bool = False, delta: float = 0.25,
@@ -192,7 +275,6 @@ class TwoFluid2D:
     def _dirichlet_setup(self):
         """Fixed dofs (V and W) and, per boundary, (dofs, velocity-component factor) of its values."""
         mesh, nn = self.mesh, self.nn
-        owner_normal = {}
         fixed = np.full(self.nv, -1, dtype=np.int64)  # index into the rule list
         rules = []
         for bc in self.boundaries:
@@ -208,7 +290,6 @@ class TwoFluid2D:
                                      "boundary along x or y")
             elif bc.kind == "axis":
                 normal = np.array([-1.0, 0.0])
-            owner_normal[bc.group] = normal
             comps = list(range(self.nc))
             if bc.kind in ("slip",):
                 comps = [int(np.argmax(np.abs(normal)))]
@@ -269,7 +350,10 @@ class TwoFluid2D:
     def assemble(self, k: State, old: State, dt: float, t_new: float):
         """Matrix (CSR on the fixed pattern) and right-hand side of one iterate."""
         mat, clo, ne = self.mat, self.clo, self.ne
-        n, Mv, K1 = k.n, self.Mv, self.K1
+        Mv, K1 = self.Mv, self.K1
+        if k.n.min() <= 0.0 or k.n.max() > 1.0:  # an iterate outside (0, 1]: coefficients at the bound
+            k = k.copy(n=np.clip(k.n, 1e-3, 1.0))
+        n = k.n
         rho_hat, d_rho = 0.5 * (mat.rho_s + mat.rho_f), 0.5 * (mat.rho_s - mat.rho_f)
         rhs = np.zeros(self.size)
         vd, wd = self.vd, self.wd
@@ -299,6 +383,10 @@ class TwoFluid2D:
         vals = [VV, VW, WV, WW, VP, VN, WN, PV, NN]
         vals += self._faces(k, rhs)
         vals += self._boundary_edges(k, rhs)
+        if self.freeze_porosity:  # n = nᵗ: rows of n become 2|e|/Δt n = 2|e|/Δt nᵗ
+            rhs[self.nd[:, 0]] = 2.0 * self.vol / dt * old.n
+            for i in (11, 12, 13, 16, 17, 18):
+                vals[i] = np.zeros_like(vals[i])
         if self.patch is not None:
             vals.append(self.patch[0])
         return self.pattern.assemble(vals), rhs
@@ -309,15 +397,15 @@ class TwoFluid2D:
         nf = self.face_porosity(k.n)
         jump = k.P[fe[:, 1]] - k.P[fe[:, 0]]
         WP = nf[:, None, None] * np.stack([-R, R], axis=-1)
-        WN = (jump[:, None] * R)[:, :, None] * th[:, None, :]
-        np.add.at(rhs, self.fwd, jump[:, None] * R * nf[:, None])
+        WN = (jump[:, None] * R)[:, :, None] * th[:, None, :] * ("face" in self.newton_n)
+        np.add.at(rhs, self.fwd, np.einsum("fij,fj->fi", WN, k.n[fe]))
         flux = 0.5 * np.einsum("fi,fi->f", R, k.V[self.fvd] - k.W[self.fvd])  # Φ_F, − to +
         r, dr = self._upwind(k.n, fe, th, flux, getattr(self, "_fwd_dir", None))
-        sgn = np.array([1.0, -1.0])[None, :, None]
+        sgn = np.array([-1.0, 1.0])[None, :, None]  # − loses Φ, + gains it
         NV = sgn * (r[:, None] * R)[:, None, :]
         NW = -NV
         g = 2.0 * flux
-        NN = sgn * (g[:, None] * dr)[:, None, :]
+        NN = sgn * (g[:, None] * dr)[:, None, :] * ("upwind" in self.newton_n)
         np.add.at(rhs, self.nd[fe, 0], np.einsum("fij,fj->fi", NN, k.n[fe]))
         return [WP, WN, NV, NW, NN]
 
@@ -357,8 +445,9 @@ class TwoFluid2D:
         r = np.ones(e.size)
         dr = np.zeros(e.size)
         if self.solids_flux == "upwind":
-            r = np.where(out & (flux < 0.0), 0.0, 1.0)  # clear liquid enters through an outlet
-        NV = (r[:, None] * R)[:, None, :]
+            # clear liquid enters through an outlet; a clear element has no solids to give
+            r = np.where(out & ((flux < 0.0) | (1.0 - ne_ < _CLEAR)), 0.0, 1.0)
+        NV = -(r[:, None] * R)[:, None, :]
         NN = (2.0 * flux * dr)[:, None, None]
         return [WP, WN, NV, -NV, NN]
 
@@ -387,7 +476,7 @@ class TwoFluid2D:
         JV = (1.0 - 2.0 * n)[:, None, None] * Jq
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
         Dn = self._drag_force(n + dn, k.V, k.W)[0]
-        Jn = (Dn - D0) / dn[:, None]
+        Jn = (Dn - D0) / dn[:, None] if "drag" in self.newton_n else np.zeros_like(D0)
         lin = np.einsum("eij,ej->ei", JV, k.V[self.vd]) + np.einsum("eij,ej->ei", Jq, k.W[self.vd])
         return JV, Jq, Jn, lin + Jn * n[:, None] - D0
 
@@ -395,7 +484,13 @@ class TwoFluid2D:
         """Linear solve of one iterate with the Dirichlet values of time t."""
         A, b = system
         idx, val = self.dirichlet(t)
-        return self.linear.solve(A, b, val)
+        if not (np.all(np.isfinite(A.data)) and np.all(np.isfinite(b))):
+            return np.full(self.size, np.nan)  # the stepper retries with a smaller step
+        try:
+            return self.linear.solve(A, b, val)
+        except RuntimeError:  # exactly singular factor
+            self.linear.lu = None
+            return np.full(self.size, np.nan)
 
     # ------------------------------------------------ interface to the stepper
     def pack(self, s: State) -> np.ndarray:

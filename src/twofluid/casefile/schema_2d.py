@@ -1,0 +1,137 @@
+"""Case-file sections of model ``two_fluid_2d`` (2DQ1, planar or axisymmetric).
+
+Boundary conditions are attached to *named boundary groups* of the mesh through
+fixed section names, one per standard group: ``[boundary.left]``, ``right``,
+``bottom``, ``top``, ``inner``, ``outer``, ``axis``, ``cut`` (the surface left by
+``[mesh] cut``). A section applies to the mesh group of its own name unless its
+``group`` key names another one — that is how the physical groups of a Gmsh file
+(any names) are used: e.g. ``[boundary.bottom] group = "Inflow"``. Sections with
+``kind = "none"`` (the default) are unused. Structured meshes have the groups
+left/right/bottom/top, plus inner/outer in axisymmetry and ``axis`` (= left) when
+r starts at 0. Every boundary edge must be covered by some condition (checked when
+the mesh is built).
+"""
+from __future__ import annotations
+
+from .schema import BOUNDARY, FLOATS, SCHEMA, CaseError, K, register_model
+
+__all__ = ["SECTIONS_2D", "BOUNDARY_NAMES", "check_2d"]
+
+BOUNDARY_NAMES = ("left", "right", "bottom", "top", "inner", "outer", "axis", "cut")
+
+_MESH = [
+    K("kind", str, "rectangle", "-", "rectangle (structured, built in code) or gmsh (any meshio-readable "
+      "quadrilateral mesh with named boundary groups)", choices=("rectangle", "gmsh")),
+    K("x0", float, 0.0, "m", "rectangle: first coordinate min (r_inner in axisymmetry)", lo=0.0),
+    K("x1", float, 1.0, "m", "rectangle: first coordinate max (r_outer)", lo=0.0, lo_open=True),
+    K("y0", float, 0.0, "m", "rectangle: height min (z)"),
+    K("y1", float, 1.0, "m", "rectangle: height max (z); gravity points to −y"),
+    K("nx", int, 10, "-", "rectangle: elements across (even keeps the checkerboard stabilisation)", lo=1, hi=2000),
+    K("ny", int, 10, "-", "rectangle: elements up (even keeps the checkerboard stabilisation)", lo=1, hi=4000),
+    K("grading_x", float, 1.0, "-", "rectangle: last/first element width ratio across", lo=0.0, lo_open=True),
+    K("grading_y", float, 1.0, "-", "rectangle: last/first element height ratio up", lo=0.0, lo_open=True),
+    K("cut", FLOATS, [], "m", "rectangle: [x0, x1, y0, y1] of a block of elements removed (e.g. a "
+      "spindle); its wetted surface is the group 'cut'"),
+    K("file", str, "", "-", "gmsh: mesh file (relative to the case file)"),
+    K("axisymmetric", bool, False, "-", "(r, z) coordinates with the 2πr measure"),
+    K("swirl", bool, False, "-", "third velocity component (u_θ in axisymmetry)"),
+]
+
+_BOUNDARY_2D = [
+    K("kind", str, "none", "-", "none (unused), inlet (porous distributor: V = W = inflow along the "
+      "inward normal), wall (no slip), slip (normal velocity 0), axis (r = 0), rotating_wall "
+      "(no slip, u_θ = ω r) or outlet (prescribed liquid pressure)",
+      choices=("none", "inlet", "wall", "slip", "axis", "rotating_wall", "outlet")),
+    K("group", str, "", "-", "mesh boundary group this applies to ('' = the section name)"),
+    *[k for k in BOUNDARY if k.name in ("pressure", "times", "velocities", "porosities")],
+    K("solids_velocity", float, 0.0, "m/s", "inlet: superficial solids velocity fed with the liquid", lo=0.0),
+    K("omega", float, 0.0, "rad/s", "rotating_wall: angular speed (positive anticlockwise about +z)"),
+]
+
+_NUMERICS = [
+    K("solids_flux", str, "upwind", "-", "porosity equation: upwinded face solids flux or galerkin",
+      choices=("upwind", "galerkin")),
+    K("stabilisation_delta", float, 0.25, "-", "checkerboard-penalty parameter δ (scale δ/μ_f); 0: none",
+      lo=0.0),
+    K("linear_solver", str, "lagged", "-", "lagged: LU of an earlier matrix preconditions GMRES, "
+      "refactorised when it stalls; direct: new LU every iteration", choices=("lagged", "direct")),
+]
+
+_PROFILES = [
+    K("heights", FLOATS, [], "m", "heights (y/z) of the radial (horizontal) profiles written and plotted"),
+    K("steady_tolerance", float, 0.0, "1/s", "stop before [time] end when max |Δn|/Δt and "
+      "max |ΔV|/(|V|max Δt) stay below this for 3 steps (0: run to the end)", lo=0.0),
+]
+
+_SINGLE = [
+    K("enabled", bool, False, "-", "before the mixture: solve steady single-fluid Stokes flow on the same "
+      "mesh and boundary conditions and compare with the analytic annulus (SPEC 6.6)"),
+    K("density", float, 1600.0, "kg/m³", "single fluid density", lo=0.0, lo_open=True),
+    K("viscosity", float, 1.0, "Pa·s", "single fluid viscosity", lo=0.0, lo_open=True),
+    K("height", float, 0.0, "m", "height of the fully developed section where profiles are compared"),
+    K("r_inner", float, 0.0, "m", "inner radius of the annulus (spindle)", lo=0.0),
+]
+
+SECTIONS_2D = {
+    "mesh": _MESH,
+    "closures.drag": SCHEMA["closures.drag"],
+    "closures.solids_pressure": SCHEMA["closures.solids_pressure"],
+    "closures.viscosity": SCHEMA["closures.viscosity"],
+    "initial": SCHEMA["initial"],
+    **{f"boundary.{b}": _BOUNDARY_2D for b in BOUNDARY_NAMES},
+    "numerics": _NUMERICS,
+    "profiles": _PROFILES,
+    "single_fluid": _SINGLE,
+}
+
+
+def check_2d(case: dict, source: str) -> None:
+    """Cross-key checks of a ``two_fluid_2d`` case (one-line CaseError naming file and key)."""
+    m = case["mesh"]
+    if m["kind"] == "rectangle":
+        if not m["x1"] > m["x0"]:
+            raise CaseError(source, "[mesh] x1", f"must exceed x0 = {m['x0']:g} m")
+        if not m["y1"] > m["y0"]:
+            raise CaseError(source, "[mesh] y1", f"must exceed y0 = {m['y0']:g} m")
+        if m["cut"] and len(m["cut"]) != 4:
+            raise CaseError(source, "[mesh] cut", "must be [x0, x1, y0, y1] in m (or empty)")
+    elif not m["file"]:
+        raise CaseError(source, "[mesh] file", "a gmsh mesh needs a file")
+    used = {b: case[f"boundary.{b}"] for b in BOUNDARY_NAMES if case[f"boundary.{b}"]["kind"] != "none"}
+    if not any(b["kind"] == "outlet" for b in used.values()):
+        raise CaseError(source, "[boundary.*] kind", "one boundary must be an outlet: it fixes the "
+                        "pressure datum")
+    for name, b in used.items():
+        where = f"[boundary.{name}]"
+        if b["kind"] == "inlet":
+            vel, por = b["velocities"], b["porosities"]
+            if bool(vel) == bool(por):
+                raise CaseError(source, f"{where} velocities/porosities",
+                                "an inlet needs exactly one of velocities [m/s] or porosities [-]")
+            if len(vel or por) != len(b["times"]):
+                raise CaseError(source, f"{where} times", f"needs one entry per value ({len(vel or por)})")
+            if any(t2 < t1 for t1, t2 in zip(b["times"], b["times"][1:])):
+                raise CaseError(source, f"{where} times", "must be non-decreasing")
+        elif b["velocities"] or b["porosities"] or b["solids_velocity"]:
+            raise CaseError(source, f"{where} velocities", f"only an inlet takes inflow (kind = {b['kind']!r})")
+        if b["kind"] == "rotating_wall" and not m["swirl"]:
+            raise CaseError(source, f"{where} kind", "rotating_wall needs [mesh] swirl = true")
+        if b["kind"] == "axis" and not m["axisymmetric"]:
+            raise CaseError(source, f"{where} kind", "axis needs [mesh] axisymmetric = true")
+    t = case["time"]
+    if t["step"] > t["end"]:
+        raise CaseError(source, "[time] step", f"must not exceed [time] end = {t['end']:g} s")
+    for tt in case["output"]["times"]:
+        if not 0.0 <= tt <= t["end"]:
+            raise CaseError(source, "[output] times", f"{tt:g} lies outside [0, {t['end']:g}] s")
+    if m["kind"] == "rectangle":
+        for h in case["profiles"]["heights"]:
+            if not m["y0"] <= h <= m["y1"]:
+                raise CaseError(source, "[profiles] heights", f"{h:g} lies outside [{m['y0']:g}, {m['y1']:g}] m")
+    sf = case["single_fluid"]
+    if sf["enabled"] and not (m["axisymmetric"] and m["swirl"]):
+        raise CaseError(source, "[single_fluid] enabled", "the annulus check needs an axisymmetric mesh "
+                        "with swirl")
+
+
+register_model("two_fluid_2d", SECTIONS_2D, check_2d)

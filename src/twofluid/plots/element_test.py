@@ -1,0 +1,65 @@
+"""Figure of a cyclic simple-shear element test: pressures, n̄ and τ–γ loops."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+__all__ = ["plot_element_test"]
+
+
+def plot_element_test(result, path: str | Path | None = None, element: int = 0,
+                      title: str | None = None):
+    """Plot P_s, r_u and n̄ against cycles and the τ–γ loops of one element.
+
+    Parameters
+    ----------
+    result : twofluid.models.element_test.ElementTestResult
+        Output of :func:`~twofluid.models.element_test.cyclic_simple_shear`.
+    path : str or Path, optional
+        PNG file to write; the figure is returned either way.
+    element : int
+        Which element (column of the histories) to plot.
+    title : str, optional
+        Figure title; by default the loading and cycles to liquefaction.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    cyc = result.cycles
+    fig, (ax_p, ax_n, ax_t) = plt.subplots(1, 3, figsize=(14, 4.2), constrained_layout=True)
+
+    ax_p.plot(cyc, result.p_s[:, element] / 1e3, color="tab:blue", label="$P_s$")
+    ax_p.set_xlabel("cycles")
+    ax_p.set_ylabel("granular pressure $P_s$ [kPa]", color="tab:blue")
+    ax_r = ax_p.twinx()
+    ax_r.plot(cyc, result.r_u[:, element], color="tab:red", label="$r_u$")
+    ax_r.axhline(result.settings.get("ru_liquefied", 0.95), color="tab:red", ls=":", lw=0.8)
+    ax_r.set_ylabel("excess pore-pressure ratio $r_u$ [-]", color="tab:red")
+    ax_r.set_ylim(-0.02, 1.02)
+
+    ax_n.plot(cyc, result.n_bar[:, element], color="tab:green", label=r"$\bar n$")
+    ax_n.plot(cyc, result.porosity[:, element], color="k", ls="--", label="$n$")
+    ax_n.set_xlabel("cycles")
+    ax_n.set_ylabel("porosity [-]")
+    ax_n.legend(loc="best")
+
+    ax_t.plot(result.gamma[:, element] * 100.0, result.tau[:, element] / 1e3, lw=0.7)
+    ax_t.set_xlabel(r"shear strain $\gamma$ [%]")
+    ax_t.set_ylabel(r"shear stress $\tau$ [kPa]")
+
+    n_liq = result.cycles_to_liquefaction[element]
+    if title is None:
+        mode = result.settings.get("mode", "")
+        drained = "drained" if result.settings.get("drained") else "undrained"
+        told = f"liquefied after {n_liq:.2f} cycles" if n_liq != float("inf") \
+            else "no liquefaction"
+        title = f"{drained} cyclic simple shear ({mode}-controlled): {told}"
+    fig.suptitle(title)
+    if path is not None:
+        fig.savefig(path, dpi=120)
+    return fig

@@ -1,0 +1,372 @@
+"""Run a ``two_fluid_2d`` case: build mesh and model, step, write fields, profiles, summary, plots.
+
+Outputs in ``out_dir``: ``case.resolved.toml``; ``fields.pvd`` + ``fields_NNNN.vtu``
+(ParaView, every [output] time); ``profiles.csv`` (horizontal/radial profiles at the
+[profiles] heights, long format); ``summary.json``; PNGs (``porosity.png``,
+``velocity.png``, ``profiles.png``, and ``single_fluid.png`` with the annulus check).
+Ctrl-C or a step that cannot be made keeps what was written; the summary says
+where the run stopped.
+"""
+from __future__ import annotations
+
+import csv
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from .casefile.builder import Schedule, _closures
+from .casefile.schema import CaseError
+from .casefile.schema_2d import BOUNDARY_NAMES
+from .closures import drag as drag_laws
+from .closures.solids_pressure import reference_porosity_for
+from .io.fields import FieldWriter
+from .io.results import write_json, write_resolved_case
+from .mesh.quad import QuadMesh, rectangle, remove_block
+from .models.two_fluid_1d import Materials, State
+from .models.two_fluid_2d import Boundary2D, TwoFluid2D
+from .simulation import RunResult
+from .timestepping.backward_euler import PicardSettings, StepFailure, integrate, picard_step
+
+__all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile"]
+
+
+def build_mesh(case: dict) -> QuadMesh:
+    """The case's mesh with its named boundary groups (plus "axis" when r starts at 0)."""
+    m, src = case["mesh"], case.get("_source", "<case>")
+    if m["kind"] == "gmsh":
+        from .mesh.gmsh_io import MeshError, read_quad_mesh
+
+        path = Path(m["file"])
+        if not path.is_absolute() and Path(str(src)).is_file():
+            path = Path(src).parent / path
+        try:
+            return read_quad_mesh(path, axisymmetric=m["axisymmetric"])
+        except MeshError as exc:
+            raise CaseError(src, "[mesh] file", str(exc)) from None
+    mesh = rectangle(m["x0"], m["x1"], m["y0"], m["y1"], m["nx"], m["ny"], axisymmetric=m["axisymmetric"],
+                     grading=(m["grading_x"], m["grading_y"]))
+    if m["axisymmetric"] and m["x0"] == 0.0:
+        mesh.boundaries["axis"] = mesh.boundaries["left"]
+    if m["cut"]:
+        mesh = remove_block(mesh, *m["cut"], name="cut")
+    return mesh
+
+
+def _inlet_velocities(case: dict, b: dict) -> list[float]:
+    """Inlet schedule values [m/s]: given, or the velocities fluidizing a uniform bed at each porosity."""
+    if b["velocities"]:
+        return list(b["velocities"])
+    ma, clo = case["materials"], _closures(case)
+    d = ma["sphericity"] * ma["particle_diameter"]
+    return [drag_laws.steady_fluidization_velocity(
+        clo.drag, n, d, ma["particle_density"], ma["liquid_density"], ma["liquid_viscosity"],
+        ma["gravity"], **clo.drag_params) for n in b["porosities"]]
+
+
+@dataclass
+class Built2D:
+    model: TwoFluid2D
+    state: State
+    t_end: float
+    dt: float
+    settings: PicardSettings
+
+
+def _uncovered(mesh: QuadMesh, groups: list[str]) -> int:
+    local = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    e = np.sort(mesh.cells[:, local].reshape(-1, 2), axis=1)
+    key, cnt = np.unique(e[:, 0] * mesh.n_nodes + e[:, 1], return_counts=True)
+    bnd = key[cnt == 1]
+    cov = [np.sort(mesh.boundary_edges(g), axis=1) @ np.array([mesh.n_nodes, 1]) for g in groups]
+    return int((~np.isin(bnd, np.concatenate(cov) if cov else [])).sum())
+
+
+def build_2d(case: dict) -> Built2D:
+    """Model, initial state (bed at rest in the initial inflow, P from a tiny step) and settings."""
+    src = case.get("_source", "<case>")
+    mesh = build_mesh(case)
+    ma = case["materials"]
+    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
+                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
+    clo = _closures(case)
+    bcs = []
+    for name in BOUNDARY_NAMES:
+        b = case[f"boundary.{name}"]
+        if b["kind"] == "none":
+            continue
+        group = b["group"] or name
+        if group not in mesh.boundaries:
+            raise CaseError(src, f"[boundary.{name}] group", f"mesh has no boundary group {group!r}; "
+                            f"groups: {', '.join(sorted(mesh.boundaries))}")
+        vel = None
+        if b["kind"] == "inlet":
+            vel = Schedule(tuple(b["times"]), tuple(_inlet_velocities(case, b)))
+        bcs.append(Boundary2D(group, b["kind"], velocity=vel, solids_velocity=b["solids_velocity"],
+                              pressure=b["pressure"], omega=b["omega"]))
+    missing = _uncovered(mesh, [b.group for b in bcs])
+    if missing:
+        raise CaseError(src, "[boundary.*]", f"{missing} boundary edges have no condition; mesh groups: "
+                        f"{', '.join(sorted(mesh.boundaries))}")
+    nm = case["numerics"]
+    try:
+        model = TwoFluid2D(mesh, mat, clo, bcs, swirl=case["mesh"]["swirl"],
+                           delta=nm["stabilisation_delta"], solids_flux=nm["solids_flux"],
+                           solver=nm["linear_solver"])
+    except ValueError as exc:
+        raise CaseError(src, "[boundary.*]", str(exc)) from None
+    tm = case["time"]
+    settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
+                              dt_min=min(1e-7, tm["step"] * 1e-4))
+    return Built2D(model, initial_state(model, case), tm["end"], tm["step"], settings)
+
+
+def initial_state(model: TwoFluid2D, case: dict) -> State:
+    """Bed of ``[initial] porosity`` up to ``bed_height`` (clear liquid above), V = W = inflow."""
+    init, mesh = case["initial"], model.mesh
+    yc = mesh.points[mesh.cells].mean(axis=1)[:, 1]
+    y0 = mesh.points[:, 1].min()
+    h = init["bed_height"] if init["bed_height"] > 0 else np.inf
+    n = np.where(yc - y0 < h, init["porosity"], 1.0)
+    n_bar = np.full(model.ne, case["closures.solids_pressure"]["reference_porosity"])
+    if init["state"] == "settled":
+        ps = model.settled_solids_pressure(n)
+        solid = ps > 0.0
+        n_bar[solid] = reference_porosity_for(n[solid], ps[solid], model.clo.A, model.clo.p_ref)
+    V, W = np.zeros(model.nv), np.zeros(model.nv)
+    idx, val = model.dirichlet(0.0)
+    half = idx.size // 2
+    vy = val[:half][idx[:half] // model.nn == 1]
+    wy = val[half:][idx[:half] // model.nn == 1]
+    if vy.size and np.abs(vy).max() > 0:  # plug flow at the inflow velocity
+        V[model.nn:2 * model.nn] = vy[np.argmax(np.abs(vy))]
+        W[model.nn:2 * model.nn] = wy[np.argmax(np.abs(vy))]
+    state = State(0.0, V, W, np.zeros(model.ne), n, n_bar)
+    state.V[idx[:half]] = val[:half]
+    state.W[idx[:half]] = val[half:]
+    return steady_flow(model, state)
+
+
+def steady_flow(model: TwoFluid2D, state: State, settings=PicardSettings(tol=1e-8)) -> State:
+    """V, W, P in equilibrium with the porosity of ``state`` (n frozen; a step of 10⁶ s)."""
+    model.freeze_porosity = True
+    try:
+        new, info = picard_step(model, state, 1e6, settings)
+    finally:
+        model.freeze_porosity = False
+        model.linear.lu = None
+    if new is None:
+        raise StepFailure(state.t, 1e6, f"initial flow field: {info}", state)
+    return state.copy(V=new.V, W=new.W, P=new.P)
+
+
+def horizontal_profile(model: TwoFluid2D, fields: dict, height: float) -> dict:
+    """Element values along the row of elements containing ``height`` [m], sorted by x (r)."""
+    y = model.mesh.points[model.mesh.cells][:, :, 1]
+    row = np.nonzero((y.min(axis=1) <= height) & (y.max(axis=1) > height))[0]
+    row = row[np.argsort(fields["x_m"][row])]
+    p = {"x_m": fields["x_m"][row], "porosity": fields["porosity"][row], "P_Pa": fields["P_Pa"][row],
+         "Ps_Pa": fields["Ps_Pa"][row], "Uf_x": fields["Uf_m_s"][row, 0], "Uf_y": fields["Uf_m_s"][row, 1],
+         "Us_x": fields["Us_m_s"][row, 0], "Us_y": fields["Us_m_s"][row, 1]}
+    if model.nc == 3:
+        p["Uf_theta"] = fields["Uf_m_s"][row, 2]
+        p["Us_theta"] = fields["Us_m_s"][row, 2]
+    return p
+
+
+class _Profiles:
+    """Streams horizontal profiles to profiles.csv (flushed per time)."""
+
+    def __init__(self, out: Path, model, heights):
+        self.model, self.heights, self.last = model, heights, {}
+        self.f = open(out / "profiles.csv", "w", newline="", encoding="utf-8")
+        self.w = csv.writer(self.f)
+        self.cols = None
+
+    def write(self, t, fields):
+        for h in self.heights:
+            p = horizontal_profile(self.model, fields, h)
+            self.last[h] = p
+            if self.cols is None:
+                self.cols = list(p)
+                self.w.writerow(["time_s", "height_m"] + self.cols)
+            for row in zip(*(p[c] for c in self.cols)):
+                self.w.writerow([f"{t:.10g}", f"{h:.10g}"] + [f"{v:.10g}" for v in row])
+        self.f.flush()
+
+    def close(self):
+        self.f.close()
+
+
+def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True) -> dict:
+    """Steady single-fluid Stokes flow on the case's mesh and conditions vs the analytic annulus.
+
+    Boundary conditions as the mixture's (inlet: uniform u_z; walls no slip; rotating
+    wall u_θ = ω r; axis; outlet traction free). At ``[single_fluid] height`` (in the
+    annulus r_inner < r < r_outer, assumed fully developed) the nodal u_z and u_θ are
+    compared with annular Poiseuille flow of the same flow rate and Couette swirl
+    (SPEC 6.6): relative L2 errors along the radius with the r weight.
+    """
+    from .models.single_fluid import solve_stokes
+    from .verification.annular import annular_poiseuille, annular_poiseuille_gradient, couette_swirl
+
+    sf, g = case["single_fluid"], case["materials"]["gravity"]
+    dirichlet, omega = {}, 0.0
+    for name in BOUNDARY_NAMES:
+        b = case[f"boundary.{name}"]
+        grp = b["group"] or name
+        if b["kind"] == "inlet":
+            dirichlet[grp] = {"r": 0.0, "z": _inlet_velocities(case, b)[0], "theta": 0.0}
+        elif b["kind"] == "wall":
+            dirichlet[grp] = {"r": 0.0, "z": 0.0, "theta": 0.0}
+        elif b["kind"] == "axis":
+            dirichlet[grp] = {"r": 0.0, "theta": 0.0}
+        elif b["kind"] == "rotating_wall":
+            omega = b["omega"]
+            dirichlet[grp] = {"r": 0.0, "z": 0.0, "theta": lambda x, w=omega: w * x[:, 0]}
+    res = solve_stokes(mesh, sf["viscosity"], dirichlet, rho=sf["density"], gravity=(0.0, -g), swirl=True)
+    ys = np.unique(mesh.points[:, 1])
+    y = ys[np.argmin(np.abs(ys - sf["height"]))]
+    r_i, r_o = sf["r_inner"], mesh.points[:, 0].max()
+    line = np.nonzero((np.abs(mesh.points[:, 1] - y) < 1e-12) & (mesh.points[:, 0] >= r_i - 1e-12))[0]
+    line = line[np.argsort(mesh.points[line, 0])]
+    r, uz, ut = mesh.points[line, 0], res.velocity[line, 1], res.velocity[line, 2]
+    q = np.trapezoid(uz * r, r) * 2.0 * np.pi
+    u_mean = q / (np.pi * (r_o ** 2 - r_i ** 2))
+    uz_ex = annular_poiseuille(r, r_i, r_o, annular_poiseuille_gradient(r_i, r_o, sf["viscosity"], u_mean),
+                               sf["viscosity"])
+    ut_ex = couette_swirl(r, r_i, r_o, omega)
+
+    def err(u, ex):
+        return float(np.sqrt(np.trapezoid((u - ex) ** 2 * r, r) / np.trapezoid(ex ** 2 * r, r)))
+
+    out_d = {"height_m": float(y), "r_inner_m": r_i, "r_outer_m": float(r_o),
+             "mean_axial_velocity_m_s": float(u_mean), "u_z_relative_L2_error": err(uz, uz_ex),
+             "u_theta_relative_L2_error": err(ut, ut_ex),
+             "definition": "relative L2 error of the nodal profile along r (weight r) against annular "
+                           "Poiseuille flow of the same flow rate and Couette swirl"}
+    if plots:
+        from .plots.fields import profile_plot
+
+        prof = {float(y): {"x_m": r, "porosity": np.ones_like(r), "Uf_y": uz, "Us_y": uz, "Uf_theta": ut}}
+        profile_plot(prof, out / "single_fluid.png", "single fluid (ρ = %g, μ = %g) vs analytic annulus"
+                     % (sf["density"], sf["viscosity"]), True,
+                     extra={"analytic u_z": (r, uz_ex)})
+    return out_d
+
+
+def _write_fields(writer, model, s):
+    f = model.element_fields(s)
+    nn, nc = model.nn, model.nc
+    writer.write(s.t, {"V": s.V.reshape(nc, nn).T, "W": s.W.reshape(nc, nn).T},
+                 {"porosity": s.n, "reference_porosity": s.n_bar, "P": s.P, "P_s": f["Ps_Pa"],
+                  "U_f": f["Uf_m_s"], "U_s": f["Us_m_s"]})
+    return f
+
+
+def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
+    """Run a resolved ``two_fluid_2d`` case; returns :class:`~twofluid.simulation.RunResult`."""
+    name = case["case"]["name"]
+    out = Path(out_dir or f"twofluid-out/{name}")
+    out.mkdir(parents=True, exist_ok=True)
+    write_resolved_case(out / "case.resolved.toml", case)
+    extra = {}
+    if case["single_fluid"]["enabled"]:
+        extra["single_fluid"] = single_fluid_check(case, build_mesh(case), out, case["output"]["plots"])
+    wall0 = time.perf_counter()
+    b = build_2d(case)
+    model, state = b.model, b.state
+    writer = FieldWriter(out, model.mesh)
+    prof = _Profiles(out, model, case["profiles"]["heights"])
+    out_times = sorted(set(case["output"]["times"]) | {b.t_end})
+    f = _write_fields(writer, model, state)
+    prof.write(state.t, f)
+    solids0, outflow = model.solids_volume(state), 0.0
+    tol, calm = case["profiles"]["steady_tolerance"], 0
+    status, reason, n_steps, last, rate = "completed", "", 0, state, (np.inf, np.inf)
+    bar = tqdm(total=b.t_end, unit="s", disable=not progress, leave=False,
+               bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated [{elapsed}<{remaining}]")
+    try:
+        for step in integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings):
+            s = step.state
+            outflow += step.dt * model.solids_outflow(s)
+            rate = (float(np.abs(s.n - last.n).max() / step.dt),
+                    float(np.abs(s.V - last.V).max() / (model.velocity_scale(s) * step.dt)))
+            n_steps, last = step.n_steps, s
+            calm = calm + 1 if tol > 0 and max(rate) < tol else 0
+            steady = calm >= 3
+            if steady or any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times):
+                prof.write(s.t, _write_fields(writer, model, s))
+            bar.update(s.t - bar.n)
+            if steady:
+                reason = f"steady: max |dn/dt| = {rate[0]:.3g} 1/s, max |dV/dt|/|V| = {rate[1]:.3g} 1/s"
+                break
+    except KeyboardInterrupt:
+        status, reason = "interrupted", "interrupted by the user (Ctrl-C)"
+    except StepFailure as exc:
+        status, reason = "failed", str(exc)
+    finally:
+        bar.close()
+    if not writer.entries or writer.entries[-1][0] != last.t:
+        prof.write(last.t, _write_fields(writer, model, last))
+    prof.close()
+    wall = time.perf_counter() - wall0
+    summary = _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra)
+    write_json(out / "summary.json", summary)
+    if case["output"]["plots"]:
+        _plots(case, model, last, prof.last, out, extra)
+    return RunResult(status, out, summary, {last.t: model.element_fields(last)}, {})
+
+
+def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra):
+    solids = model.solids_volume(last)
+    fluxes = model.boundary_fluxes(last)
+    inl = {k: sum(-v[k] for v in fluxes.values() if v["kind"] == "inlet") for k in ("liquid_m3_s", "solids_m3_s")}
+    outl = {k: sum(v[k] for v in fluxes.values() if v["kind"] == "outlet") for k in ("liquid_m3_s", "solids_m3_s")}
+    s = {
+        "case": case["case"]["name"], "status": status, "stopped_at_s": last.t, "reason": reason,
+        "end_time_s": b.t_end, "wall_time_s": wall, "steps": n_steps, "element": model.element,
+        "elements": model.ne, "nodes": model.nn, "unknowns": model.size,
+        "linear_solver": {"kind": model.linear.kind, **model.linear.stats},
+        "solids_volume_m3": {"initial": solids0, "final": solids, "outflow": outflow},
+        "solids_volume_balance_error": (solids - solids0 + outflow) / solids0 if solids0 > 0 else 0.0,
+        "solids_volume_balance_error_definition":
+            "(solids volume now − initial + net solids that left through the boundary) / initial "
+            "(volumes with the 2πr weight in axisymmetry)",
+        "boundary_fluxes_m3_s": fluxes,
+        "inflow_m3_s": inl, "outflow_m3_s": outl,
+        "liquid_outflow_over_inflow": outl["liquid_m3_s"] / inl["liquid_m3_s"] if inl["liquid_m3_s"] else None,
+        "solids_outflow_over_inflow": outl["solids_m3_s"] / inl["solids_m3_s"] if inl["solids_m3_s"] else None,
+        "final_rates_1_s": {"max_dn_dt": rate[0], "max_dV_dt_over_Vmax": rate[1]},
+        "porosity_range": [float(last.n.min()), float(last.n.max())],
+        **extra,
+    }
+    f = model.element_fields(last)
+    s["profiles"] = {}
+    for h in case["profiles"]["heights"]:
+        p = horizontal_profile(model, f, h)
+        s["profiles"][f"{h:g} m"] = {"porosity_min": float(p["porosity"].min()),
+                                     "porosity_max": float(p["porosity"].max()),
+                                     "Uf_axial_min_m_s": float(p["Uf_y"].min()),
+                                     "Uf_axial_max_m_s": float(p["Uf_y"].max())}
+    cut = case["mesh"]["cut"] if case["mesh"]["kind"] == "rectangle" else []
+    if cut:  # the region directly below the cut-out (e.g. below a rotor tip)
+        below = (f["x_m"] >= cut[0]) & (f["x_m"] <= cut[1]) & (f["y_m"] < cut[2]) \
+            & (f["y_m"] > cut[2] - (cut[1] - cut[0]))
+        s["below_cut"] = {"definition": "elements with x in the cut's range, within one cut width below it",
+                          "porosity_max": float(last.n[below].max()),
+                          "porosity_mean": float(last.n[below].mean())}
+    return s
+
+
+def _plots(case, model, s, profiles, out, extra):
+    from .plots.fields import field_plot, profile_plot, velocity_plot
+
+    title = f"{case['case']['name']}, t = {s.t:.4g} s"
+    f = model.element_fields(s)
+    field_plot(model.mesh, s.n, out / "porosity.png", title, "porosity n [-]")
+    velocity_plot(model.mesh, f, out / "velocity.png", title)
+    if profiles:
+        profile_plot(profiles, out / "profiles.png", title, model.mesh.axisymmetric)

@@ -1,0 +1,173 @@
+"""``twofluid verify``: run the verification checks, print one table, write docs/verification.md.
+
+Each check returns rows ``{check, quantity, unit, reference, computed, error,
+tolerance, error_kind, pass}``; the definitions and tolerances are in the
+docstrings of the check modules (:mod:`.kynch_check`, :mod:`.terzaghi_check`,
+:mod:`.properties_check`, :mod:`.order_check`) and are copied into the report.
+The Slis et al. validation table (:mod:`.slis_check`) and the 2D annulus study
+(:func:`twofluid.verification.annular.convergence_table`) are appended.
+``quick=True`` runs cheaper settings of the same checks (used by the tests).
+"""
+from __future__ import annotations
+
+import datetime
+import platform
+import time
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from . import kynch_check, order_check, properties_check, slis_check, terzaghi_check
+
+__all__ = ["CHECKS", "run_checks", "format_table", "machine", "report", "verify"]
+
+
+def _checks(quick: bool) -> list[tuple[str, Callable[[], list[dict]]]]:
+    kc, pc = kynch_check, properties_check
+    fine = dict(dx=1e-3, dt=0.1) if quick else dict(dx=5e-4, dt=0.02)
+    mid = dict(dx=2e-3, dt=0.1) if quick else dict(dx=1e-3, dt=0.05)
+    out = [
+        ("kynch expansion", lambda: kc.step_change_rows(0.70, 0.80, with_t1=not quick, **fine)),
+        ("kynch contraction", lambda: kc.step_change_rows(0.80, 0.70, **mid)),
+        ("kynch settling", lambda: kc.settling_rows(**mid)),
+        ("terzaghi reduced", lambda: terzaghi_check.consolidation_rows(model="reduced_1d")),
+        ("conservation", lambda: pc.conservation_rows("fluidized-bed-step", "reduced_1d", 10.0)
+         + pc.conservation_rows("settling-illite", "two_fluid_1d", 30.0)),
+        ("hydrostatic", lambda: pc.hydrostatic_rows("two_fluid_1d") + pc.hydrostatic_rows("reduced_1d")),
+        ("gauge", lambda: pc.gauge_rows("fluidized-bed-step", "two_fluid_1d", 5.0)
+         + pc.gauge_rows("settling-illite", "reduced_1d", 30.0)),
+    ]
+    out.append(("annulus 2d", lambda: _annulus_rows(quick)))
+    if not quick:
+        out += [
+            ("terzaghi full", lambda: terzaghi_check.consolidation_rows(model="two_fluid_1d")),
+            ("reduced vs full", lambda: pc.agreement_rows("fluidized-bed-step")
+             + pc.agreement_rows("settling-illite")),
+            ("order space", order_check.space_rows),
+            ("order time", order_check.time_rows),
+        ]
+    return out
+
+
+def _annulus_rows(quick: bool) -> list[dict]:
+    """Fully developed annulus profiles (SPEC 7): error < 2 % on the finest mesh, order ≥ 1.8 (Q1: 2)."""
+    from .annular import annulus_study
+
+    s = annulus_study(levels=(4, 8, 16) if quick else (4, 8, 16, 32))
+    rows = []
+    for key, name in (("uz", "axial Poiseuille u_z"), ("utheta", "Couette swirl u_θ")):
+        e = float(s[f"err_{key}"][-1])
+        rows.append({"check": "2D annulus (Q1–P0, axisymmetric, swirl)", "quantity": f"{name}: relative L2 error",
+                     "unit": "-", "reference": 0.0, "computed": e, "error": e, "tolerance": 0.02,
+                     "error_kind": "absolute", "pass": bool(e <= 0.02)})
+        r = float(s[f"order_{key}"].rate)
+        rows.append({"check": "2D annulus (Q1–P0, axisymmetric, swirl)", "quantity": f"{name}: observed order",
+                     "unit": "-", "reference": 2.0, "computed": r, "error": abs(r - 2.0),
+                     "tolerance": "order ≥ 1.8", "error_kind": "absolute", "pass": bool(r >= 1.8)})
+    return rows
+
+
+CHECKS = [name for name, _ in _checks(False)]
+
+
+def run_checks(quick: bool = False, only: list[str] | None = None, log=print) -> list[dict]:
+    """Run the checks (all, or those whose name contains one of ``only``) and return their rows."""
+    rows = []
+    for name, f in _checks(quick):
+        if only and not any(o in name for o in only):
+            continue
+        t0 = time.perf_counter()
+        new = f()
+        for r in new:
+            r["wall_s"] = time.perf_counter() - t0
+        rows += new
+        if log:
+            log(f"  {name}: {sum(r['pass'] for r in new)}/{len(new)} pass ({time.perf_counter() - t0:.1f} s)")
+    return rows
+
+
+def _num(x) -> str:
+    return x if isinstance(x, str) else f"{x:.4g}"
+
+
+def format_table(rows: list[dict]) -> str:
+    """Markdown table: check, quantity, reference, computed, error, tolerance, pass."""
+    lines = ["| check | quantity | unit | reference | computed | error | tolerance | pass |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        err = f"{100 * r['error']:.2f} %" if r["error_kind"] == "relative" else _num(r["error"])
+        tol = f"{100 * r['tolerance']:g} %" if r["error_kind"] == "relative" else _num(r["tolerance"])
+        lines.append(f"| {r['check']} | {r['quantity']} | {r['unit']} | {_num(r['reference'])} | "
+                     f"{_num(r['computed'])} | {err} | {tol} | {'yes' if r['pass'] else '**NO**'} |")
+    return "\n".join(lines)
+
+
+def machine() -> str:
+    """One line describing the machine and the library versions."""
+    import scipy
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    import os
+    return (f"{cpu}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}; "
+            f"Python {platform.python_version()}, NumPy {np.__version__}, SciPy {scipy.__version__}")
+
+
+def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall: float) -> str:
+    """The text of docs/verification.md."""
+    from . import kynch_check as k, order_check as o, properties_check as p, terzaghi_check as t
+
+    parts = [
+        "# Verification",
+        "",
+        f"Generated by `twofluid verify` on {datetime.datetime.now():%Y-%m-%d %H:%M} "
+        f"in {wall / 60:.1f} min on: {machine()}.",
+        "",
+        f"{sum(r['pass'] for r in rows)} of {len(rows)} checks pass.",
+        "",
+        format_table(rows),
+        "",
+        "## Definitions and tolerances",
+    ]
+    for title, mod in (("Kynch kinematic-wave theory", k), ("Terzaghi consolidation", t),
+                       ("Conservation, hydrostatic consistency, gauge invariance, reduced vs full", p),
+                       ("Observed order of convergence", o), ("Slis et al. (1959) step changes", slis_check)):
+        parts += ["", f"### {title}", "", "```text", (mod.__doc__ or "").strip(), "```"]
+    if slis is not None:
+        parts += ["", "## Validation: Slis, Willemse & Kramers (1959), thesis table 5.2", "",
+                  "Column geometry and t1 definition: `src/twofluid/data/cases/slis-step-change/README.md`. "
+                  "Errors are relative to the experiment.", "", slis_check.slis_markdown(slis)]
+    if annulus is not None:
+        parts += ["", "## 2D annulus (Q1–P0, axisymmetric with swirl)", "",
+                  "From `twofluid.verification.annular.convergence_table()` (relative L2 errors of the "
+                  "fully developed profiles; see docs/verification_2d.md).", "", annulus]
+    return "\n".join(parts) + "\n"
+
+
+def verify(out: str | Path | None = "docs/verification.md", quick: bool = False, slis: bool = True,
+           annulus: bool = True, only: list[str] | None = None, log=print) -> tuple[list[dict], str]:
+    """Run everything, write the report to ``out`` (None: do not write); returns (rows, report)."""
+    t0 = time.perf_counter()
+    rows = run_checks(quick, only, log)
+    tab = None
+    if slis:
+        tab = slis_check.slis_table(rows=[0, 3] if quick else None)
+        if log:
+            log(f"  slis: {len(tab)} rows ({time.perf_counter() - t0:.1f} s so far)")
+    ann = None
+    if annulus:
+        from .annular import annulus_study, convergence_table
+
+        ann = convergence_table(annulus_study(levels=(4, 8, 16) if quick else (4, 8, 16, 32)))
+    text = report(rows, tab, ann, time.perf_counter() - t0)
+    if out is not None:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
+        Path(out).write_text(text, encoding="utf-8")
+    return rows, text

@@ -1,0 +1,52 @@
+"""The bundled 2D cases build and run a few steps at coarse settings; outputs are readable."""
+import json
+
+import meshio
+import numpy as np
+import pytest
+
+from twofluid.casefile.loader import load_case
+from twofluid.casefile.schema import CaseError, validate
+from twofluid.simulation import run_case
+
+COARSE = {"pipe-flow": {"mesh": {"nx": 10, "ny": 20}, "time": {"end": 0.02, "step": 0.01},
+                        "output": {"times": []}},
+          "viscometer": {"mesh": {"nx": 10, "ny": 32}, "time": {"end": 0.02, "step": 0.01},
+                         "output": {"times": []}}}
+
+
+@pytest.mark.parametrize("name", sorted(COARSE))
+def test_bundled_case_runs(name, tmp_path):
+    case = load_case(name)
+    for sec, kv in COARSE[name].items():
+        case[sec].update(kv)
+    res = run_case(case, tmp_path)
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert res.status == "completed" and s["steps"] >= 2
+    assert abs(s["solids_volume_balance_error"]) < 1e-8
+    assert s["inflow_m3_s"]["liquid_m3_s"] > 0 and s["outflow_m3_s"]["liquid_m3_s"] > 0
+    for png in ("porosity.png", "velocity.png", "profiles.png"):
+        assert (tmp_path / png).stat().st_size > 1000
+    m = meshio.read(sorted(tmp_path.glob("fields_*.vtu"))[-1])
+    n = m.cell_data["porosity"][0]
+    assert n.shape == (res.summary["elements"],) and 0.0 < n.min() and n.max() <= 1.0 + 1e-9
+    assert m.point_data["V"].shape == (res.summary["nodes"], 3)
+    assert (tmp_path / "fields.pvd").read_text().count("<DataSet") == len(list(tmp_path.glob("fields_*.vtu")))
+    if name == "viscometer":
+        sf = s["single_fluid"]
+        assert sf["u_theta_relative_L2_error"] < 0.05 and sf["u_z_relative_L2_error"] < 0.05
+        assert "below_cut" in s
+
+
+def test_2d_case_errors_name_key():
+    doc = {"case": {"name": "x", "model": "two_fluid_2d"},
+           "materials": {"liquid_density": 1000.0, "liquid_viscosity": 1e-3, "particle_density": 2600.0,
+                         "particle_diameter": 1e-3},
+           "initial": {"porosity": 0.5}, "time": {"end": 1.0, "step": 0.1},
+           "boundary": {"bottom": {"kind": "wall"}}}
+    with pytest.raises(CaseError, match="outlet"):
+        validate(doc, "c.toml")
+    doc["boundary"]["top"] = {"kind": "outlet"}
+    doc["boundary"]["left"] = {"kind": "rotating_wall", "omega": 1.0}
+    with pytest.raises(CaseError, match=r"\[boundary.left\] kind"):
+        validate(doc, "c.toml")

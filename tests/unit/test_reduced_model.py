@@ -1,0 +1,79 @@
+"""The reduced-variable 1D model (SPEC 5.3) against the full model."""
+import numpy as np
+import pytest
+
+from twofluid.casefile.builder import build
+from twofluid.casefile.loader import load_case
+from twofluid.models.reduced_1d import Reduced1D
+from twofluid.models.two_fluid_1d import Boundary
+from twofluid.timestepping.backward_euler import integrate, picard_step
+
+
+def _case(name, model, t_end=None):
+    c = load_case(name)
+    c["case"]["model"] = model
+    if t_end:
+        c["time"]["end"] = t_end
+    return c
+
+
+def _final(case):
+    b = build(case)
+    s = b.state
+    for st in integrate(b.model, s, b.t_end, b.dt, settings=b.settings):
+        s = st.state
+    return s
+
+
+def test_case_file_selects_reduced_model():
+    assert isinstance(build(_case("fluidized-bed-step", "reduced_1d")).model, Reduced1D)
+
+
+@pytest.mark.parametrize("name, dt", [("fluidized-bed-step", 0.02), ("settling-illite", 0.1)])
+def test_one_step_solves_the_full_models_equations(name, dt):
+    """Same initial state, one step: V, W, n and the recovered P agree to the Picard tolerance."""
+    out = {}
+    for model in ("two_fluid_1d", "reduced_1d"):
+        b = build(_case(name, model))
+        new, it = picard_step(b.model, b.state, dt, b.settings)
+        assert new is not None, it
+        out[model] = new
+    f, r = out["two_fluid_1d"], out["reduced_1d"]
+    assert np.abs(f.n - r.n).max() < 1e-8
+    assert np.abs(f.W - r.W).max() < 1e-8 * max(np.abs(f.W).max(), 1e-6)
+    assert np.abs(f.P - r.P).max() < 1e-6 * np.abs(f.P).max()
+
+
+@pytest.mark.parametrize("name, t_end", [("fluidized-bed-step", 6.0), ("settling-illite", 40.0)])
+def test_porosity_agrees_within_one_percent(name, t_end):
+    f = _final(_case(name, "two_fluid_1d", t_end))
+    r = _final(_case(name, "reduced_1d", t_end))
+    assert np.max(np.abs(r.n - f.n) / f.n) < 0.01
+    assert abs(r.t - f.t) < 1e-9
+
+
+def test_only_the_linear_element():
+    b = build(_case("fluidized-bed-step", "two_fluid_1d"))
+    m = b.model
+    with pytest.raises(ValueError, match="1VW/0P/0n"):
+        Reduced1D(m.mesh, m.mat, m.clo, m.bottom, m.top, element="2VW/1P/0n")
+
+
+def test_needs_an_end_fixing_the_flux():
+    b = build(_case("fluidized-bed-step", "two_fluid_1d"))
+    m = b.model
+    out = Boundary("outlet")
+    with pytest.raises(ValueError, match="inlet or a wall"):
+        Reduced1D(m.mesh, m.mat, m.clo, out, out)
+
+
+def test_pressure_recovery_is_hydrostatic_at_rest():
+    """A uniform fluidized bed at steady state: P from the liquid rows balances the mixture weight."""
+    b = build(_case("fluidized-bed-step", "reduced_1d"))
+    m, s = b.model, b.state
+    s = s.copy(n=np.full_like(s.n, 0.65), V=np.full_like(s.V, m.bottom.velocity(-1.0)),
+               W=np.full_like(s.W, m.bottom.velocity(-1.0)))
+    P = m.recover_pressure(s, s, 1.0)
+    rho_bar = 0.65 * m.mat.rho_f + 0.35 * m.mat.rho_s
+    grad = np.diff(P) / np.diff(m.mesh.centres)
+    assert np.allclose(grad, -rho_bar * m.mat.g, rtol=1e-6)

@@ -1,0 +1,72 @@
+"""Sensitivity studies: parameter parsing, a real study on a small step-change case, CSV, CLI."""
+import csv
+
+import pytest
+
+from twofluid.casefile.schema import CaseError
+from twofluid.cli import main
+from twofluid.sensitivity import parse_change, sensitivity_study
+
+CASE = """
+[case]
+name = "small-step"
+model = "reduced_1d"
+study = "step_change"
+[mesh]
+length = 0.3
+elements = 150
+[materials]
+liquid_density = 1000.0
+liquid_viscosity = 1.0e-3
+particle_density = 2500.0
+particle_diameter = 1.0e-4
+[closures.drag]
+law = "wen_yu"
+stokes = true
+[closures.viscosity]
+law = "none"
+[closures.solids_pressure]
+reference_porosity = 0.3
+[initial]
+porosity = 0.8
+bed_height = 0.2
+[boundary.bottom]
+kind = "inlet"
+times = [0.0, 0.0]
+porosities = [0.8, 0.7]
+[boundary.top]
+kind = "outlet"
+[time]
+end = 75.0
+step = 0.2
+[output]
+plots = false
+"""
+
+
+def test_parse_change():
+    assert parse_change("particle.diameter", "10%") == ("materials", "particle_diameter", 0.1)
+    assert parse_change("closures.drag.n_switch", "-0.05") == ("closures.drag", "n_switch", -0.05)
+    with pytest.raises(CaseError):
+        parse_change("diameter", "10%")
+
+
+def test_t1_falls_as_the_particles_grow(tmp_path):
+    """Contraction: t1 = (H0 − H1)/(U0 − U1) ∝ 1/U_t ∝ 1/d², so +10 % in d gives about −17 %."""
+    path = tmp_path / "case.toml"
+    path.write_text(CASE)
+    res = sensitivity_study(str(path), [parse_change("particle.diameter", "10%"),
+                                        parse_change("liquid.viscosity", "10%")],
+                            csv_path=tmp_path / "s.csv")
+    d, mu = res.rows
+    assert -0.20 < d["figure_change"] < -0.14
+    assert 0.07 < mu["figure_change"] < 0.13  # t1 ∝ μ
+    rows = list(csv.DictReader(open(tmp_path / "s.csv")))
+    assert [r["parameter"] for r in rows] == ["materials.particle_diameter", "materials.liquid_viscosity"]
+
+
+def test_cli_sensitivity_and_unknown_parameter(tmp_path, capsys):
+    path = tmp_path / "case.toml"
+    path.write_text(CASE.replace("end = 75.0", "end = 10.0"))
+    assert main(["sensitivity", str(path), "--vary", "materials.nonsense", "--by", "10%"]) == 2
+    assert "no such parameter" in capsys.readouterr().err

@@ -1,0 +1,13 @@
+"""`twofluid verify` prints one table and writes the report."""
+from twofluid.cli import main
+
+
+def test_verify_subset_writes_report(tmp_path, capsys):
+    out = tmp_path / "verification.md"
+    code = main(["verify", "--quick", "--no-slis", "--only", "terzaghi", "hydrostatic", "--out", str(out)])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert text.startswith("| check | quantity | unit | reference | computed | error | tolerance | pass |")
+    assert "Terzaghi" in text and "hydrostatic" in text and "**NO**" not in text
+    report = out.read_text()
+    assert "## Definitions and tolerances" in report and "2D annulus" in report
