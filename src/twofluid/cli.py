@@ -65,6 +65,29 @@ def _cmd_sensitivity(args) -> int:
     return 0
 
 
+def _cmd_element_test(args) -> int:
+    from .models.element_test import run_element_test
+
+    res = run_element_test(csr=args.csr, gamma_amplitude=args.gamma, sigma_v0=args.sigma_v0 * 1e3,
+                           dr=args.dr, porosity=args.porosity, A=args.A, k2max=args.k2max,
+                           gamma_ref=args.gamma_ref, drained=args.drained, law=args.law,
+                           max_cycles=args.max_cycles, steps_per_cycle=args.steps_per_cycle,
+                           out_dir=args.out)
+    load = (f"CSR = {res.settings['csr']:g}" if res.settings["csr"] is not None
+            else f"gamma_a = {res.settings['gamma_amplitude']:g}")
+    n_liq = float(res.cycles_to_liquefaction[0])
+    kind = "drained" if args.drained else "undrained"
+    if n_liq != float("inf"):
+        print(f"{kind} cyclic simple shear, {load}, sigma'_v0 = {args.sigma_v0:g} kPa: "
+              f"liquefied (r_u >= 0.95) after {n_liq:.2f} cycles")
+    else:
+        print(f"{kind} cyclic simple shear, {load}, sigma'_v0 = {args.sigma_v0:g} kPa: not liquefied "
+              f"in {args.max_cycles:g} cycles (final r_u = {float(res.r_u[-1, 0]):.3f})")
+    if args.out:
+        print(f"results and plot written to {args.out}")
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="twofluid", description="Finite element model of saturated "
                                 "granular material and liquid moving together (Pringle 2001).")
@@ -97,6 +120,23 @@ def parser() -> argparse.ArgumentParser:
     se.add_argument("--figure", help="key figure: t1 (step_change) or porosity_error@T (default from the study)")
     se.add_argument("--csv", help="also write the table as CSV")
     se.set_defaults(func=_cmd_sensitivity)
+    et = sub.add_parser("element-test", help="undrained cyclic simple shear of one element: cycles to "
+                        "liquefaction (defaults: the calibrated loose sand at CSR 0.12, 100 kPa)")
+    load = et.add_mutually_exclusive_group()
+    load.add_argument("--csr", type=float, help="cyclic stress ratio tau/sigma'_v0 (stress control; default 0.12)")
+    load.add_argument("--gamma", type=float, help="shear-strain amplitude, e.g. 1e-3 (strain control)")
+    et.add_argument("--sigma-v0", type=float, default=100.0, help="vertical effective stress [kPa] (default 100)")
+    et.add_argument("--dr", type=float, help="relative density [%%] (default 47)")
+    et.add_argument("--porosity", type=float, help="porosity [-] (default 0.44)")
+    et.add_argument("--A", type=float, help="compressibility of P_s [-] (default 6e-4)")
+    et.add_argument("--k2max", type=float, help="Seed-Idriss K2max [-] (default 30)")
+    et.add_argument("--gamma-ref", type=float, help="reference strain of G/G_max [-] (default 1e-3)")
+    et.add_argument("--law", default="byrne", choices=("byrne", "ann"), help="reference-porosity law")
+    et.add_argument("--drained", action="store_true", help="drained test (P_s held, n follows n-bar)")
+    et.add_argument("--max-cycles", type=float, default=50.0, help="length of the test [cycles]")
+    et.add_argument("--steps-per-cycle", type=int, default=100)
+    et.add_argument("--out", help="folder for element_test.csv, summary.json and element_test.png")
+    et.set_defaults(func=_cmd_element_test)
     return p
 
 

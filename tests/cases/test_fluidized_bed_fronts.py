@@ -18,12 +18,12 @@ def profiles(case, times):
 
 
 def front_width(y, n, n0, n1):
-    """Distance between the heights where n passes 10 % and 90 % of the way from n1 (below) to n0."""
+    """Elements between the heights where n passes 10 % and 90 % of the way from n1 (below) to n0."""
     below = y < 0.6  # stay clear of the bed surface
     f = (n[below] - n1) / (n0 - n1)
-    y10 = y[below][np.nonzero(f > 0.1)[0][0]]  # first element (from the bottom) still 10 % from n1
-    y90 = y[below][np.nonzero(f > 0.9)[0][0]]
-    return y90 - y10
+    i10 = np.nonzero(f > 0.1)[0][0]  # first element (from the bottom) still 10 % from n1
+    i90 = np.nonzero(f > 0.9)[0][0]
+    return int(i90 - i10)
 
 
 def step_case(n0, n1, bed=0.7, end=20.0):
@@ -37,16 +37,15 @@ def step_case(n0, n1, bed=0.7, end=20.0):
 def test_expansion_front_spreads_as_it_rises():
     y, p = profiles(step_case(0.65, 0.716), [5.0, 15.0])
     w5, w15 = front_width(y, p[5.0], 0.65, 0.716), front_width(y, p[15.0], 0.65, 0.716)
-    h = y[1] - y[0]
-    assert w15 > w5 + 3 * h  # a rarefaction fan widens in proportion to time
+    assert w15 > w5 + 3  # a rarefaction fan widens in proportion to time
     assert w15 / w5 == pytest.approx(3.0, rel=0.35)
 
 
 def test_contraction_front_stays_sharp():
     y, p = profiles(step_case(0.716, 0.65, bed=0.8), [5.0, 15.0])
-    h = y[1] - y[0]
-    for t in (5.0, 15.0):
-        assert front_width(y, p[t], 0.716, 0.65) <= 3 * h
+    w5, w15 = (front_width(y, p[t], 0.716, 0.65) for t in (5.0, 15.0))
+    assert w5 <= 3 and w15 <= 3  # a shock: a few elements wide ...
+    assert w15 <= w5  # ... that does not widen as it rises
 
 
 def test_both_1d_elements_give_nearly_the_same_porosity_profile():

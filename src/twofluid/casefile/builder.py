@@ -1,7 +1,7 @@
 """Turn a resolved case into a model, an initial state and run settings."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -65,8 +65,11 @@ def _boundary(b: dict, closures: Closures, mat: Materials) -> tuple[Boundary, tu
     if b["kind"] != "inlet":
         return Boundary(b["kind"], pressure=b["pressure"]), ()
     if b["porosities"]:
+        def law(n, s, *args, **kw):  # the model's law, with its slip saturation
+            return closures.drag(n, drag_laws.saturated_slip(s, closures.slip_max), *args, **kw)
+
         vel = tuple(drag_laws.steady_fluidization_velocity(
-            closures.drag, n, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **closures.drag_params)
+            law, n, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **closures.drag_params)
             for n in b["porosities"])
     else:
         vel = tuple(b["velocities"])
@@ -81,6 +84,13 @@ def build(case: dict) -> Built:
     mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
                     d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
     clo = _closures(case)
+    if mat.rho_s > mat.rho_f:  # saturate the drag law's |slip| at 3 terminal velocities (SPEC 5.2a)
+        try:
+            u_t = drag_laws.terminal_velocity(clo.drag, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
+                                              **clo.drag_params)
+            clo = replace(clo, slip_max=3.0 * u_t)
+        except ValueError:  # a law without a dilute limit (Ergun alone): no saturation
+            pass
     bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
     top, vt = _boundary(case["boundary.top"], clo, mat)
     cls = TwoFluid1D

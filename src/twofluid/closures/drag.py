@@ -159,3 +159,48 @@ def steady_fluidization_velocity(law, n, d, rho_s, rho_f, mu_f, g=G, **params):
         if hi > 1e3:
             raise ValueError("no fluidization velocity below 1000 m/s")
     return brentq(residual, 0.0, hi, xtol=1e-14, rtol=1e-13)
+
+
+def terminal_velocity(law, d, rho_s, rho_f, mu_f, g=G, **params):
+    """Settling velocity U_t [m/s] of a single particle in unbounded liquid.
+
+    Solves β/(1 − n)·U = (ρ_s − ρ_f) g at n = 1 (the drag per unit solids volume
+    carries the buoyant weight) with scipy's brentq. ``law`` is a drag function of
+    this module. In the Stokes limit this is Stokes' law Δρ g d²/(18 μ_f).
+
+    >>> ut = terminal_velocity(wen_yu, 1e-4, 2600., 1000., 1e-3, stokes=True)
+    >>> round(ut / (1600*9.81*1e-8/18e-3), 9)
+    1.0
+    """
+    from scipy.optimize import brentq
+
+    def residual(u):
+        return float(law(1.0, u, d, rho_f, mu_f, per_solids=True, **params)) * u - (rho_s - rho_f) * g
+
+    hi = 1e-3
+    while residual(hi) < 0.0:
+        hi *= 2.0
+        if hi > 1e3:
+            raise ValueError("no terminal velocity below 1000 m/s")
+    return brentq(residual, 0.0, hi, xtol=1e-14, rtol=1e-13)
+
+
+def saturated_slip(slip_abs, slip_max, p=4):
+    """|slip| passed to a drag law, saturating smoothly at ``slip_max`` [m/s].
+
+    s_eff = s / (1 + (s/s_max)^p)^(1/p): equal to s to within (s/s_max)^p / p for
+    s ≪ s_max, increasing, and tending to s_max as s → ∞. It keeps the
+    Reynolds-number dependence of β finite where 1 − n → 0 makes the slip
+    (V − W)/(2(1 − n)) of a nearly empty element unbounded (SPEC 5.2a); the
+    project's models use s_max = 3 U_t (three terminal velocities).
+
+    >>> round(float(saturated_slip(0.01, 1.0)), 9)
+    0.01
+    >>> round(float(saturated_slip(1e9, 1.0)), 12)
+    1.0
+    """
+    s = np.asarray(slip_abs, float)
+    if not np.isfinite(slip_max):
+        return s
+    r = s / slip_max
+    return np.where(r > 1e6, slip_max, s / (1.0 + r**p) ** (1.0 / p))

@@ -118,9 +118,7 @@ class Reduced1D(TwoFluid1D):
         nn = np.concatenate([n, n + dn])
         q = (1.0 - 2.0 * nn)[:, None] * np.concatenate([Ve, Ve]) + np.concatenate([We, We])
         qbar = (q * np.concatenate([w, w])).sum(axis=1)
-        one_m = 1.0 - nn
-        clear = one_m < _CLEAR
-        s_abs = np.where(clear, 0.0, np.abs(qbar) / (2.0 * nn * np.where(clear, 1.0, one_m)))
+        s_abs = np.abs(qbar) / (2.0 * nn * np.maximum(1.0 - nn, _CLEAR))
         ne = n.size
         ds = 1e-6 * np.maximum(s_abs[:ne], 1e-6)
         K = self.clo.beta_per_solids(np.concatenate([nn, n]), np.concatenate([s_abs, s_abs[:ne] + ds]),

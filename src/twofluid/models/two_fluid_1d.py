@@ -22,8 +22,11 @@ other side: it is gauge invariant (only jumps of P appear), a settled bed with a
 porosity gradient is an exact discrete equilibrium (hydrostatic P), and — which
 the ``n_f A [[P]]`` form with averaged vertex porosity is not — so is a uniform
 fluidized bed with a free surface: each half-element contributes its own
-pressure gradient ρ_f g − βs/n to the jump. With the linear, continuous pressure
-of ``2VW/1P/0n`` the liquid term is ∫ δW ∂yP dΩ.
+pressure gradient ρ_f g − βs/n to the jump. ``2VW/1P/0n`` has a linear pressure
+per element, discontinuous between elements (P1-disc.): its liquid term is
+∫ δW ∂yP dΩ inside the elements plus the same vertex jumps, and its quadratic V
+is then exactly divergence free (a continuous linear P constrains ∇·V only
+weakly, and the spurious mixture-velocity wiggles drive porosity oscillations).
 
 Solids flux (``solids_flux = "upwind"``, default): the porosity equation uses the
 vertex solids flux F = (V − W)/2 scaled by (1 − n_up)/(1 − n_f), n_up the porosity
@@ -55,7 +58,7 @@ from ..mesh.line import LineMesh
 __all__ = ["Materials", "Closures", "Boundary", "State", "TwoFluid1D", "ELEMENTS"]
 
 ELEMENTS = {"1VW/0P/0n": (LINE1, 0), "2VW/1P/0n": (LINE2, 1)}
-_CLEAR = 1e-6  # 1 − n below this counts as clear liquid (slip taken as zero: Stokes drag)
+_CLEAR = 1e-6  # floor of 1 − n in the slip and the upwind flux ratio (clear liquid)
 
 
 @dataclass(frozen=True)
@@ -84,10 +87,11 @@ class Closures:
     p_ref: float = 1.0  # [Pa]
     viscous: bool = True
     viscosity_params: dict = field(default_factory=dict)
+    slip_max: float = np.inf  # slip at which the drag law's |slip| saturates [m/s] (3 U_t)
 
     def beta_per_solids(self, n, slip, mat: Materials):
-        return self.drag(n, slip, mat.d, mat.rho_f, mat.mu_f, per_solids=True,
-                         **self.drag_params)
+        s = drag_laws.saturated_slip(slip, self.slip_max)
+        return self.drag(n, s, mat.d, mat.rho_f, mat.mu_f, per_solids=True, **self.drag_params)
 
 
 @dataclass(frozen=True)
@@ -139,7 +143,7 @@ class TwoFluid1D:
         self.basis, self.p_order = ELEMENTS[element]
         ne = mesh.n_elements
         self.nv = self.basis.n_nodes(ne)
-        self.np = ne if self.p_order == 0 else ne + 1
+        self.np = ne if self.p_order == 0 else 2 * ne  # P0, or linear P discontinuous between elements
         self.sizes = {"V": self.nv, "W": self.nv, "P": self.np, "n": ne}
         self.g_y = mesh.gravity_along(materials.g)
         self._precompute()
@@ -163,7 +167,7 @@ class TwoFluid1D:
             pb = LINE1
             x, _ = np.polynomial.legendre.leggauss(4)
             xi = 0.5 * (x + 1.0)
-            self.pdofs = pb.dofs(ne)
+            self.pdofs = np.arange(2 * ne).reshape(ne, 2)  # (bottom, top) values of each element
             self.Bp = terms.divergence(ev, pb.shape(xi))
             dq = pb.dshape(xi)[None, :, :] / mesh.lengths[:, None, None]
             self.Gp = terms.weighted_gradient(ev, np.broadcast_to(dq, (ne, len(xi), 2)))
@@ -177,6 +181,11 @@ class TwoFluid1D:
         w_above[:-1] = self.src[:, 0]
         self.w_below, self.w_above = w_below, w_above
         self.vert_area = mesh.area
+        # pressure dof just below / just above each vertex (element value or end value)
+        if self.p_order == 0:
+            self.p_below, self.p_above = np.arange(-1, ne), np.arange(0, ne + 1)
+        else:
+            self.p_below, self.p_above = np.arange(-1, 2 * ne, 2), np.arange(0, 2 * ne + 1, 2)
         self.volumes = mesh.volumes
         self.avg_weights = ev.N.T @ (ev.JxW / ev.JxW.sum(axis=1, keepdims=True)).T  # (nl, ne)
 
@@ -186,12 +195,13 @@ class TwoFluid1D:
         return np.einsum("ei,ie->e", nodal[self.vdofs], self.avg_weights)
 
     def slip(self, V, W, n) -> np.ndarray:
-        """Element slip U_f − U_s [m/s]; zero in clear liquid (the Stokes limit applies there)."""
+        """Element slip U_f − U_s [m/s], with 1 − n floored at ``_CLEAR`` (continuous as n → 1).
+
+        In clear liquid the drag only ties V to W, driving the slip to zero; the
+        floor keeps the slip finite and continuous where an element empties.
+        """
         v, w = self.element_mean(V), self.element_mean(W)
-        one_m = 1.0 - n
-        clear = one_m < _CLEAR
-        s = ((1.0 - 2.0 * n) * v + w) / (2.0 * n * np.where(clear, 1.0, one_m))
-        return np.where(clear, 0.0, s)
+        return ((1.0 - 2.0 * n) * v + w) / (2.0 * n * np.maximum(1.0 - n, _CLEAR))
 
     def vertex_porosity(self, n: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(n_below, n_above, n_f) at vertices; outside the domain counts as clear liquid."""
@@ -302,21 +312,26 @@ class TwoFluid1D:
         S.add_rhs("W", vd, lin + Jn * n[:, None] - D0)
 
     def _liquid_pressure(self, S: BlockSystem, n: np.ndarray, P: np.ndarray):
-        """∂P/∂y tested with δW (the liquid equation per unit liquid volume)."""
+        """∂P/∂y tested with δW (the liquid equation per unit liquid volume).
+
+        The distributional gradient of the element-wise pressure: ∫ δW ∂yP inside
+        the elements (linear P only) plus A [[P]] at the vertices, where an outlet
+        jumps to its prescribed pressure.
+        """
         if self.p_order == 1:
             S.add("W", "P", self.vdofs, self.pdofs, self.Gp)
-            return
         ne = self.mesh.n_elements
         coef = self.vert_area
         node = self.vert_node
         inner = np.arange(1, ne)
         # [[P]] = P_above − P_below at inner vertices
-        S.add_entries("W", "P", node[inner], inner, coef[inner])
-        S.add_entries("W", "P", node[inner], inner - 1, -coef[inner])
-        for b, v, e, sign in ((self.bottom, 0, 0, 1.0), (self.top, ne, ne - 1, -1.0)):
+        S.add_entries("W", "P", node[inner], self.p_above[inner], coef[inner])
+        S.add_entries("W", "P", node[inner], self.p_below[inner], -coef[inner])
+        for b, v, dof, sign in ((self.bottom, 0, self.p_above[0], 1.0),
+                                (self.top, ne, self.p_below[ne], -1.0)):
             if b.kind == "outlet":
                 # jump to the prescribed pressure outside: element side carries sign
-                S.add_entries("W", "P", [node[v]], [e], [sign * coef[v]])
+                S.add_entries("W", "P", [node[v]], [dof], [sign * coef[v]])
                 S.add_rhs("W", np.array([node[v]]), np.array([sign * coef[v] * b.pressure]))
 
     def begin_iteration(self, it: int, k: State) -> None:
@@ -430,7 +445,7 @@ class TwoFluid1D:
         U_s is undefined in clear liquid (n = 1) and given as NaN there.
         """
         v, w = self.element_mean(s.V), self.element_mean(s.W)
-        P = s.P if self.p_order == 0 else 0.5 * (s.P[:-1] + s.P[1:])
+        P = s.P if self.p_order == 0 else 0.5 * (s.P[0::2] + s.P[1::2])
         one_m = 1.0 - s.n
         with np.errstate(divide="ignore", invalid="ignore"):
             us = np.where(one_m > _CLEAR, (v - w) / (2.0 * one_m), np.nan)

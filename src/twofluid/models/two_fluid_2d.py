@@ -7,11 +7,14 @@ backward Euler (SPEC 3, 5.2):
 
 - mixture (δV): ∂t(ρ̂V − ΔρW) − ∇·τ_m + ∇(P + P_s) = ρ̄ g, pressures integrated by
   parts, −∫∇·δV (P + P_s) plus the traction of the prescribed pressure on outlets;
-- liquid (δW): (ρ_f/2)∂t(V + W) − ∇·(n τ_f) + n∇P − n ρ_f g + β s = 0. With P
-  constant per element, n∇P is a face term Σ_F n̄_F [[P]] ∫_F φ ν·δW, n̄_F the
-  volume-weighted porosity of the two elements (exact for layered porosity on
-  structured meshes: a settled bed is a discrete equilibrium), plus
-  n_e (P_Γ − P_e) ∫ φ ν·δW on prescribed-pressure edges (gauge invariant);
+- liquid, per unit liquid volume (tested with δW/n, n constant per element, as 1D):
+  (ρ_f/2n)∂t(V + W) − (1/n)∇·(n τ_f) + ∇P − ρ_f g + β s/n = 0. With P constant per
+  element the pressure gradient is the plain face jump Σ_F [[P]] ∫_F φ ν·δW, plus
+  (P_Γ − P_e) ∫ φ ν·δW on prescribed-pressure edges: gauge invariant (only jumps
+  of P), a settled bed with a porosity gradient and a uniform fluidized bed with
+  a free surface are exact discrete equilibria (each element contributes its own
+  ρ_f g − βs/n to the jump), and on a column one element wide with free-slip
+  walls the discrete equations are those of ``TwoFluid1D`` on the vertical mesh;
 - continuity (δP): −∫δP ∇·V − C(P, δP) = 0, C the macroelement checkerboard
   penalty (:func:`~twofluid.fem.terms_2d.checkerboard_penalty`, scale δ/μ_f), which
   leaves pressures linear on a 2×2 patch alone;
@@ -21,8 +24,9 @@ backward Euler (SPEC 3, 5.2):
   cannot give away solids it does not hold; r = 1 on inlets, clear liquid outside
   outlets).
 
-β s (s the slip, β from the element-mean slip magnitude) is Newton-linearised in
-V, W and n; P_s Taylor-linearised in n; n̄_F, r_F, ρ̄ and n ρ_f g are implicit in n.
+β s/n (s the slip, β from the element-mean slip magnitude) is Newton-linearised in
+V, W and n; P_s Taylor-linearised in n; r_F and ρ̄ are implicit in n; μ_s and the
+1/n weights of the liquid rows are frozen at the iterate (as 1D).
 τ_m = (μ_f/2 + μ_s/2)τ(V) + (μ_f/2 − μ_s/2)τ(W), n τ_f = (μ_f/2)τ(V + W), μ_s frozen
 at the iterate. Every block is filled into one :class:`SparsityPattern` built
 once; :meth:`TwoFluid2D.solve` reuses an LU factorisation across iterations and
@@ -195,7 +199,9 @@ class TwoFluid2D:
     #: keep n fixed (porosity rows n = nᵗ): a steady solve of V, W, P for a given porosity
     freeze_porosity = False
     #: which porosity dependences are Newton-linearised (the rest are Picard, frozen at the iterate)
-    newton_n = ("drag", "face", "upwind")
+    newton_n = ("drag", "upwind")
+    #: consistency load of the checkerboard penalty (see _penalty_load)
+    penalty_load = True
 
     def __init__(self, mesh: QuadMesh, materials: Materials, closures: Closures,
                  boundaries: list[Boundary2D], swirl: bool = False, delta: float = 0.25,
@@ -245,6 +251,7 @@ class TwoFluid2D:
         self.fe = f.elements
         v = self.vol[self.fe]
         self.fth = v / v.sum(axis=1, keepdims=True)  # weights of n̄_F
+        self._centres = mesh.points[mesh.cells].mean(axis=1)
         self.patch = None
         if self.delta > 0.0 and mesh.patches is not None:
             C, el = checkerboard_penalty(b, self.delta, self.mat.mu_f)
@@ -326,12 +333,16 @@ class TwoFluid2D:
                   (self.vd, self.pd), (self.vd, self.nd), (self.wd, self.nd), (self.pd, self.vd),
                   (self.nd, self.nd)]
         fp, fn = self.pd[self.fe, 0], self.nd[self.fe, 0]
-        blocks += [(self.fwd, fp), (self.fwd, fn), (fn, self.fvd), (fn, self.fwd), (fn, fn)]
+        blocks += [(self.fwd, fp), (fn, self.fvd), (fn, self.fwd), (fn, fn)]
         bp, bn = self.pd[self.bown], self.nd[self.bown]
-        blocks += [(self.bwd, bp), (self.bwd, bn), (bn, self.bvd), (bn, self.bwd), (bn, bn)]
+        blocks += [(self.bwd, bp), (bn, self.bvd), (bn, self.bwd), (bn, bn)]
+        self._n_couplings = (10, 11, 12, 14, 15, 16)  # face and edge rows of n (frozen porosity)
         if self.patch is not None:
-            pe = self.pd[self.patch[1], 0]
+            el = self.patch[1]
+            pe = self.pd[el, 0]
             blocks.append((pe, pe))
+            cv = self.vd[el].reshape(el.shape[0], -1)  # the patch's velocity dofs, element by element
+            blocks += [(pe, cv), (pe, cv + self.nv)]
         self.pattern = SparsityPattern(blocks, (self.size, self.size))
 
     # --------------------------------------------------------------- helpers
@@ -365,18 +376,20 @@ class TwoFluid2D:
             else np.zeros((ne, 1, 1))
         mu_f = mat.mu_f if clo.viscous else 0.0
         JV, Jq, Jn, drhs = self._drag(k)
+        inv_n = (1.0 / n)[:, None, None]  # liquid rows per unit liquid volume (δW/n)
         VV = rho_hat / dt * Mv + 0.5 * (mu_f + mu_s) * K1
         VW = -d_rho / dt * Mv + 0.5 * (mu_f - mu_s) * K1
-        WV = 0.5 * mat.rho_f / dt * Mv + 0.5 * mu_f * K1 + JV
-        WW = 0.5 * mat.rho_f / dt * Mv + 0.5 * mu_f * K1 + Jq
+        WL = inv_n * (0.5 * mat.rho_f / dt * Mv + 0.5 * mu_f * K1)
+        WV = WL + JV
+        WW = WL + Jq
         scatter(vd, np.einsum("eij,ej->ei", Mv, rho_hat * old.V[vd] - d_rho * old.W[vd]) / dt)
-        scatter(wd, np.einsum("eij,ej->ei", Mv, 0.5 * mat.rho_f * (old.V[vd] + old.W[vd])) / dt)
+        scatter(wd, np.einsum("eij,ej->ei", inv_n * Mv, 0.5 * mat.rho_f * (old.V[vd] + old.W[vd])) / dt)
         ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
         VP = -self.D[:, :, None]
         VN = (-self.D * dps[:, None] + (mat.rho_s - mat.rho_f) * self.Ng)[:, :, None]
         scatter(vd, self.D * (ps - dps * n)[:, None] + mat.rho_s * self.Ng)
-        WN = (-mat.rho_f * self.Ng + Jn)[:, :, None]
-        scatter(wd, drhs)
+        WN = Jn[:, :, None]
+        scatter(wd, drhs + mat.rho_f * self.Ng)
         PV = -self.D[:, None, :]
         NN = (2.0 * self.vol / dt)[:, None, None]
         scatter(self.nd[:, 0], 2.0 * self.vol / dt * old.n)
@@ -385,20 +398,65 @@ class TwoFluid2D:
         vals += self._boundary_edges(k, rhs)
         if self.freeze_porosity:  # n = nᵗ: rows of n become 2|e|/Δt n = 2|e|/Δt nᵗ
             rhs[self.nd[:, 0]] = 2.0 * self.vol / dt * old.n
-            for i in (11, 12, 13, 16, 17, 18):
+            for i in self._n_couplings:
                 vals[i] = np.zeros_like(vals[i])
         if self.patch is not None:
             vals.append(self.patch[0])
+            vals += self._penalty_load(k, rhs) if self.penalty_load else \
+                [np.zeros((self.patch[1].shape[0], 4, 16 * self.nc))] * 2
         return self.pattern.assemble(vals), rhs
 
+    def element_pressure_gradient(self, k: State) -> np.ndarray:
+        """∇P (n_el, 2) [Pa/m] of each element's liquid balance at rest: ρ_f g − β s̄/n.
+
+        The pressure gradient an element would carry on its own in the liquid
+        equation per unit liquid volume without inertia and viscous stress,
+        β s̄/n = K q̄/(2n²) from the element-mean q̄ = (1 − 2n)V + W.
+        """
+        n = k.n
+        _, K, _, _, qbar, _, _ = self._drag_force(n, k.V, k.W)
+        G = -(K / (2.0 * n * n))[:, None] * qbar[:, :2]
+        G[:, 1] -= self.mat.rho_f * self.mat.g
+        return G
+
+    def _penalty_load(self, k: State, rhs: np.ndarray) -> list:
+        """Consistency load of the checkerboard penalty: −C(P − P*, δP) instead of −C(P, δP).
+
+        P*_e = G_e · (x_e − x_M), G_e = ρ_f g − K_e q̄_e/(2n_e²) the element's own
+        liquid pressure gradient (:meth:`element_pressure_gradient`; K and n frozen at
+        the iterate, q̄ implicit: the V, W columns of the continuity rows) and x_M the
+        macroelement centre. Where porosity (hence G) differs between the elements of
+        a patch, the discrete liquid balance gives jumps (G_below + G_above)·Δx/2
+        between neighbours: a checkerboard c_M(P) ≠ 0 that the plain penalty turns
+        into a spurious mass flux, which grew a porosity checkerboard
+        (docs/verification_2d.md). c_M(P − P*) vanishes for those pressures; for
+        uniform G, P* is linear and changes nothing (c_M of a linear field is zero).
+        Returns the (P, V) and (P, W) blocks per patch.
+        """
+        mC, el = self.patch  # −C
+        n = k.n
+        _, K, _, _, _, _, _ = self._drag_force(n, k.V, k.W)
+        kap = K / (2.0 * n * n)
+        xc = self._centres[el]
+        dx = xc - xc.mean(axis=1, keepdims=True)  # (n_patch, 4, 2)
+        grav = -self.mat.rho_f * self.mat.g * dx[:, :, 1]
+        np.add.at(rhs, self.pd[el, 0], np.einsum("pab,pb->pa", mC, grav))
+        # ∂P*_b/∂q at element b's dofs: −κ_b dx_b,c wavg_b,a (component-major, c < 2)
+        nc = self.nc
+        Lq = np.zeros(el.shape + (nc, 4))
+        Lq[:, :, :2, :] = -(kap[el][:, :, None, None] * dx[:, :, :, None]
+                            * self.wavg[el][:, :, None, :])
+        Lq = Lq.reshape(el.shape + (4 * nc,))  # (n_patch, 4, 4nc)
+        Lv = (1.0 - 2.0 * n[el])[:, :, None] * Lq
+        # rows a, columns (b, dof): C_ab ∂P*_b  (= −(−C)_ab ∂P*_b)
+        PV = -np.einsum("pab,pbj->pabj", mC, Lv).reshape(el.shape[0], 4, -1)
+        PW = -np.einsum("pab,pbj->pabj", mC, Lq).reshape(el.shape[0], 4, -1)
+        return [PV, PW]
+
     def _faces(self, k: State, rhs: np.ndarray) -> list:
-        """Interior faces: n̄_F [[P]] in the liquid rows and the upwinded solids flux."""
+        """Interior faces: [[P]] in the liquid rows and the upwinded solids flux."""
         fe, R, th = self.fe, self.fR, self.fth
-        nf = self.face_porosity(k.n)
-        jump = k.P[fe[:, 1]] - k.P[fe[:, 0]]
-        WP = nf[:, None, None] * np.stack([-R, R], axis=-1)
-        WN = (jump[:, None] * R)[:, :, None] * th[:, None, :] * ("face" in self.newton_n)
-        np.add.at(rhs, self.fwd, np.einsum("fij,fj->fi", WN, k.n[fe]))
+        WP = np.stack([-R, R], axis=-1)
         flux = 0.5 * np.einsum("fi,fi->f", R, k.V[self.fvd] - k.W[self.fvd])  # Φ_F, − to +
         r, dr = self._upwind(k.n, fe, th, flux, getattr(self, "_fwd_dir", None))
         sgn = np.array([-1.0, 1.0])[None, :, None]  # − loses Φ, + gains it
@@ -407,7 +465,7 @@ class TwoFluid2D:
         g = 2.0 * flux
         NN = sgn * (g[:, None] * dr)[:, None, :] * ("upwind" in self.newton_n)
         np.add.at(rhs, self.nd[fe, 0], np.einsum("fij,fj->fi", NN, k.n[fe]))
-        return [WP, WN, NV, NW, NN]
+        return [WP, NV, NW, NN]
 
     def _upwind(self, n, fe, th, flux, forward=None):
         """r = (1 − n_up)/(1 − n̄_F) and ∂r/∂(n₋, n₊) (galerkin: r = 1)."""
@@ -433,46 +491,48 @@ class TwoFluid2D:
             self._fwd_dir = np.einsum("fi,fi->f", self.fR, k.V[self.fvd] - k.W[self.fvd]) >= 0.0
 
     def _boundary_edges(self, k: State, rhs: np.ndarray) -> list:
-        """Outlets: liquid n_e(P_Γ − P_e), mixture traction, solids outflow; inlets: solids inflow."""
+        """Outlets: liquid (P_Γ − P_e), mixture traction, solids outflow; inlets: solids inflow."""
         e, R, out, PG = self.bown, self.bR, self.bout, self.bP
-        ne_, Pe = k.n[e], k.P[e]
+        ne_ = k.n[e]
         o = out.astype(float)
-        WP = (-(o * ne_)[:, None] * R)[:, :, None]
-        WN = ((o * (PG - Pe))[:, None] * R)[:, :, None]
-        np.add.at(rhs, self.bwd, -(o * ne_ * Pe)[:, None] * R)
+        WP = (-o[:, None] * R)[:, :, None]
+        np.add.at(rhs, self.bwd, -(o * PG)[:, None] * R)
         np.add.at(rhs, self.bvd, -(o * PG)[:, None] * R)
         flux = 0.5 * np.einsum("fi,fi->f", R, k.V[self.bvd] - k.W[self.bvd])  # outward
         r = np.ones(e.size)
         dr = np.zeros(e.size)
         if self.solids_flux == "upwind":
             # clear liquid enters through an outlet; a clear element has no solids to give
-            r = np.where(out & ((flux < 0.0) | (1.0 - ne_ < _CLEAR)), 0.0, 1.0)
+            # (continuous in n: falls linearly to 0 over the last ε of solids)
+            r = np.where(out & (flux < 0.0), 0.0, np.where(out, np.clip((1.0 - ne_) / _CLEAR, 0.0, 1.0), 1.0))
         NV = -(r[:, None] * R)[:, None, :]
         NN = (2.0 * flux * dr)[:, None, None]
-        return [WP, WN, NV, -NV, NN]
+        return [WP, NV, -NV, NN]
 
     def _drag_force(self, n, V, W):
-        """Element drag vectors ∫ N β s dΩ (n_el, 4nc) = K M q/(2n), K = β/(1−n), q = (1−2n)V + W."""
+        """Element drag vectors ∫ N β s/n dΩ (n_el, 4nc) = K M q/(2n²), K = β/(1−n), q = (1−2n)V + W."""
         q = (1.0 - 2.0 * n)[:, None] * V[self.vd] + W[self.vd]
         qbar = np.einsum("eca,ea->ec", q.reshape(self.ne, self.nc, 4), self.wavg)
         qn = np.sqrt((qbar ** 2).sum(axis=1))
+        # |s| = |q̄|/(2n(1 − n)), taken smoothly to 0 (the Stokes limit) in clear liquid:
+        # (1 − n)/((1 − n)² + ε²) instead of a switch at 1 − n = ε, which made the
+        # iterates of an element at n ≈ 1 − ε flip between two drag laws
         one_m = 1.0 - n
-        clear = one_m < _CLEAR
-        s_abs = np.where(clear, 0.0, qn / (2.0 * n * np.where(clear, 1.0, one_m)))
+        s_abs = qn * one_m / (2.0 * n * (one_m ** 2 + _CLEAR ** 2))
         K = self.clo.beta_per_solids(n, s_abs, self.mat)
         Mq = np.einsum("eij,ej->ei", self.Mv, q)
-        return (K / (2.0 * n))[:, None] * Mq, K, s_abs, q, qbar, qn, Mq
+        return (K / (2.0 * n * n))[:, None] * Mq, K, s_abs, q, qbar, qn, Mq
 
     def _drag(self, k: State):
-        """Newton linearisation of β s tested with δW about iterate k (as 1D, vector slip)."""
+        """Newton linearisation of β s/n tested with δW about iterate k (as 1D, vector slip)."""
         n = k.n
         D0, K0, s_abs, q, qbar, qn, Mq = self._drag_force(n, k.V, k.W)
         ds = 1e-6 * np.maximum(s_abs, 1e-6)
         dK = (self.clo.beta_per_solids(n, s_abs + ds, self.mat) - K0) / ds * s_abs  # K'|s|
         gain = np.where(qn > 0.0, dK / np.where(qn > 0.0, qn ** 2, 1.0), 0.0)
         grow = (qbar[:, :, None] * self.wavg[:, None, :]).reshape(self.ne, -1)  # ∂|q̄|²/2∂q
-        Jq = (K0 / (2.0 * n))[:, None, None] * self.Mv \
-            + (gain / (2.0 * n))[:, None, None] * Mq[:, :, None] * grow[:, None, :]
+        Jq = (K0 / (2.0 * n * n))[:, None, None] * self.Mv \
+            + (gain / (2.0 * n * n))[:, None, None] * Mq[:, :, None] * grow[:, None, :]
         JV = (1.0 - 2.0 * n)[:, None, None] * Jq
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
         Dn = self._drag_force(n + dn, k.V, k.W)[0]
@@ -525,18 +585,19 @@ class TwoFluid2D:
         """Outward liquid and solids volume fluxes [m³/s] through each boundary group.
 
         Liquid: ∫ (V + W)/2 · ν dΓ; solids: ∫ (V − W)/2 · ν dΓ with the upwind ratio of
-        the porosity equation (zero where clear liquid enters an outlet).
+        the porosity equation (zero where clear liquid enters an outlet or a clear
+        element meets it).
         """
         out = {}
         for bc in self.boundaries:
             if self.mesh.boundaries[bc.group].ndim != 2:
                 continue
-            _, ccw, _, R = _edge_geometry(self.mesh, self.mesh.boundary_edges(bc.group))
+            own, ccw, _, R = _edge_geometry(self.mesh, self.mesh.boundary_edges(bc.group))
             d = nodal_dofs(ccw, self.nn, 2)
             liq = 0.5 * np.einsum("fi,fi->f", R, s.V[d] + s.W[d])
             sol = 0.5 * np.einsum("fi,fi->f", R, s.V[d] - s.W[d])
-            if bc.kind == "outlet" and self.solids_flux == "upwind":
-                sol = np.where(sol < 0.0, 0.0, sol)
+            if bc.kind == "outlet" and self.solids_flux == "upwind":  # as _boundary_edges
+                sol = np.where(sol < 0.0, 0.0, sol * np.clip((1.0 - s.n[own]) / _CLEAR, 0.0, 1.0))
             out[bc.group] = {"kind": bc.kind, "liquid_m3_s": float(liq.sum()),
                              "solids_m3_s": float(sol.sum())}
         return out

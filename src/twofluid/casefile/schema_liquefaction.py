@@ -1,0 +1,128 @@
+"""Case-file sections of model ``liquefaction_1d`` (SPEC 5.4, 6.4–6.5).
+
+A level deposit of loose saturated sand on a rigid, impervious base, water table
+at the surface (drained top), shaken by a base acceleration record, then left to
+reconsolidate. Sections: ``[deposit]`` (geometry, initial state), ``[sand]``
+(skeleton: compressibility, shear modulus, densification law),
+``[ground_motion]`` (record and scaling), ``[shear_wave]`` (horizontal
+equation: sub-step and damping), ``[reconsolidation]`` (vertical step after the
+shaking) and ``[report]`` (depths of the time series). ``[closures.drag]`` and
+``[closures.viscosity]`` are those of the 1D model; ``[time] step`` is the
+vertical step while the column shakes.
+"""
+from __future__ import annotations
+
+from .schema import FLOATS, SCHEMA, CaseError, K, register_model
+
+__all__ = ["SECTIONS_LIQUEFACTION", "check_liquefaction"]
+
+_DEPOSIT = [
+    K("depth", float, 10.0, "m", "deposit thickness H (base to surface)", lo=0.0, lo_open=True, hi=1000.0),
+    K("elements", int, 40, "-", "number of elements over the depth", lo=2, hi=5000),
+    K("porosity", float, 0.44, "-", "initial porosity n (uniform)", lo=0.2, hi=0.7),
+    K("surcharge", float, 0.0, "Pa", "load on the skeleton at the surface (fill, foundation)", lo=0.0),
+    K("initial_excess_ratio", float, 0.0, "-", "imposed initial excess pore-pressure ratio r_u0 "
+      "(n̄ lowered at constant n so that P_s = (1 − r_u0) σ′_v0)", lo=0.0, hi=1.0, hi_open=True),
+    K("surface_pressure", float, 0.0, "Pa", "liquid pressure at the drained surface (datum)"),
+]
+
+_SAND = [
+    K("compressibility", float, 6e-4, "-", "A of P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]; "
+      "6e-4 calibrates the loose sand (docs/liquefaction.md)", lo=0.0, lo_open=True, hi=1.0),
+    K("p_ref", float, 1.0, "Pa", "reference pressure of P_s", lo=0.0, lo_open=True),
+    K("relative_density", float, 47.0, "%", "Dr: Byrne's C1 = 7600 Dr^−2.5", lo=0.0, lo_open=True, hi=100.0),
+    K("k2max", float, 30.0, "-", "Seed–Idriss modulus number: G_max = 218.8 K2max √(P_s/1 kPa) kPa",
+      lo=0.0, lo_open=True, hi=200.0),
+    K("gamma_ref", float, 1e-3, "-", "reference strain of the hyperbolic G/G_max = 1/(1 + |γ|/γ_ref)",
+      lo=0.0, lo_open=True, hi=1.0),
+    K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (SPEC 4.5)",
+      choices=("byrne", "ann")),
+    K("ann_weights", str, "", "-", "ann: weights JSON file ('' = the shipped default, trained on byrne)"),
+    K("gamma_law_max", float, 0.02, "-", "|γ| beyond which the strain path adds no densification "
+      "(the range of Byrne's law; strains in a liquefied layer are not bounded by this model)",
+      lo=0.0, lo_open=True, hi=1.0),
+]
+
+_MOTION = [
+    K("file", str, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "-", "base acceleration record: a bundled name "
+      "(data/ground_motions) or a path (.AT2 in g, or .csv time_s,acceleration) relative to the case file"),
+    K("units", str, "g", "-", "CSV acceleration units", choices=("g", "m/s2")),
+    K("pga_g", float, 0.1, "g", "peak |a| the record is scaled to; 0 switches the shaking off",
+      lo=0.0, hi=5.0),
+    K("duration", float, -1.0, "s", "shake for this long (the record is cut); -1: the whole record"),
+    K("baseline_order", int, 1, "-", "polynomial order of the velocity baseline removed before scaling "
+      "(0: none)", lo=0, hi=3),
+]
+
+_SHEAR = [
+    K("step", float, 0.005, "s", "sub-step of the horizontal equation (Newmark average acceleration)",
+      lo=0.0, lo_open=True, hi=0.05),
+    K("damping_ratio", float, 0.05, "-", "Rayleigh damping ratio ξ at the two frequencies (stand-in for "
+      "hysteretic damping, which the non-linear elastic backbone lacks)", lo=0.0, hi=0.5),
+    K("damping_frequencies", FLOATS, [1.0, 10.0], "Hz", "the two frequencies of the Rayleigh damping"),
+    K("free_vibration", float, 5.0, "s", "the shear wave keeps running this long after the record ends",
+      lo=0.0),
+]
+
+_RECON = [
+    K("step", float, 1.0, "s", "largest vertical step after the shear wave stops (reached by ×1.5 growth)",
+      lo=0.0, lo_open=True),
+]
+
+_REPORT = [
+    K("depths", FLOATS, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], "m",
+      "depths below the surface of the r_u and σ′_v time series ([output] probes, heights above the "
+      "base, are added)"),
+    K("ru_liquefied", float, 0.95, "-", "r_u above which an element counts as liquefied", lo=0.0, hi=1.0,
+      lo_open=True),
+    K("field_interval", float, 0.1, "s", "time between rows of the r_u depth–time field (0: every step)",
+      lo=0.0),
+]
+
+SECTIONS_LIQUEFACTION = {
+    "deposit": _DEPOSIT,
+    "sand": _SAND,
+    "closures.drag": SCHEMA["closures.drag"],
+    "closures.viscosity": SCHEMA["closures.viscosity"],
+    "ground_motion": _MOTION,
+    "shear_wave": _SHEAR,
+    "reconsolidation": _RECON,
+    "report": _REPORT,
+}
+
+
+def check_liquefaction(case: dict, source: str) -> None:
+    """Cross-key checks of a ``liquefaction_1d`` case (one-line CaseError naming file and key)."""
+    d, t, out = case["deposit"], case["time"], case["output"]
+    H = d["depth"]
+    if t["step"] > t["end"]:
+        raise CaseError(source, "[time] step", f"must not exceed [time] end = {t['end']:g} s")
+    if case["shear_wave"]["step"] > t["step"]:
+        raise CaseError(source, "[shear_wave] step", f"must not exceed [time] step = {t['step']:g} s "
+                        "(the shear sub-steps divide the vertical step)")
+    if case["reconsolidation"]["step"] < t["step"]:
+        raise CaseError(source, "[reconsolidation] step", f"must be at least [time] step = {t['step']:g} s")
+    f = case["shear_wave"]["damping_frequencies"]
+    if len(f) != 2 or not 0.0 < f[0] < f[1]:
+        raise CaseError(source, "[shear_wave] damping_frequencies", f"must be two increasing positive "
+                        f"frequencies [Hz], got {f}")
+    g = case["ground_motion"]
+    if g["duration"] != -1.0 and g["duration"] <= 0.0:
+        raise CaseError(source, "[ground_motion] duration", "must be > 0 s, or -1 for the whole record")
+    if not g["file"] and g["pga_g"] > 0.0:
+        raise CaseError(source, "[ground_motion] file", "a record is needed when pga_g > 0")
+    if case["sand"]["ann_weights"] and case["sand"]["reference_porosity_law"] != "ann":
+        raise CaseError(source, "[sand] ann_weights", "only used with reference_porosity_law = \"ann\"")
+    for z in case["report"]["depths"]:
+        if not 0.0 <= z <= H:
+            raise CaseError(source, "[report] depths", f"{z:g} lies outside [0, {H:g}] m (the deposit)")
+    for y in out["probes"]:
+        if not 0.0 <= y <= H:
+            raise CaseError(source, "[output] probes", f"{y:g} lies outside [0, {H:g}] m (heights above "
+                            "the base)")
+    for tt in out["times"]:
+        if not 0.0 <= tt <= t["end"]:
+            raise CaseError(source, "[output] times", f"{tt:g} lies outside [0, {t['end']:g}] s")
+
+
+register_model("liquefaction_1d", SECTIONS_LIQUEFACTION, check_liquefaction)

@@ -1,0 +1,348 @@
+"""Run a ``liquefaction_1d`` case: build the column, shake it, let it reconsolidate, write results.
+
+``run_liquefaction`` is what ``twofluid run`` calls for this model (through
+:data:`twofluid.simulation.RUNNERS`). The run folder holds
+
+- ``case.resolved.toml`` — every key with the value used;
+- ``probes.csv`` — time series: base acceleration, surface settlement, base pore
+  pressure, surface displacement relative to the base, and r_u and σ′_v at the
+  ``[report] depths`` (every vertical step, or every ``[output] probe_interval``);
+- ``ru_field.csv`` — r_u of every element against time (the depth–time map);
+- ``profiles.csv`` — element profiles at t = 0, the ``[output] times``, the end of
+  the shaking and the end of the run;
+- ``summary.json`` — peak r_u and time of first liquefaction by depth, liquefied
+  depth range, settlement at the end of the shaking and of the run, base pore
+  pressure peak, solids balance, wall time, status (completed / interrupted /
+  failed, with ``stopped_at_s``);
+- ``ru_histories.png``, ``ru_map.png``, ``settlement.png``.
+
+CSV rows are flushed as they are written, so Ctrl-C or a failed step leaves
+readable files, and ``summary.json`` is written whatever the outcome.
+"""
+from __future__ import annotations
+
+import csv
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from .casefile.loader import load_case
+from .casefile.schema import CaseError
+from .closures import drag as drag_laws
+from .closures.registry import get
+from .io import ground_motion as gm
+from .io.results import ResultWriter, write_json, write_resolved_case
+from .mesh.line import uniform_line
+from .models.liquefaction_1d import ColumnState, LiquefactionColumn, Sand, VerticalColumn
+from .models.two_fluid_1d import Boundary, Closures, Materials
+from .timestepping.backward_euler import PicardSettings, StepFailure
+from .verification.terzaghi import consolidation_coefficient
+
+__all__ = ["Built", "build_column", "run_liquefaction", "PROFILE_COLUMNS"]
+
+PROFILE_COLUMNS = ["depth_m", "y_m", "porosity", "reference_porosity", "P_Pa", "excess_P_Pa",
+                   "sigma_v_eff_Pa", "sigma_v0_Pa", "r_u", "peak_r_u", "shear_strain",
+                   "shear_stress_Pa", "hydraulic_conductivity_m_s"]
+
+
+@dataclass
+class Built:
+    column: LiquefactionColumn
+    state: ColumnState
+    motion: gm.GroundMotion | None  # scaled record actually applied (None: no shaking)
+    t_end: float
+    dt: float
+    dt_after: float
+
+
+def _record_path(case: dict) -> Path:
+    name = case["ground_motion"]["file"]
+    source = case.get("_source", "")
+    candidates = [Path(name)]
+    if source and not source.endswith("(bundled)"):
+        candidates.insert(0, Path(source).parent / name)
+    for p in candidates:
+        if p.is_file():
+            return p
+    try:
+        return gm.bundled_record(name)
+    except FileNotFoundError as exc:
+        raise CaseError(source or "<case>", "[ground_motion] file", f"{name!r} is neither a file nor "
+                        f"a bundled record ({exc})") from None
+
+
+def load_motion(case: dict) -> gm.GroundMotion | None:
+    """The base record of the case in m/s², baseline-corrected, cut and scaled (None if pga_g = 0)."""
+    g = case["ground_motion"]
+    if g["pga_g"] == 0.0:
+        return None
+    path = _record_path(case)
+    try:
+        m = gm.load(path, units=g["units"] if path.suffix.lower() != ".at2" else None)
+    except gm.GroundMotionError as exc:
+        raise CaseError(case.get("_source", "<case>"), "[ground_motion] file", str(exc)) from None
+    if g["duration"] > 0.0:
+        keep = m.time <= g["duration"] + 1e-12
+        m = gm.GroundMotion(m.time[keep], m.acceleration[keep], m.name, m.source, m.dt)
+    if g["baseline_order"] > 0:
+        m = gm.baseline_correct(m, g["baseline_order"])
+    return gm.scale_to_pga(m, g["pga_g"])
+
+
+def build_column(case: dict) -> Built:
+    """Column, geostatic initial state and stepping of a resolved ``liquefaction_1d`` case."""
+    d, ma, sa, sw = case["deposit"], case["materials"], case["sand"], case["shear_wave"]
+    mesh = uniform_line(d["depth"], d["elements"])
+    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
+                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
+    dr = case["closures.drag"]
+    params = {"stokes": dr["stokes"]}
+    if dr["law"] == "gidaspow":
+        params.update(n_switch=dr["n_switch"], blend_width=dr["blend_width"])
+    clo = Closures(drag=get("drag", dr["law"]).func, drag_params=params, A=sa["compressibility"],
+                   p_ref=sa["p_ref"], viscous=case["closures.viscosity"]["law"] != "none")
+    tm = case["time"]
+    settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
+                              dt_min=min(1e-7, tm["step"] * 1e-4))
+    vertical = VerticalColumn(mesh, mat, clo, Boundary("wall"),
+                              Boundary("outlet", pressure=d["surface_pressure"]),
+                              surcharge=d["surcharge"])
+    law_params = {"weights": sa["ann_weights"]} if sa["ann_weights"] else {}
+    sand = Sand(k2max=sa["k2max"], gamma_ref=sa["gamma_ref"], dr=sa["relative_density"],
+                law=sa["reference_porosity_law"], law_params=law_params,
+                gamma_law_max=sa["gamma_law_max"])
+    motion = load_motion(case)
+    accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
+    column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,
+                                shear_step=sw["step"], damping_ratio=sw["damping_ratio"],
+                                damping_frequencies=tuple(sw["damping_frequencies"]),
+                                free_vibration=sw["free_vibration"], settings=settings)
+    state = column.initial_state(d["porosity"], d["initial_excess_ratio"])
+    return Built(column, state, motion, tm["end"], tm["step"], case["reconsolidation"]["step"])
+
+
+def hydraulic_conductivity(col: LiquefactionColumn, n) -> np.ndarray:
+    """k = ρ_f g n²/β [m/s] with β at zero slip (SPEC 4.1), per element."""
+    v = col.v
+    beta = v.clo.drag(n, 0.0, v.mat.d, v.mat.rho_f, v.mat.mu_f, **v.clo.drag_params)
+    return drag_laws.hydraulic_conductivity(beta, n, v.mat.rho_f, v.mat.g)
+
+
+class _Recorder:
+    """Histories kept in memory for the summary and the figures."""
+
+    def __init__(self, col: LiquefactionColumn, depths, ru_liq: float):
+        self.col, self.ru_liq = col, ru_liq
+        ne = col.v.mesh.n_elements
+        ys = col.v.mesh.y
+        H = ys[-1]
+        self.depths = list(depths)
+        self.elem = [int(np.clip(np.searchsorted(ys, H - z, side="right") - 1, 0, ne - 1)) for z in depths]
+        self.peak = np.full(ne, -np.inf)
+        self.t_peak = np.zeros(ne)
+        self.first = np.full(ne, np.nan)
+        self.t, self.ru, self.sig, self.settle, self.pbase = [], [], [], [], []
+        self.field_t, self.field = [], []
+        self.ever = np.zeros(ne, dtype=bool)
+
+    def record(self, s: ColumnState, field: bool):
+        col = self.col
+        ru = col.excess_ratio(s)
+        up = ru > self.peak
+        self.peak = np.where(up, ru, self.peak)
+        self.t_peak = np.where(up, s.t, self.t_peak)
+        liq = ru > self.ru_liq
+        self.first = np.where(np.isnan(self.first) & liq, s.t, self.first)
+        self.ever |= liq
+        self.t.append(s.t)
+        self.ru.append(ru[self.elem])
+        self.sig.append(col.granular_pressure(s)[self.elem] / col.sigma_v0[self.elem])
+        self.settle.append(col.settlement(s))
+        self.pbase.append(float(col.excess_pressure(s)[0]))
+        if field:
+            self.field_t.append(s.t)
+            self.field.append(ru)
+        return ru
+
+    def probe_values(self, s: ColumnState, ru) -> dict:
+        col = self.col
+        ps = col.granular_pressure(s)
+        vals = {"base_acceleration_m_s2": col.a_g(s.t) if s.t <= col.shaking_end else 0.0,
+                "surface_settlement_m": self.settle[-1],
+                "base_pore_pressure_Pa": float(s.vertical.P[0]),
+                "base_excess_pore_pressure_Pa": self.pbase[-1],
+                "surface_displacement_m": float(s.wave.u[-1])}
+        for z, e in zip(self.depths, self.elem):
+            vals[f"r_u@{z:g}m"] = float(ru[e])
+        for z, e in zip(self.depths, self.elem):
+            vals[f"sigma_v_eff_Pa@{z:g}m"] = float(ps[e])
+        return vals
+
+
+def _profile(col: LiquefactionColumn, s: ColumnState, peak) -> dict:
+    v = s.vertical
+    mesh = col.v.mesh
+    return {"depth_m": col.depth, "y_m": mesh.centres, "porosity": v.n, "reference_porosity": v.n_bar,
+            "P_Pa": v.P, "excess_P_Pa": col.excess_pressure(s), "sigma_v_eff_Pa": col.granular_pressure(s),
+            "sigma_v0_Pa": col.sigma_v0, "r_u": col.excess_ratio(s), "peak_r_u": peak,
+            "shear_strain": s.wave.gamma, "shear_stress_Pa": s.wave.tau,
+            "hydraulic_conductivity_m_s": hydraulic_conductivity(col, v.n)}
+
+
+def _zone(mask, mesh) -> list | None:
+    """[top depth, bottom depth] [m] spanned by the elements in ``mask`` (None if empty)."""
+    if not np.any(mask):
+        return None
+    H = mesh.y[-1]
+    e = np.flatnonzero(mask)
+    return [float(H - mesh.y[e.max() + 1]), float(H - mesh.y[e.min()])]
+
+
+def run_liquefaction(case, out_dir=None, progress: bool = False):
+    """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path)."""
+    from .simulation import RunResult
+
+    if not isinstance(case, dict):
+        case = load_case(case)
+    name = case["case"]["name"]
+    out = Path(out_dir or f"twofluid-out/{name}")
+    out.mkdir(parents=True, exist_ok=True)
+    write_resolved_case(out / "case.resolved.toml", case)
+    b = build_column(case)
+    col, state = b.column, b.state
+    mesh = col.v.mesh
+    H = float(mesh.y[-1])
+    rep = case["report"]
+    depths = sorted(set(rep["depths"]) | {H - y for y in case["output"]["probes"]})
+    rec = _Recorder(col, depths, rep["ru_liquefied"])
+    ru0 = rec.record(state, True)
+    probe_cols = list(rec.probe_values(state, ru0))
+    writer = ResultWriter(out, PROFILE_COLUMNS, probe_cols)
+    ffile = open(out / "ru_field.csv", "w", newline="", encoding="utf-8")
+    fcsv = csv.writer(ffile)
+    fcsv.writerow(["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth])
+
+    def write_field(s, ru):
+        fcsv.writerow([f"{s.t:.10g}"] + [f"{x:.6g}" for x in ru])
+        ffile.flush()
+
+    write_field(state, ru0)
+    writer.probe(state.t, rec.probe_values(state, ru0))
+    out_times = sorted({*case["output"]["times"], col.shaking_end, b.t_end} - {0.0})
+    out_times = [t for t in out_times if 0.0 < t <= b.t_end]
+    profiles = {0.0: _profile(col, state, rec.peak)}
+    writer.profile(0.0, profiles[0.0])
+    solids0 = col.v.solids_volume(state.vertical)
+    inflow = 0.0
+    settle_shaking = 0.0 if col.shaking_end == 0.0 else None
+    next_probe, next_field = case["output"]["probe_interval"], rep["field_interval"]
+    status, reason, n_steps, n_sub, last = "completed", "", 0, 0, state
+    wall0 = time.perf_counter()
+    bar = tqdm(total=b.t_end, unit="s", disable=not progress, leave=False,
+               bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated [{elapsed}<{remaining}]")
+    try:
+        for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times):
+            s = last = step.state
+            n_steps += 1
+            n_sub += step.substeps
+            inflow += step.solids_inflow
+            at_mark = any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times)
+            field = s.t >= next_field - 1e-12 or at_mark
+            ru = rec.record(s, field)
+            if field:
+                write_field(s, ru)
+                next_field = s.t + rep["field_interval"]
+            if s.t >= next_probe - 1e-12 or at_mark:
+                writer.probe(s.t, rec.probe_values(s, ru))
+                next_probe = s.t + case["output"]["probe_interval"]
+            if settle_shaking is None and s.t >= col.shaking_end - 1e-9:
+                settle_shaking = rec.settle[-1]
+            if at_mark:
+                profiles[round(s.t, 9)] = _profile(col, s, rec.peak)
+                writer.profile(s.t, profiles[round(s.t, 9)])
+            bar.update(s.t - bar.n)
+    except KeyboardInterrupt:
+        status, reason = "interrupted", "interrupted by the user (Ctrl-C)"
+    except StepFailure as exc:
+        status, reason = "failed", str(exc)
+    finally:
+        bar.close()
+        writer.close()
+        ffile.close()
+    wall = time.perf_counter() - wall0
+    if round(last.t, 9) not in profiles:
+        profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
+    summary = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
+                       settle_shaking)
+    write_json(out / "summary.json", summary)
+    if case["output"]["plots"]:
+        from .plots.liquefaction import liquefaction_plots
+
+        liquefaction_plots(rec, col, out, name, rep["ru_liquefied"])
+    hist = {"t": np.array(rec.t), "r_u": np.array(rec.ru), "settlement_m": np.array(rec.settle),
+            "base_excess_pore_pressure_Pa": np.array(rec.pbase),
+            "field_t": np.array(rec.field_t), "field_r_u": np.array(rec.field)}
+    return RunResult(status, out, summary, profiles, hist)
+
+
+def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow, settle_shaking):
+    col = b.column
+    mesh = col.v.mesh
+    H = float(mesh.y[-1])
+    n0 = col.n0
+    k = hydraulic_conductivity(col, n0)
+    beta = col.v.clo.drag(n0, 0.0, col.v.mat.d, col.v.mat.rho_f, col.v.mat.mu_f, **col.v.clo.drag_params)
+    nb0 = b.state.vertical.n_bar
+    c_v = consolidation_coefficient(n0, nb0, col.sigma_v0, col.v.clo.A, beta)
+    solids = col.v.solids_volume(last.vertical)
+    first = rec.first
+    liq = np.isfinite(first)
+    t = np.array(rec.t)
+    pb = np.array(rec.pbase)
+    first_info = None
+    if np.any(liq):
+        t1 = float(np.nanmin(first))
+        at = liq & (first <= t1 + 1e-12)
+        first_info = {"time_s": t1, "depth_range_m": _zone(at, mesh),
+                      "depth_m": float(np.mean(col.depth[at]))}
+    m = case["ground_motion"]
+    s = {
+        "case": case["case"]["name"], "status": status, "stopped_at_s": last.t, "reason": reason,
+        "end_time_s": b.t_end, "wall_time_s": wall, "steps": n_steps, "shear_substeps": n_sub,
+        "deposit": {"depth_m": H, "elements": mesh.n_elements, "element_size_m": float(mesh.lengths[0]),
+                    "porosity": float(n0.mean()), "particle_diameter_m": col.v.mat.d_p,
+                    "sigma_v0_Pa": [float(col.sigma_v0.min()), float(col.sigma_v0.max())]},
+        "hydraulic_conductivity_m_s": float(k.mean()),
+        "hydraulic_conductivity_definition": "k = rho_f g n^2 / beta at zero slip, initial porosity (SPEC 4.1)",
+        "consolidation_coefficient_m2_s": {"surface": float(c_v[-1]), "mid_depth": float(np.interp(
+            H / 2, col.depth[::-1], c_v[::-1])), "base": float(c_v[0])},
+        "shaking": {"record": m["file"], "pga_g": m["pga_g"],
+                    "end_s": col.shaking_end, "shear_wave_end_s": col.shear_end,
+                    "applied_pga_m_s2": None if b.motion is None else b.motion.pga},
+        "r_u_definition": "(P - P_hydrostatic) / sigma'_v0 per element; liquefied: r_u > "
+                          f"{rec.ru_liq:g}",
+        "by_depth": {"depth_m": col.depth, "peak_r_u": rec.peak, "time_of_peak_s": rec.t_peak,
+                     "time_first_liquefied_s": [None if not np.isfinite(x) else float(x) for x in first]},
+        "report_depths": {"depth_m": rec.depths, "element_depth_m": [float(col.depth[e]) for e in rec.elem],
+                          "peak_r_u": [float(rec.peak[e]) for e in rec.elem],
+                          "time_first_liquefied_s": [None if not np.isfinite(first[e]) else float(first[e])
+                                                     for e in rec.elem]},
+        "first_liquefaction": first_info,
+        "liquefied_depth_range_m": _zone(rec.ever, mesh),
+        "liquefied_thickness_m": float(mesh.lengths[rec.ever].sum()),
+        "peak_r_u_top_element": float(rec.peak[-1]),
+        "settlement_end_of_shaking_m": settle_shaking,
+        "settlement_end_m": rec.settle[-1],
+        "settlement_end_percent_of_depth": 100.0 * rec.settle[-1] / H,
+        "settlement_definition": "sum over elements of h (n0 - n)/(1 - n): compression of the skeleton",
+        "base_excess_pore_pressure": {"peak_Pa": float(pb.max()), "time_of_peak_s": float(t[pb.argmax()]),
+                                      "end_Pa": float(pb[-1])},
+        "solids_volume_m3": {"initial": solids0, "final": solids, "inflow_top": inflow},
+        "solids_volume_balance_error": (solids - solids0 - inflow) / solids0,
+        "solids_volume_balance_error_definition":
+            "(solids volume now - initial - solids that entered through the top face) / initial",
+    }
+    return s

@@ -1,0 +1,297 @@
+"""1D earthquake liquefaction column: vertical two-component flow + horizontal shear wave.
+
+SPEC 5.4. The vertical motion is the full 1D two-component model
+(:class:`~twofluid.models.two_fluid_1d.TwoFluid1D`, unknowns V, W, P, n, with the
+reference porosity n̄ per element); the horizontal motion is the shear wave of
+:class:`~twofluid.models.shear_column.ShearColumn`, driven by the base
+acceleration a_g(t) (relative formulation, rigid base, free top). They are
+coupled through two state variables of each element:
+
+* the granular pressure P_s(n, n̄) sets the small-strain shear modulus
+  G_max = 218.8 K2max √(P_s/1 kPa) kPa (SPEC 4.3), so G → 0 as the element
+  liquefies;
+* the shear-strain path densifies the skeleton: the reference-porosity law
+  (``byrne`` or ``ann``, SPEC 4.5) lowers n̄, which lowers P_s at fixed n; the
+  vertical equations then move the weight onto the liquid pressure (undrained
+  response), drive the liquid to the drained top and let the column settle.
+
+Operator splitting, per vertical step [t, t + Δt] (Lie splitting, first order in Δt):
+
+1. shear sub-steps of ``shear_step`` over the step (Newmark average acceleration),
+   each with G_max from P_s(n^t, n̄) — n̄ updated after every sub-step, n held at
+   its value at t (undrained within the step);
+2. the reference-porosity law applied to each sub-step's strain increment;
+3. one backward-Euler step of the vertical model with the new n̄ (its own
+   step-halving if the Picard iterations struggle).
+
+The shear wave runs while the base shakes and for ``free_vibration`` seconds after
+the record ends (the column rings down through its damping); after that the
+horizontal motion is dropped and only the vertical model advances, with a step
+growing by ×1.5 per step from the shaking step to ``reconsolidation_step``.
+
+Solids flux: the Galerkin form (``solids_flux = "galerkin"``) of the vertical
+model: the drained top face moves with the skeleton (small strain), as in the
+Terzaghi check (:mod:`twofluid.verification.terzaghi_check`). The upwind form
+would let the top element loosen as its solids settle away from the fixed top
+face, so its averaged porosity (half soil, half clear water) would carry no
+granular pressure and read as "liquefied". Surface settlement is then the
+compression of the skeleton, s = Σ_e h_e (n0_e − n_e)/(1 − n_e) (Lagrangian
+volumetric strain summed over the depth; it equals the solids that entered
+through the top face divided by (1 − n) to second order).
+
+Excess pore-pressure ratio per element: r_u = (P − P_hydrostatic)/σ′_v0, with
+P_hydrostatic = p_top + ρ_f g (H − y) and σ′_v0 the initial granular pressure
+(the buoyant weight above, plus any surcharge).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Iterator
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..closures import registry
+from ..closures.reference_porosity import ShearState
+from ..closures.shear_modulus import seed_idriss_gmax
+from ..closures.solids_pressure import reference_porosity_for
+from ..closures.viscosity import mooney_pringle
+from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
+from .shear_column import NewmarkFailure, ShearColumn, WaveState
+from .two_fluid_1d import State, TwoFluid1D
+
+__all__ = ["Sand", "VerticalColumn", "ColumnState", "LiquefactionColumn", "ColumnStep"]
+
+
+@dataclass(frozen=True)
+class Sand:
+    """Skeleton parameters of the liquefiable sand (defaults: the calibrated loose sand
+    of :class:`twofluid.models.element_test.LooseSand`)."""
+
+    k2max: float = 30.0  # Seed–Idriss modulus number [-]
+    gamma_ref: float = 1e-3  # hyperbolic reference strain [-]
+    dr: float = 47.0  # relative density [%] (byrne)
+    law: str = "byrne"  # reference-porosity law
+    law_params: dict = field(default_factory=dict)  # extra arguments of the law (e.g. ann weights)
+    reduction: Callable | None = None  # G/G_max(γ); None: hyperbolic with gamma_ref
+    gamma_law_max: float = 0.02  # |γ| beyond this adds no densification [-] (module docstring)
+
+    def n_bar_law(self) -> Callable:
+        func = registry.get("reference_porosity", self.law).func
+        params = {"dr": self.dr} if self.law == "byrne" else {}
+        params.update(self.law_params)
+        return lambda dg, g, nb, st: func(dg, g, nb, st, **params)
+
+
+class VerticalColumn(TwoFluid1D):
+    """:class:`TwoFluid1D` with a surcharge on the solids at the top face and a
+    velocity floor in the Picard convergence measure.
+
+    ``surcharge`` [Pa] is a load on the skeleton at the drained top (a fill or a
+    foundation; also the way the Terzaghi test makes c_v uniform). ``velocity_floor``
+    [m/s]: the Picard test divides velocity changes by max(|V|, |W|, floor); at rest
+    the solve's round-off (~1e-11 m/s for a 10 m column with P ~ 1e5 Pa) would
+    otherwise never pass a relative tolerance against the default 1e-6 floor.
+    """
+
+    def __init__(self, *args, surcharge: float = 0.0, velocity_floor: float = 1e-3, **kw):
+        kw.setdefault("solids_flux", "galerkin")
+        super().__init__(*args, **kw)
+        self.surcharge, self.velocity_floor = float(surcharge), float(velocity_floor)
+
+    def assemble(self, k, old, dt, t_new):
+        S = super().assemble(k, old, dt, t_new)
+        if self.surcharge:
+            S.add_rhs("V", np.array([self.vert_node[-1]]),
+                      np.array([-self.surcharge * self.vert_area[-1]]))
+        return S
+
+    def solve(self, S, t_new: float) -> np.ndarray:
+        """Sparse LU with the prescribed V, W as identity rows (no sub-matrix slicing).
+
+        Same solution as the stepper's default solve, several times faster for a
+        column: slicing a sparse matrix costs more than factorising it here.
+        """
+        A = S.matrix()
+        idx, val = self.dirichlet(t_new)
+        keep = np.ones(S.size)
+        keep[idx] = 0.0
+        scale = np.zeros(S.size)
+        scale[idx] = np.abs(A.diagonal()[idx]) + 1.0  # keep the rows on the matrix's scale
+        A = (sp.diags(keep) @ A + sp.diags(scale)).tocsc()
+        rhs = keep * S.rhs
+        rhs[idx] = scale[idx] * val
+        return spla.spsolve(A, rhs)
+
+    def velocity_scale(self, s: State) -> float:
+        return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), self.velocity_floor)
+
+
+@dataclass
+class ColumnState:
+    """Vertical state (V, W, P, n, n̄), horizontal motion and shear history."""
+
+    vertical: State
+    wave: WaveState
+    shear: ShearState
+
+    @property
+    def t(self) -> float:
+        return self.vertical.t
+
+
+@dataclass(frozen=True)
+class ColumnStep:
+    state: ColumnState
+    dt: float  # vertical step [s]
+    substeps: int  # shear sub-steps in it
+    iterations: int  # Picard iterations of the vertical step (last sub-step)
+    solids_inflow: float  # solids volume that entered through the ends during the step [m³]
+
+
+class LiquefactionColumn:
+    """The coupled column (module docstring).
+
+    Parameters
+    ----------
+    vertical : VerticalColumn — bottom must be a wall, top an outlet.
+    sand : Sand
+    base_acceleration : callable t [s] -> a_g [m/s²] (0 outside the record), or None.
+    shaking_end : time [s] when the record ends.
+    shear_step : shear sub-step [s].
+    damping_ratio, damping_frequencies : Rayleigh damping of the shear wave.
+    free_vibration : seconds of shear wave after ``shaking_end``.
+    settings : Picard settings of the vertical steps.
+    """
+
+    def __init__(self, vertical: VerticalColumn, sand: Sand = Sand(),
+                 base_acceleration: Callable[[float], float] | None = None,
+                 shaking_end: float = 0.0, shear_step: float = 0.005,
+                 damping_ratio: float = 0.05, damping_frequencies=(1.0, 10.0),
+                 free_vibration: float = 5.0, settings: PicardSettings = PicardSettings()):
+        if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
+            raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
+        self.v, self.sand = vertical, sand
+        self.a_g = base_acceleration or (lambda t: 0.0)
+        self.shaking_end = shaking_end if base_acceleration is not None else 0.0
+        self.shear_end = self.shaking_end + (free_vibration if self.shaking_end > 0.0 else 0.0)
+        self.shear_step, self.settings = shear_step, settings
+        self.law = sand.n_bar_law()
+        mat, mesh = vertical.mat, vertical.mesh
+        self.wave = ShearColumn(mesh.y, rho=np.full(mesh.n_elements, mat.rho_s),
+                                gamma_ref=sand.gamma_ref, reduction=sand.reduction,
+                                damping_ratio=damping_ratio, damping_frequencies=damping_frequencies)
+        self.depth = mesh.y[-1] - mesh.centres  # element centres below the surface [m]
+        self.p_hydro = vertical.top.pressure - mat.rho_f * vertical.g_y * (mesh.y[-1] - mesh.centres)
+        self.sigma_v0 = None  # set by initial_state
+        self.n0 = None
+
+    # ------------------------------------------------------------ state
+    def initial_state(self, porosity, excess_ratio: float = 0.0) -> ColumnState:
+        """Geostatic state at rest (SPEC 5.4).
+
+        σ′_v0 is the discrete buoyant weight above each element (plus the surcharge);
+        n̄ follows from P_s = (1 − r_u0) σ′_v0, i.e. n̄ = 1 − (1 − n)(1 − A ln(P_s/p_ref)),
+        and P = P_hydrostatic + r_u0 σ′_v0 (the undrained, drag-dominated response to
+        the drop of P_s; r_u0 > 0 imposes an excess pore pressure). With r_u0 = 0 the
+        state is a discrete equilibrium of the vertical model.
+        """
+        v = self.v
+        ne = v.mesh.n_elements
+        n = np.broadcast_to(np.asarray(porosity, dtype=float), (ne,)).copy()
+        sig0 = v.settled_solids_pressure(n) + v.surcharge
+        n_bar = reference_porosity_for(n, (1.0 - excess_ratio) * sig0, v.clo.A, v.clo.p_ref)
+        P = self.p_hydro + excess_ratio * sig0
+        s = State(0.0, np.zeros(v.nv), np.zeros(v.nv), P, n, n_bar)
+        self.sigma_v0, self.n0 = sig0, n.copy()
+        return ColumnState(s, self.wave.rest(), ShearState.zeros(ne))
+
+    # ------------------------------------------------------- diagnostics
+    def granular_pressure(self, s: ColumnState) -> np.ndarray:
+        """P_s = σ′_v per element [Pa]."""
+        return self.v.solids_pressure(s.vertical.n, s.vertical.n_bar)
+
+    def excess_pressure(self, s: ColumnState) -> np.ndarray:
+        """P − P_hydrostatic per element [Pa]."""
+        return s.vertical.P - self.p_hydro
+
+    def excess_ratio(self, s: ColumnState) -> np.ndarray:
+        """r_u = (P − P_hydrostatic)/σ′_v0 per element [-]."""
+        return self.excess_pressure(s) / self.sigma_v0
+
+    def settlement(self, s: ColumnState) -> float:
+        """Surface settlement [m] (positive down): Σ h (n0 − n)/(1 − n)."""
+        n = s.vertical.n
+        return float(np.sum(self.v.mesh.lengths * (self.n0 - n) / (1.0 - n)))
+
+    def mixture_density(self, n) -> np.ndarray:
+        mat = self.v.mat
+        return n * mat.rho_f + (1.0 - n) * mat.rho_s
+
+    # ---------------------------------------------------------- stepping
+    def _shear(self, s: ColumnState, t_new: float) -> tuple[WaveState, np.ndarray, ShearState, int]:
+        """Shear sub-steps over [s.t, t_new]; returns wave, n̄, shear history, sub-steps."""
+        v, wave = self.v, self.wave
+        n = s.vertical.n
+        wave.rho = self.mixture_density(n)
+        wave.eta = mooney_pringle(n, v.mat.mu_f)
+        w, n_bar, hist = s.wave, s.vertical.n_bar, s.shear
+        cap = self.sand.gamma_law_max
+        span = t_new - s.t
+        m = max(1, int(np.ceil(span / self.shear_step - 1e-9)))
+        h = span / m
+        for i in range(1, m + 1):
+            t = s.t + i * h
+            g_max = seed_idriss_gmax(v.solids_pressure(n, n_bar), self.sand.k2max)
+            w = self._wave_step(w, h, self.a_g(t), g_max)
+            g_law = np.clip(w.gamma, -cap, cap)
+            n_bar, hist = self.law(g_law - hist.gamma, g_law, n_bar, hist)
+        return w, n_bar, hist, m
+
+    def _wave_step(self, w, h, a_g, g_max, depth=0):
+        try:
+            return self.wave.step(w, h, a_g, g_max)
+        except NewmarkFailure:
+            if depth >= 4:
+                raise
+            a_mid = 0.5 * (a_g + self.a_g(w.t))  # linear base motion over the halves
+            w = self._wave_step(w, 0.5 * h, a_mid, g_max, depth + 1)
+            return self._wave_step(w, 0.5 * h, a_g, g_max, depth + 1)
+
+    def step(self, s: ColumnState, dt: float) -> ColumnStep:
+        """One split step of length ``dt`` [s] (module docstring); raises StepFailure."""
+        t_new = s.t + dt
+        wave, n_bar, hist, m = s.wave, s.vertical.n_bar, s.shear, 0
+        if s.t < self.shear_end - 1e-12:
+            try:
+                wave, n_bar, hist, m = self._shear(s, t_new)
+            except NewmarkFailure as exc:
+                raise StepFailure(s.t, dt, str(exc), s) from None
+        vert = s.vertical.copy(n_bar=n_bar)
+        its, inflow = 0, 0.0
+        for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
+            vert, its = st.state, st.iterations
+            inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
+        return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow)
+
+    def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
+            stops=()) -> Iterator[ColumnStep]:
+        """Advance to ``t_end`` with step ``dt`` while the shear wave runs, then growing
+        (×1.5 per step) to ``dt_after``; lands exactly on ``shear_end`` and ``stops``."""
+        dt_after = dt_after or dt
+        marks = sorted({x for x in (*stops, self.shaking_end, self.shear_end, t_end)
+                        if s.t < x <= t_end})
+        h = dt
+        eps = 1e-9 * max(dt, 1e-12)
+        for mark in marks:
+            while s.t < mark - eps:
+                shaking = s.t < self.shear_end - eps
+                target = dt if shaking else min(dt_after, 1.5 * h)
+                h = target
+                h_try = min(h, mark - s.t)
+                if mark - s.t - h_try < 0.01 * dt:
+                    h_try = mark - s.t
+                step = self.step(s, h_try)
+                s = step.state
+                yield step

@@ -1,0 +1,215 @@
+"""Horizontal shear wave in a level soil column, Newmark average acceleration (SPEC 5.4).
+
+Relative formulation on a rigid base: u(y, t) is the horizontal displacement of
+the column relative to the base, a_g(t) the base acceleration, ρ̄ the mixture
+density (liquid and grains move together horizontally in level ground):
+
+    ρ̄ ∂²u/∂t² = ∂τ/∂y − ρ̄ a_g(t),   u(0, t) = 0 (base),   τ(H, t) = 0 (free top)
+    τ = G_max (G/G_max)(γ) γ + η ∂γ/∂t,   γ = ∂u/∂y
+
+Linear elements (γ constant per element), consistent mass, so one step solves a
+tridiagonal system. The elastic part is the secant backbone of the modulus
+reduction curve (non-linear elastic, no hysteresis), with G_max per element
+given by the caller (it follows the granular pressure). The viscous part is
+η = μ_m + a1 G_t (mixture viscosity plus the stiffness term of Rayleigh damping,
+G_t the current tangent modulus), plus the mass term a0 ρ̄ ∂u/∂t; (a0, a1) give
+the damping ratio ξ at two frequencies. The stiffness term uses the tangent
+modulus so that a liquefied element (G → 0) does not keep a viscous strength it
+no longer has.
+
+Time stepping: Newmark with β = 1/4, γ = 1/2 (average acceleration): second
+order and free of numerical damping (a linear undamped column keeps its energy
+exactly), unconditionally stable. The non-linear backbone is solved by Newton
+iterations in each step; the damping matrix is evaluated at the start of the step.
+
+>>> import numpy as np
+>>> col = ShearColumn(np.linspace(0.0, 10.0, 11), rho=np.full(10, 2000.0))
+>>> s = col.rest()
+>>> s = col.step(s, 0.01, 1.0, g_max=np.full(10, 50e6))  # base accelerates at 1 m/s²
+>>> bool(s.u[-1] < 0.0), float(s.u[0])  # the column lags behind the base
+(True, 0.0)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.linalg import solve_banded
+
+__all__ = ["WaveState", "ShearColumn", "rayleigh_coefficients", "NewmarkFailure"]
+
+BETA, GAMMA = 0.25, 0.5  # average acceleration
+
+
+class NewmarkFailure(RuntimeError):
+    """The Newton iterations of a shear step did not converge."""
+
+
+@dataclass
+class WaveState:
+    """Horizontal motion relative to the base at time t: nodal u [m], v [m/s], a [m/s²].
+
+    ``gamma`` is the element shear strain [-], ``tau`` the element shear stress [Pa].
+    """
+
+    t: float
+    u: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    gamma: np.ndarray
+    tau: np.ndarray
+
+
+def rayleigh_coefficients(ratio: float, f1: float, f2: float) -> tuple[float, float]:
+    """(a0 [1/s], a1 [s]) of Rayleigh damping with damping ratio ``ratio`` at f1 and f2 [Hz].
+
+    ξ(ω) = a0/(2ω) + a1 ω/2.
+
+    >>> a0, a1 = rayleigh_coefficients(0.05, 1.0, 10.0)
+    >>> w = 2 * np.pi * np.array([1.0, 10.0])
+    >>> [round(float(x), 6) for x in a0 / (2 * w) + a1 * w / 2]
+    [0.05, 0.05]
+    """
+    w1, w2 = 2.0 * np.pi * f1, 2.0 * np.pi * f2
+    return 2.0 * ratio * w1 * w2 / (w1 + w2), 2.0 * ratio / (w1 + w2)
+
+
+def _hyperbolic_backbone(gamma_ref: float):
+    def backbone(g):
+        x = 1.0 + np.abs(g) / gamma_ref
+        return g / x, 1.0 / (x * x)  # τ/G_max and dτ/dγ / G_max
+    return backbone
+
+
+def _generic_backbone(reduction: Callable):
+    def backbone(g):
+        d = 1e-6 * np.maximum(np.abs(g), 1e-7)
+        tau = reduction(g) * g
+        tangent = ((g + d) * reduction(g + d) - (g - d) * reduction(g - d)) / (2.0 * d)
+        return tau, np.maximum(tangent, 0.0)
+    return backbone
+
+
+class ShearColumn:
+    """Newmark (average acceleration) shear column on a rigid base; see the module docstring.
+
+    Parameters
+    ----------
+    y : (ne + 1,) vertex heights [m] from the base up.
+    rho : (ne,) mixture density per element [kg/m³] (may be updated: attribute ``rho``).
+    gamma_ref : reference strain of the hyperbolic G/G_max curve [-] (ignored if ``reduction``).
+    reduction : optional G/G_max(γ) function (e.g. a tabulated curve); ``None``: hyperbolic;
+        ``"linear"``: G = G_max (constant modulus).
+    damping_ratio, damping_frequencies : Rayleigh damping ξ [-] at two frequencies [Hz].
+    viscosity : (ne,) or scalar mixture viscosity μ_m [Pa·s] (attribute ``eta``).
+    newton_tol : relative change of u that ends the Newton iterations [-].
+    """
+
+    def __init__(self, y, rho, gamma_ref: float = 1e-3, reduction=None,
+                 damping_ratio: float = 0.0, damping_frequencies=(1.0, 10.0),
+                 viscosity=0.0, newton_tol: float = 1e-10, max_iter: int = 40):
+        self.y = np.asarray(y, dtype=float)
+        self.h = np.diff(self.y)
+        ne = self.h.size
+        self.rho = np.broadcast_to(np.asarray(rho, dtype=float), (ne,)).copy()
+        self.eta = np.broadcast_to(np.asarray(viscosity, dtype=float), (ne,)).copy()
+        if reduction == "linear":
+            self.backbone = lambda g: (np.asarray(g, float), np.ones_like(g, dtype=float))
+        elif reduction is None:
+            self.backbone = _hyperbolic_backbone(gamma_ref)
+        else:
+            self.backbone = _generic_backbone(reduction)
+        if damping_ratio > 0.0:
+            self.a0, self.a1 = rayleigh_coefficients(damping_ratio, *damping_frequencies)
+        else:
+            self.a0, self.a1 = 0.0, 0.0
+        self.tol, self.max_iter = newton_tol, max_iter
+
+    # ----------------------------------------------------------- matrices
+    def rest(self, t: float = 0.0) -> WaveState:
+        z = np.zeros(self.h.size + 1)
+        return WaveState(t, z.copy(), z.copy(), z.copy(), np.zeros(self.h.size), np.zeros(self.h.size))
+
+    def _mass_bands(self):
+        """Consistent mass: diagonal (ne+1,) and off-diagonal (ne,) [kg/m²]."""
+        m = self.rho * self.h
+        diag = np.zeros(self.h.size + 1)
+        diag[:-1] += m / 3.0
+        diag[1:] += m / 3.0
+        return diag, m / 6.0
+
+    def _bar_bands(self, k):
+        """Bands of Σ k_e [[1, −1], [−1, 1]] for element values k (ne,)."""
+        diag = np.zeros(k.size + 1)
+        diag[:-1] += k
+        diag[1:] += k
+        return diag, -k
+
+    @staticmethod
+    def _matvec(diag, off, x):
+        out = diag * x
+        out[:-1] += off * x[1:]
+        out[1:] += off * x[:-1]
+        return out
+
+    def internal_force(self, tau):
+        """f_i = ∫ ∂N_i/∂y τ dy: −τ_e at the bottom node of element e, +τ_e at its top node."""
+        f = np.zeros(tau.size + 1)
+        f[:-1] -= tau
+        f[1:] += tau
+        return f
+
+    def energy(self, s: WaveState, g_max) -> float:
+        """Kinetic + strain energy per unit area [J/m²] (linear elastic part only)."""
+        md, mo = self._mass_bands()
+        kin = 0.5 * float(s.v @ self._matvec(md, mo, s.v))
+        return kin + 0.5 * float(np.sum(np.asarray(g_max) * s.gamma ** 2 * self.h))
+
+    # --------------------------------------------------------------- step
+    def step(self, s: WaveState, dt: float, a_g: float, g_max) -> WaveState:
+        """Advance by ``dt`` [s] with base acceleration ``a_g`` [m/s²] at the end of the step.
+
+        ``g_max`` (ne,) is the small-strain modulus per element [Pa] during the step.
+        Raises :class:`NewmarkFailure` if Newton does not converge.
+        """
+        g_max = np.broadcast_to(np.asarray(g_max, dtype=float), self.h.shape)
+        md, mo = self._mass_bands()
+        _, gt0 = self.backbone(s.gamma)
+        cd, co = self._bar_bands((self.eta + self.a1 * g_max * gt0) / self.h)
+        cd, co = cd + self.a0 * md, co + self.a0 * mo
+        c0, c1 = 1.0 / (BETA * dt * dt), GAMMA / (BETA * dt)
+        # a1 = c0 (u1 − u0) − pa, v1 = v0 + dt((1 − γ) a0 + γ a1)
+        pa = s.v / (BETA * dt) + (0.5 / BETA - 1.0) * s.a
+        force = -self._matvec(md, mo, np.ones_like(md)) * a_g
+        u = s.u + dt * s.v + 0.5 * dt * dt * s.a  # predictor
+        u[0] = 0.0
+        for _ in range(self.max_iter):
+            acc = c0 * (u - s.u) - pa
+            vel = s.v + dt * ((1.0 - GAMMA) * s.a + GAMMA * acc)
+            gamma = np.diff(u) / self.h
+            tau_n, gt = self.backbone(gamma)
+            tau = g_max * tau_n  # elastic part; the viscous part is the C v term
+            res = (self._matvec(md, mo, acc) + self._matvec(cd, co, vel) + self.internal_force(tau)
+                   - force)
+            kd, ko = self._bar_bands(g_max * gt / self.h)
+            jd = c0 * md + c1 * cd + kd
+            jo = c0 * mo + c1 * co + ko
+            ab = np.zeros((3, jd.size - 1))  # free nodes 1..ne (the base is fixed)
+            ab[0, 1:] = jo[1:]
+            ab[1] = jd[1:]
+            ab[2, :-1] = jo[1:]
+            du = solve_banded((1, 1), ab, -res[1:])
+            u[1:] += du
+            if np.max(np.abs(du)) <= self.tol * max(np.max(np.abs(u)), 1e-9):
+                break
+        else:
+            raise NewmarkFailure(f"shear step at t = {s.t + dt:.6g} s: Newton did not converge "
+                                 f"in {self.max_iter} iterations")
+        acc = c0 * (u - s.u) - pa
+        vel = s.v + dt * ((1.0 - GAMMA) * s.a + GAMMA * acc)
+        gamma = np.diff(u) / self.h
+        tau_n, gt = self.backbone(gamma)
+        rate = np.diff(vel) / self.h
+        tau = g_max * tau_n + (self.eta + self.a1 * g_max * gt0) * rate
+        return WaveState(s.t + dt, u, vel, acc, gamma, tau)

@@ -1,0 +1,183 @@
+"""1D liquefaction column (models/liquefaction_1d.py, liquefaction.py, schema_liquefaction.py).
+
+Tolerances:
+- geostatic state: P hydrostatic and P_s = (1 − n)(ρ_s − ρ_f) g z to 1e-9 relative
+  (both exact in the discrete model); at rest without shaking |r_u| < 1e-6 after 2 s;
+- Terzaghi: average degree of consolidation within 2 % of U(T_v) at
+  T_v = 0.05 … 1 (SPEC 7), with c_v = n² M/β at the mid-load state;
+- solids volume balance to 1e-10 (round-off of a few thousand steps).
+"""
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from twofluid.casefile.loader import load_case
+from twofluid.casefile.schema import CaseError, validate
+from twofluid.closures import drag
+from twofluid.closures.solids_pressure import reference_porosity_for
+from twofluid.liquefaction import run_liquefaction
+from twofluid.mesh.line import uniform_line
+from twofluid.models.liquefaction_1d import LiquefactionColumn, VerticalColumn
+from twofluid.models.two_fluid_1d import Boundary, Closures, Materials
+from twofluid.verification import terzaghi as tz
+
+WATER_SAND = dict(rho_f=1000.0, mu_f=1e-3, rho_s=2650.0)
+
+
+def _column(d_p, H=10.0, ne=20, surcharge=0.0, **clo):
+    clo.setdefault("A", 6e-4)
+    v = VerticalColumn(uniform_line(H, ne), Materials(d_p=d_p, **WATER_SAND), Closures(**clo),
+                       Boundary("wall"), Boundary("outlet"), surcharge=surcharge)
+    return LiquefactionColumn(v)
+
+
+def test_geostatic_state_is_a_discrete_equilibrium():
+    col = _column(0.8e-3)
+    s = col.initial_state(0.44)
+    depth = col.depth
+    g = 9.81
+    assert np.allclose(s.vertical.P, 1000.0 * g * depth, rtol=1e-12)
+    assert np.allclose(col.sigma_v0, 0.56 * 1650.0 * g * depth, rtol=1e-9)
+    assert np.allclose(col.granular_pressure(s), col.sigma_v0, rtol=1e-9)
+    last = s
+    for st in col.run(s, 2.0, 0.1):
+        last = st.state
+    assert np.max(np.abs(col.excess_ratio(last))) < 1e-6
+    assert abs(col.settlement(last)) < 1e-9
+
+
+def test_reconsolidation_follows_terzaghi():
+    """Shaking off; imposed uniform excess pressure under a large surcharge (uniform c_v)."""
+    H, A, q0, ru0, n0, d_p = 1.0, 6e-4, 1e6, 0.01, 0.44, 0.08e-3
+    col = _column(d_p, H=H, ne=50, surcharge=q0, A=A, drag=drag.ergun,
+                  drag_params={"stokes": True}, viscous=False)
+    s = col.initial_state(n0, excess_ratio=ru0)
+    beta = drag.ergun(n0, 0.0, d_p, 1000.0, 1e-3, stokes=True)
+    mid = col.sigma_v0 * (1.0 - ru0 / 2)  # P_s half-way through the consolidation
+    c_v = float(np.mean(tz.consolidation_coefficient(n0, reference_porosity_for(n0, mid, A), mid, A, beta)))
+    t_scale = H * H / c_v
+    T_v = [0.05, 0.1, 0.2, 0.5, 1.0]
+    vol = col.v.volumes
+    u0 = float((ru0 * col.sigma_v0 * vol).sum())
+    U = {}
+    for st in col.run(s, t_scale, 2e-3 * t_scale, stops=[T * t_scale for T in T_v]):
+        for T in T_v:
+            if abs(st.state.t - T * t_scale) < 1e-9 * t_scale:
+                U[T] = 1.0 - float((col.excess_pressure(st.state) * vol).sum()) / u0
+    for T in T_v:
+        ref = float(tz.average_degree(T))
+        assert abs(U[T] - ref) / ref < 0.02, (T, U[T], ref)
+
+
+def _short_case(name, tmp_path, **over):
+    c = load_case(name)
+    c["deposit"]["elements"] = 20
+    c["ground_motion"]["duration"] = 8.0
+    c["time"]["end"] = 10.0
+    c["shear_wave"]["step"] = 0.01
+    c["output"].update(times=[5.0], plots=False)
+    c["report"]["field_interval"] = 0.5
+    for k, v in over.items():
+        c[k].update(v)
+    return run_liquefaction(c, tmp_path / name)
+
+
+@pytest.fixture(scope="module")
+def short_runs(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("liq")
+    return {n: _short_case(f"liquefaction-{n}", tmp) for n in ("fine", "elcentro", "gravel")}
+
+
+def test_liquefied_zone_grows_as_the_sand_gets_finer(short_runs):
+    thick = {n: r.summary["liquefied_thickness_m"] for n, r in short_runs.items()}
+    assert all(r.status == "completed" for r in short_runs.values())
+    assert thick["fine"] > 0.0
+    assert thick["fine"] > thick["elcentro"]
+    assert thick["gravel"] == 0.0
+    assert short_runs["gravel"].summary["first_liquefaction"] is None
+
+
+def test_top_element_never_liquefies(short_runs):
+    for name, r in short_runs.items():
+        assert r.summary["peak_r_u_top_element"] < 0.95, name
+
+
+def test_solids_volume_is_conserved(short_runs):
+    for name, r in short_runs.items():
+        assert abs(r.summary["solids_volume_balance_error"]) < 1e-10, name
+
+
+def test_fine_sand_liquefies_first_at_intermediate_depth(short_runs):
+    s = short_runs["fine"].summary
+    z = s["first_liquefaction"]["depth_m"]
+    assert 0.5 < z < 9.5  # neither at the drained surface nor at the base
+    assert s["first_liquefaction"]["time_s"] < 8.0  # during the shaking
+
+
+def test_run_writes_readable_results(short_runs):
+    r = short_runs["fine"]
+    out = r.out_dir
+    rows = list(csv.DictReader(open(out / "probes.csv")))
+    assert float(rows[-1]["time_s"]) == pytest.approx(10.0)
+    assert "r_u@6m" in rows[0] and "surface_settlement_m" in rows[0]
+    prof = list(csv.DictReader(open(out / "profiles.csv")))
+    assert {float(p["time_s"]) for p in prof} == {0.0, 5.0, 8.0, 10.0}
+    field = np.loadtxt(out / "ru_field.csv", delimiter=",", skiprows=1)
+    assert field.shape[1] == 21
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "completed" and summary["stopped_at_s"] == pytest.approx(10.0)
+    # summary and the written field agree
+    peak = np.max(field[:, 1:], axis=0)
+    assert np.all(peak <= np.array(summary["by_depth"]["peak_r_u"])[::-1] + 1e-6)
+
+
+def test_interrupted_run_keeps_its_results(tmp_path, monkeypatch):
+    calls = {"n": 0}
+    original = LiquefactionColumn.step
+
+    def stop_after_ten(self, s, dt):
+        calls["n"] += 1
+        if calls["n"] > 10:
+            raise KeyboardInterrupt
+        return original(self, s, dt)
+
+    monkeypatch.setattr(LiquefactionColumn, "step", stop_after_ten)
+    c = load_case("liquefaction-fine")
+    c["deposit"]["elements"] = 10
+    c["output"]["plots"] = False
+    r = run_liquefaction(c, tmp_path / "int")
+    assert r.status == "interrupted"
+    assert r.summary["stopped_at_s"] == pytest.approx(10 * 0.02)
+    rows = list(csv.DictReader(open(tmp_path / "int" / "probes.csv")))
+    assert len(rows) == 11
+    assert json.loads((tmp_path / "int" / "summary.json").read_text())["status"] == "interrupted"
+
+
+@pytest.mark.parametrize("section,key,value,words", [
+    ("deposit", "porosity", 0.95, ["[deposit] porosity", "outside the valid range", "[0.2, 0.7]"]),
+    ("sand", "reference_porosity_law", "finn", ["[sand] reference_porosity_law", "byrne"]),
+    ("deposit", "colour", 1.0, ["[deposit] colour", "unknown key"]),
+    ("report", "depths", [12.0], ["[report] depths", "outside [0, 10] m"]),
+])
+def test_bad_key_is_one_line_case_error(section, key, value, words):
+    doc = {"case": {"name": "x", "model": "liquefaction_1d"},
+           "materials": {"liquid_density": 1000.0, "liquid_viscosity": 1e-3, "particle_density": 2650.0,
+                         "particle_diameter": 8e-4},
+           "time": {"end": 180.0, "step": 0.02}, section: {key: value}}
+    with pytest.raises(CaseError) as err:
+        validate(doc, "my-case.toml")
+    msg = str(err.value)
+    assert "\n" not in msg and msg.startswith("my-case.toml: ")
+    for w in words:
+        assert w in msg
+
+
+def test_missing_record_is_a_case_error(tmp_path):
+    c = load_case("liquefaction-gravel")
+    c["ground_motion"]["file"] = "no-such-record.AT2"
+    with pytest.raises(CaseError, match=r"\[ground_motion\] file"):
+        run_liquefaction(c, tmp_path / "x")
