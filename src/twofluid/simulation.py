@@ -34,9 +34,28 @@ class RunResult:
     history: dict = field(default_factory=dict)  # name -> array over steps
 
 
+class _HeldEnds:
+    """The model with its prescribed velocities held at the state's own values."""
+
+    def __init__(self, model, state):
+        self._model, self._a = model, model.pack(state)
+
+    def __getattr__(self, name):
+        return getattr(self._model, name)
+
+    def dirichlet(self, t):
+        idx, _ = self._model.dirichlet(t)
+        return idx, self._a[idx]
+
+
 def _initial_pressure(model, state, dt):
-    """P consistent with the initial state: one step of negligible length (1e-6 Δt)."""
-    new, _ = picard_step(model, state, 1e-6 * dt)
+    """P consistent with the initial state: one step of negligible length (1e-6 Δt).
+
+    The inlet is held at the initial velocities for it, so that a step change of
+    the inlet at t = 0 does not show up as the pressure impulse of an
+    instantaneous acceleration.
+    """
+    new, _ = picard_step(_HeldEnds(model, state), state, 1e-6 * dt)
     if new is not None:
         state = state.copy(P=new.P)
     return state

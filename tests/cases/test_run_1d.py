@@ -1,0 +1,99 @@
+"""The 1D run driver and CLI end to end: bad input, short bundled runs, interruption."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from twofluid import simulation
+from twofluid.casefile.loader import case_text, load_case
+from twofluid.cli import main
+from twofluid.timestepping.backward_euler import StepFailure
+
+BAD = [  # (substitution in settling-illite's TOML, key named, range or reason named)
+    (("\nporosity = 0.95", "\nporosity = 1.5"), "[initial] porosity", "(0, 1]"),
+    (("step = 0.1", "step = -0.1"), "[time] step", "(0, inf)"),
+    (("elements = 16", 'elements = "many"'), "[mesh] elements", "integer"),
+    (("[mesh]\n", "[mesh]\nlenght = 2.0\n"), "[mesh] lenght", "unknown key"),
+    (('kind = "outlet"', 'kind = "wall"'), "kind", "outlet"),
+    (("particle_diameter = ", "particle_diameter = -"), "[materials] particle_diameter", "(0, inf)"),
+]
+
+
+def _write(tmp_path, old, new, name="bad.toml"):
+    text = case_text("settling-illite")
+    assert old in text
+    path = tmp_path / name
+    path.write_text(text.replace(old, new, 1))
+    return path
+
+
+@pytest.mark.parametrize("sub, key, why", BAD)
+def test_bad_case_file_gives_one_line_naming_file_key_and_range(tmp_path, capsys, sub, key, why):
+    path = _write(tmp_path, *sub)
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert "bad.toml" in err and key in err and why in err
+    assert not out.exists()  # validated before any computation
+
+
+def test_bad_case_exit_status_and_no_traceback_from_the_console(tmp_path):
+    path = _write(tmp_path, "\nporosity = 0.95", "\nporosity = 0.0")
+    p = subprocess.run([sys.executable, "-m", "twofluid.cli", "run", str(path)], capture_output=True,
+                       text=True, cwd=tmp_path)
+    assert p.returncode == 2
+    assert "Traceback" not in p.stderr and "[initial] porosity" in p.stderr
+
+
+def _short(name, end):
+    c = load_case(name)
+    c["time"]["end"] = end
+    c["output"]["times"] = [t for t in c["output"]["times"] if t < end]
+    return c
+
+
+@pytest.mark.parametrize("name, end", [("fluidized-bed-step", 2.0), ("settling-illite", 10.0)])
+def test_short_bundled_run_writes_readable_results(tmp_path, name, end):
+    res = simulation.run_case(_short(name, end), tmp_path, progress=False)
+    assert res.status == "completed"
+    for f in ("case.resolved.toml", "profiles.csv", "probes.csv", "summary.json", "porosity.png",
+              "heights.png"):
+        assert (tmp_path / f).stat().st_size > 0, f
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["case"] == name and s["steps"] > 0 and s["stopped_at_s"] == pytest.approx(end)
+    assert abs(s["solids_volume_balance_error"]) < 1e-10
+    prof = np.genfromtxt(tmp_path / "profiles.csv", delimiter=",", names=True)
+    assert set(np.unique(prof["time_s"])) >= {0.0, end}
+    assert np.all((prof["porosity"] > 0) & (prof["porosity"] <= 1))
+    # the resolved case file runs as it is
+    assert load_case(tmp_path / "case.resolved.toml")["time"]["end"] == end
+
+
+def _stopping_after(k, exc):
+    real = simulation.integrate
+
+    def integrate(*args, **kw):
+        for i, step in enumerate(real(*args, **kw)):
+            if i == k:
+                raise exc(step.state)
+            yield step
+    return integrate
+
+
+@pytest.mark.parametrize("kind", ["interrupted", "failed"])
+def test_interrupted_or_failed_run_keeps_what_it_wrote(tmp_path, monkeypatch, kind):
+    exc = (lambda s: KeyboardInterrupt()) if kind == "interrupted" else \
+        (lambda s: StepFailure(s.t, 1e-9, "test failure", s))
+    monkeypatch.setattr(simulation, "integrate", _stopping_after(30, exc))
+    c = _short("settling-illite", 10.0)
+    c["output"]["probe_interval"] = 0.1
+    res = simulation.run_case(c, tmp_path)
+    assert res.status == kind
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["status"] == kind and 0.0 < s["stopped_at_s"] < 10.0 and s["reason"]
+    probes = np.genfromtxt(tmp_path / "probes.csv", delimiter=",", names=True)
+    assert probes["time_s"].max() == pytest.approx(s["stopped_at_s"], abs=0.11)
+    assert (tmp_path / "porosity.png").exists()
