@@ -88,3 +88,23 @@ def test_registry_lists_closures_with_summaries():
         assert callable(entry.func)
     with pytest.raises(KeyError, match="choose one of"):
         registry.get("drag", "nonexistent")
+
+
+def test_terminal_velocity_is_stokes_law_in_the_stokes_limit_and_lower_with_inertia():
+    d, rho_s, rho_f, mu = 0.3e-3, 2600.0, 998.2, 1.002e-3
+    stokes = drag.terminal_velocity(drag.wen_yu, d, rho_s, rho_f, mu, stokes=True)
+    assert stokes == pytest.approx((rho_s - rho_f) * 9.81 * d**2 / (18 * mu), rel=1e-10)
+    full = drag.terminal_velocity(drag.wen_yu, d, rho_s, rho_f, mu)
+    re = rho_f * full * d / mu
+    cd = 24 / re * (1 + 0.15 * re**0.687)
+    # force balance of one sphere: C_D (π d²/4) ρ_f U²/2 = (ρ_s − ρ_f) g π d³/6
+    assert cd * 0.75 * rho_f * full**2 / d == pytest.approx((rho_s - rho_f) * 9.81, rel=1e-9)
+    assert full < stokes
+
+
+def test_saturated_slip_is_increasing_bounded_and_identity_for_small_slip():
+    s = np.logspace(-6, 6, 400)
+    eff = drag.saturated_slip(s, 1.0)
+    assert np.all(np.diff(eff) >= 0) and np.all(np.diff(eff[s < 100]) > 0) and eff.max() <= 1.0
+    assert eff[s < 0.1] == pytest.approx(s[s < 0.1], rel=3e-5)
+    assert np.array_equal(drag.saturated_slip(s, np.inf), s)
