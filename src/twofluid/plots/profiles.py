@@ -16,6 +16,14 @@ def _by_time(profiles: dict[float, dict]):
     return sorted(profiles.items())
 
 
+def _edges(y: np.ndarray) -> np.ndarray:
+    """Element edges from element centres (midpoints inside, mirrored at the ends)."""
+    mid = 0.5 * (y[1:] + y[:-1])
+    if y.size == 1:
+        return np.array([y[0] - 0.5, y[0] + 0.5])
+    return np.concatenate([[2 * y[0] - mid[0]], mid, [2 * y[-1] - mid[-1]]])
+
+
 def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> list[Path]:
     """porosity.png (n against height at each output time) and pressure.png (P, P_s)."""
     out = []
@@ -23,8 +31,8 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
     cmap = plt.get_cmap("viridis")
     items = _by_time(profiles)
     for i, (t, f) in enumerate(items):
-        ax.plot(f["porosity"], f["y_m"], drawstyle="steps-mid", color=cmap(i / max(len(items) - 1, 1)),
-                label=f"t = {t:g} s")
+        ax.stairs(f["porosity"], _edges(np.asarray(f["y_m"])), orientation="horizontal", baseline=None,
+                  color=cmap(i / max(len(items) - 1, 1)), label=f"t = {t:g} s")
     ax.set_xlabel("porosity n [-]")
     ax.set_ylabel("height y [m]")
     ax.set_title(title)
