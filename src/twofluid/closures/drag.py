@@ -131,6 +131,18 @@ def hydraulic_conductivity(beta, n, rho_f, g=G):
     return rho_f * g * np.asarray(n, float) ** 2 / beta
 
 
+def _velocity_root(residual, what: str) -> float:
+    """The root in (0, 1000] m/s of a residual negative at 0 and growing with u (brentq)."""
+    from scipy.optimize import brentq
+
+    hi = 1e-3
+    while residual(hi) < 0.0:
+        hi *= 2.0
+        if hi > 1e3:
+            raise ValueError(f"no {what} below 1000 m/s")
+    return brentq(residual, 0.0, hi, xtol=1e-14, rtol=1e-13)
+
+
 def steady_fluidization_velocity(law, n, d, rho_s, rho_f, mu_f, g=G, **params):
     """Superficial liquid velocity U [m/s] that holds a uniform bed at porosity n.
 
@@ -145,20 +157,13 @@ def steady_fluidization_velocity(law, n, d, rho_s, rho_f, mu_f, g=G, **params):
     >>> round(u / (ut * 0.7**4.65), 9)
     1.0
     """
-    from scipy.optimize import brentq
-
     weight = n * (1.0 - n) * (rho_s - rho_f) * g
 
     def residual(u):
         s = u / n
         return float(law(n, s, d, rho_f, mu_f, **params)) * s - weight
 
-    hi = 1e-3
-    while residual(hi) < 0.0:
-        hi *= 2.0
-        if hi > 1e3:
-            raise ValueError("no fluidization velocity below 1000 m/s")
-    return brentq(residual, 0.0, hi, xtol=1e-14, rtol=1e-13)
+    return _velocity_root(residual, "fluidization velocity")
 
 
 def terminal_velocity(law, d, rho_s, rho_f, mu_f, g=G, **params):
@@ -172,17 +177,10 @@ def terminal_velocity(law, d, rho_s, rho_f, mu_f, g=G, **params):
     >>> round(ut / (1600*9.81*1e-8/18e-3), 9)
     1.0
     """
-    from scipy.optimize import brentq
-
     def residual(u):
         return float(law(1.0, u, d, rho_f, mu_f, per_solids=True, **params)) * u - (rho_s - rho_f) * g
 
-    hi = 1e-3
-    while residual(hi) < 0.0:
-        hi *= 2.0
-        if hi > 1e3:
-            raise ValueError("no terminal velocity below 1000 m/s")
-    return brentq(residual, 0.0, hi, xtol=1e-14, rtol=1e-13)
+    return _velocity_root(residual, "terminal velocity")
 
 
 def saturated_slip(slip_abs, slip_max, p=4):
