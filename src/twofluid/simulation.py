@@ -7,6 +7,7 @@ from outside the solver.
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -19,7 +20,7 @@ from .casefile.loader import load_case
 from .io.results import ResultWriter, write_json, write_resolved_case
 from .timestepping.backward_euler import StepFailure, integrate, picard_step
 
-__all__ = ["RunResult", "run_case"]
+__all__ = ["RunResult", "RunGuard", "run_case", "run_guard"]
 
 PROFILE_COLUMNS = ["y_m", "porosity", "reference_porosity", "P_Pa", "Ps_Pa", "V_m_s", "W_m_s",
                    "Uf_m_s", "Us_m_s"]
@@ -32,6 +33,39 @@ class RunResult:
     summary: dict
     profiles: dict = field(default_factory=dict)  # t -> element fields
     history: dict = field(default_factory=dict)  # name -> array over steps
+
+
+@dataclass
+class RunGuard:
+    """What :func:`run_guard` found: status, reason and the progress bar to update."""
+
+    bar: tqdm
+    status: str = "completed"
+    reason: str = ""
+
+
+@contextmanager
+def run_guard(t_end: float, progress: bool, *closing):
+    """Context of a run's time loop: progress bar, Ctrl-C and failed steps.
+
+    A ``KeyboardInterrupt`` or :class:`StepFailure` inside the block ends the
+    loop, not the program: the guard records status ``interrupted`` or ``failed``
+    with the reason, closes the bar and every object in ``closing`` (result
+    writers), and the runner goes on to write its summary from what it has.
+    """
+    run = RunGuard(tqdm(total=t_end, unit="s", disable=not progress, leave=False,
+                        bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated "
+                                   "[{elapsed}<{remaining}]"))
+    try:
+        yield run
+    except KeyboardInterrupt:
+        run.status, run.reason = "interrupted", "interrupted by the user (Ctrl-C)"
+    except StepFailure as exc:
+        run.status, run.reason = "failed", str(exc)
+    finally:
+        run.bar.close()
+        for c in closing:
+            c.close()
 
 
 class _HeldEnds:
@@ -149,11 +183,9 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     fig.record(state)
     writer.probe(state.t, _probe_values(model, state, probes, heights0))
     next_probe = case["output"]["probe_interval"]
-    status, reason, n_steps, last = "completed", "", 0, state
+    n_steps, last = 0, state
     wall0 = time.perf_counter()
-    bar = tqdm(total=b.t_end, unit="s", disable=not progress, leave=False,
-               bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated [{elapsed}<{remaining}]")
-    try:
+    with run_guard(b.t_end, progress, writer) as run:
         for step in integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings):
             s = step.state
             outflow += step.dt * model.solids_outflow(s)
@@ -164,14 +196,8 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
                 next_probe = s.t + case["output"]["probe_interval"]
             if any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times):
                 save_profile(s)
-            bar.update(s.t - bar.n)
-    except KeyboardInterrupt:
-        status, reason = "interrupted", "interrupted by the user (Ctrl-C)"
-    except StepFailure as exc:
-        status, reason = "failed", str(exc)
-    finally:
-        bar.close()
-        writer.close()
+            run.bar.update(s.t - run.bar.n)
+    status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if status != "completed" and round(last.t, 12) not in profiles:
         f = model.element_fields(last)
