@@ -38,7 +38,7 @@ _SAND = [
     K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (SPEC 4.5)",
       choices=("byrne", "ann")),
     K("ann_weights", str, "", "-", "ann: weights JSON file ('' = the shipped default, trained on byrne)"),
-    K("gamma_law_max", float, 0.02, "-", "|γ| beyond which the strain path adds no densification "
+    K("gamma_law_max", float, 0.01, "-", "|γ| beyond which the strain path adds no densification "
       "(the range of Byrne's law; strains in a liquefied layer are not bounded by this model)",
       lo=0.0, lo_open=True, hi=1.0),
 ]
