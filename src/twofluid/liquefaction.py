@@ -27,7 +27,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from .casefile.loader import load_case
 from .casefile.schema import CaseError
@@ -38,7 +37,7 @@ from .io.results import ResultWriter, write_json, write_resolved_case
 from .mesh.line import uniform_line
 from .models.liquefaction_1d import ColumnState, LiquefactionColumn, Sand, VerticalColumn
 from .models.two_fluid_1d import Boundary, Closures, Materials
-from .timestepping.backward_euler import PicardSettings, StepFailure
+from .timestepping.backward_euler import PicardSettings
 from .verification.terzaghi import consolidation_coefficient
 
 __all__ = ["Built", "build_column", "run_liquefaction", "PROFILE_COLUMNS"]
@@ -203,7 +202,7 @@ def _zone(mask, mesh) -> list | None:
 
 def run_liquefaction(case, out_dir=None, progress: bool = False):
     """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path)."""
-    from .simulation import RunResult
+    from .simulation import RunResult, run_guard
 
     if not isinstance(case, dict):
         case = load_case(case)
@@ -239,11 +238,9 @@ def run_liquefaction(case, out_dir=None, progress: bool = False):
     inflow = 0.0
     settle_shaking = 0.0 if col.shaking_end == 0.0 else None
     next_probe, next_field = case["output"]["probe_interval"], rep["field_interval"]
-    status, reason, n_steps, n_sub, last = "completed", "", 0, 0, state
+    n_steps, n_sub, last = 0, 0, state
     wall0 = time.perf_counter()
-    bar = tqdm(total=b.t_end, unit="s", disable=not progress, leave=False,
-               bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated [{elapsed}<{remaining}]")
-    try:
+    with run_guard(b.t_end, progress, writer, ffile) as run:
         for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times):
             s = last = step.state
             n_steps += 1
@@ -263,15 +260,8 @@ def run_liquefaction(case, out_dir=None, progress: bool = False):
             if at_mark:
                 profiles[round(s.t, 9)] = _profile(col, s, rec.peak)
                 writer.profile(s.t, profiles[round(s.t, 9)])
-            bar.update(s.t - bar.n)
-    except KeyboardInterrupt:
-        status, reason = "interrupted", "interrupted by the user (Ctrl-C)"
-    except StepFailure as exc:
-        status, reason = "failed", str(exc)
-    finally:
-        bar.close()
-        writer.close()
-        ffile.close()
+            run.bar.update(s.t - run.bar.n)
+    status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if round(last.t, 9) not in profiles:
         profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
