@@ -235,7 +235,7 @@ def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, 
         s["t1_s"] = pp.t1_from_history(t, h) if status == "completed" else None
         s["t1_definition"] = ("first time after which the bed surface height stays within 2 % of "
                               "|H_final − H_initial| of its final height; the surface is where the "
-                              "porosity first falls below (1 + n_after)/2 scanning down from the top")
+                              "porosity first falls below (1 + max(n_before, n_after))/2 scanning down from the top")
     if fig.study == "settling":
         times = sorted(set(case["output"]["times"]) | {0.0, last.t})
         idx = [int(np.argmin(np.abs(t - tt))) for tt in times]

@@ -17,6 +17,7 @@ BAD = [  # (substitution in settling-illite's TOML, key named, range or reason n
     (("elements = 16", 'elements = "many"'), "[mesh] elements", "integer"),
     (("[mesh]\n", "[mesh]\nlenght = 2.0\n"), "[mesh] lenght", "unknown key"),
     (('kind = "outlet"', 'kind = "wall"'), "kind", "outlet"),
+    (('kind = "wall"', 'kind = "outlet"'), "kind", "inlet or a wall"),
     (("particle_diameter = ", "particle_diameter = -"), "[materials] particle_diameter", "(0, inf)"),
 ]
 

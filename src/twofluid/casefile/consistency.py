@@ -45,6 +45,9 @@ def check_consistency(case: dict, source: str) -> None:
     if "outlet" not in kinds:
         raise CaseError(source, "[boundary.bottom/top] kind", "one end must be an outlet: it fixes the "
                         "pressure datum")
+    if kinds == ("outlet", "outlet"):
+        raise CaseError(source, "[boundary.bottom/top] kind", "one end must be an inlet or a wall: with "
+                        "two outlets the mixture flux through the column is undetermined")
     if time["step"] > time["end"]:
         raise CaseError(source, "[time] step", f"must not exceed [time] end = {time['end']:g} s")
     for t in out["times"]:

@@ -80,7 +80,7 @@ SCHEMA: dict[str, list[Key]] = {
         K("particle_density", float, REQUIRED, "kg/m³", "ρ_s", lo=0.0, lo_open=True),
         K("particle_diameter", float, REQUIRED, "m", "d_p", lo=0.0, lo_open=True),
         K("sphericity", float, 1.0, "-", "ψ; the drag laws use d = ψ d_p", lo=0.0, hi=1.0, lo_open=True),
-        K("gravity", float, 9.81, "m/s²", "|g|", lo=0.0),
+        K("gravity", float, 9.81, "m/s²", "|g|", lo=0.0, lo_open=True),
     ],
     "closures.drag": [
         K("law", str, "gidaspow", "-", "drag law (SPEC 4.1)", choices=("gidaspow", "ergun", "wen_yu")),
@@ -92,7 +92,7 @@ SCHEMA: dict[str, list[Key]] = {
         K("law", str, "exponential", "-", "P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]", choices=("exponential",)),
         K("compressibility", float, 0.015, "-", "A", lo=0.0, lo_open=True),
         K("reference_porosity", float, 0.4, "-", "n̄ (P_s = p_ref at n = n̄); ignored where [initial] "
-          "state = \"settled\" computes it", lo=0.0, hi=1.0, lo_open=True),
+          "state = \"settled\" computes it", lo=0.0, hi=1.0, lo_open=True, hi_open=True),
         K("p_ref", float, 1.0, "Pa", "reference pressure", lo=0.0, lo_open=True),
     ],
     "closures.viscosity": [
@@ -257,7 +257,7 @@ def markdown() -> str:
             pass
     lines = ["# Case-file reference", "",
              "Generated from the schemas in `twofluid.casefile` (`python -m twofluid.casefile.schema "
-             "> docs/case-file.md`). All values in SI units. Unknown sections or keys are errors.",
+             "> docs/case-file.md`). Values are in SI units except where the unit column says otherwise (degrees, per cent, g). Unknown sections or keys are errors.",
              "`[case] model` chooses the equation set; each model lists its sections below.", ""]
     seen: set[str] = set()
     for model, schema in SCHEMAS.items():

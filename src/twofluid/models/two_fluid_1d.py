@@ -335,10 +335,11 @@ class TwoFluid1D:
                 S.add_rhs("W", np.array([node[v]]), np.array([sign * coef[v] * b.pressure]))
 
     def begin_iteration(self, it: int, k: State) -> None:
-        """Picard hook: fix the upwind side of every vertex after the first iteration.
+        """Picard hook: fix the upwind side of every vertex after the second iteration.
 
-        Deciding it from iterate 1 and keeping it for the rest of the step stops a
-        flux that is nearly zero from flipping the upwind side at every iteration.
+        Deciding it from the iterates of iterations 1 and 2 (``it <= 2``) and keeping
+        it for the rest of the step stops a flux that is nearly zero from flipping
+        the upwind side at every iteration.
         """
         if it <= 2:
             node = self.vert_node
