@@ -66,8 +66,12 @@ def _cmd_sensitivity(args) -> int:
 
 
 def _cmd_element_test(args) -> int:
-    from .models.element_test import run_element_test
+    from .models.element_test import check_options, run_element_test
 
+    check_options({"--csr": args.csr, "--gamma": args.gamma, "--sigma-v0": args.sigma_v0, "--dr": args.dr,
+                   "--porosity": args.porosity, "--A": args.A, "--k2max": args.k2max,
+                   "--gamma-ref": args.gamma_ref, "--max-cycles": args.max_cycles,
+                   "--steps-per-cycle": args.steps_per_cycle})
     res = run_element_test(csr=args.csr, gamma_amplitude=args.gamma, sigma_v0=args.sigma_v0 * 1e3,
                            dr=args.dr, porosity=args.porosity, A=args.A, k2max=args.k2max,
                            gamma_ref=args.gamma_ref, drained=args.drained, law=args.law,
@@ -133,8 +137,10 @@ def parser() -> argparse.ArgumentParser:
     et.add_argument("--gamma-ref", type=float, help="reference strain of G/G_max [-] (default 1e-3)")
     et.add_argument("--law", default="byrne", choices=("byrne", "ann"), help="reference-porosity law")
     et.add_argument("--drained", action="store_true", help="drained test (P_s held, n follows n-bar)")
-    et.add_argument("--max-cycles", type=float, default=50.0, help="length of the test [cycles]")
-    et.add_argument("--steps-per-cycle", type=int, default=100)
+    et.add_argument("--max-cycles", type=float, default=50.0, help="length of the test [cycles] "
+                    "(default 50; the test stops earlier once liquefied)")
+    et.add_argument("--steps-per-cycle", type=int, default=100, help="time steps per loading cycle "
+                    "(default 100)")
     et.add_argument("--out", help="folder for element_test.csv, summary.json and element_test.png")
     et.set_defaults(func=_cmd_element_test)
     return p

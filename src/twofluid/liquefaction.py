@@ -16,20 +16,25 @@
   failed, with ``stopped_at_s``);
 - ``ru_histories.png``, ``ru_map.png``, ``settlement.png``.
 
-CSV rows are flushed as they are written, so Ctrl-C or a failed step leaves
-readable files, and ``summary.json`` is written whatever the outcome.
+Inputs are checked before the folder is created: the case (again, if it is a dictionary
+that may have been edited since loading) with the record and the ANN weights it names, read
+and validated (:mod:`twofluid.casefile.schema_liquefaction`); a bad one is a CaseError and
+nothing is written. Once running, CSV rows are flushed as they are written, so Ctrl-C or a
+failed step (including a non-finite shear step) leaves readable files, and ``summary.json``
+is written whatever the outcome.
 """
 from __future__ import annotations
 
 import csv
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
+from .casefile import schema_liquefaction
 from .casefile.loader import load_case
-from .casefile.schema import CaseError
+from .casefile.schema import CaseError, validate
 from .closures import drag as drag_laws
 from .closures.registry import get
 from .io import ground_motion as gm
@@ -57,69 +62,77 @@ class Built:
     dt_after: float
 
 
-def _record_path(case: dict) -> Path:
-    name = case["ground_motion"]["file"]
-    source = case.get("_source", "")
-    candidates = [Path(name)]
-    if source and not source.endswith("(bundled)"):
-        candidates.insert(0, Path(source).parent / name)
-    for p in candidates:
-        if p.is_file():
-            return p
-    try:
-        return gm.bundled_record(name)
-    except FileNotFoundError as exc:
-        raise CaseError(source or "<case>", "[ground_motion] file", f"{name!r} is neither a file nor "
-                        f"a bundled record ({exc})") from None
+def _source(case: dict) -> str:
+    return case.get("_source", "") or "<case>"
 
 
 def load_motion(case: dict) -> gm.GroundMotion | None:
-    """The base record of the case in m/s², baseline-corrected, cut and scaled (None if pga_g = 0)."""
-    g = case["ground_motion"]
-    if g["pga_g"] == 0.0:
-        return None
-    path = _record_path(case)
-    try:
-        m = gm.load(path, units=g["units"] if path.suffix.lower() != ".at2" else None)
-    except gm.GroundMotionError as exc:
-        raise CaseError(case.get("_source", "<case>"), "[ground_motion] file", str(exc)) from None
-    if g["duration"] > 0.0:
-        keep = m.time <= g["duration"] + 1e-12
-        m = gm.GroundMotion(m.time[keep], m.acceleration[keep], m.name, m.source, m.dt)
-    if g["baseline_order"] > 0:
-        m = gm.baseline_correct(m, g["baseline_order"])
-    return gm.scale_to_pga(m, g["pga_g"])
+    """The base record of the case in m/s², cut, baseline-corrected and scaled (None if pga_g = 0).
+
+    A record path is relative to the case file; problems are CaseErrors naming file and key.
+    """
+    return schema_liquefaction.load_motion(case, _source(case))
 
 
-def build_column(case: dict) -> Built:
-    """Column, geostatic initial state and stepping of a resolved ``liquefaction_1d`` case."""
-    d, ma, sa, sw = case["deposit"], case["materials"], case["sand"], case["shear_wave"]
-    mesh = uniform_line(d["depth"], d["elements"])
-    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
-                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
-    dr = case["closures.drag"]
+def validated(case: dict) -> dict:
+    """``case`` (a resolved dict, possibly edited since loading) checked again through the schema,
+    including the files it names; CaseError otherwise. Nothing is written."""
+    source = _source(case)
+    doc = {k: v for k, v in case.items() if not k.startswith("_")}
+    out = validate(doc, source)
+    if "_source" in case:
+        out["_source"] = case["_source"]
+    return out
+
+
+def _closures(case: dict, mat: Materials) -> Closures:
+    """Drag, granular pressure and viscosity of the column, with the drag law's |slip| saturated
+    as in the 1D and 2D models (``[closures.drag] slip_saturation``)."""
+    dr, sa = case["closures.drag"], case["sand"]
     params = {"stokes": dr["stokes"]}
     if dr["law"] == "gidaspow":
         params.update(n_switch=dr["n_switch"], blend_width=dr["blend_width"])
     clo = Closures(drag=get("drag", dr["law"]).func, drag_params=params, A=sa["compressibility"],
                    p_ref=sa["p_ref"], viscous=case["closures.viscosity"]["law"] != "none")
+    return replace(clo, slip_max=drag_laws.slip_limit(clo.drag, dr["slip_saturation"], mat.d, mat.rho_s,
+                                                       mat.rho_f, mat.mu_f, mat.g, **clo.drag_params))
+
+
+def build_column(case: dict) -> Built:
+    """Column, geostatic initial state and stepping of a resolved ``liquefaction_1d`` case.
+
+    Reads the record and the ANN weights (CaseError if they cannot be used); writes nothing.
+    """
+    d, ma, sa, sw = case["deposit"], case["materials"], case["sand"], case["shear_wave"]
+    source = _source(case)
+    mesh = uniform_line(d["depth"], d["elements"])
+    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
+                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
+    clo = _closures(case, mat)
     tm = case["time"]
     settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
                               dt_min=min(1e-7, tm["step"] * 1e-4))
     vertical = VerticalColumn(mesh, mat, clo, Boundary("wall"),
                               Boundary("outlet", pressure=d["surface_pressure"]),
                               surcharge=d["surcharge"])
-    law_params = {"weights": sa["ann_weights"]} if sa["ann_weights"] else {}
+    weights = schema_liquefaction.load_ann_weights(case, source)  # parsed once, not per sub-step
+    law_params = {"weights": weights} if weights is not None else {}
     sand = Sand(k2max=sa["k2max"], gamma_ref=sa["gamma_ref"], dr=sa["relative_density"],
                 law=sa["reference_porosity_law"], law_params=law_params,
                 gamma_law_max=sa["gamma_law_max"])
-    motion = load_motion(case)
+    motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
     column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,
                                 shear_step=sw["step"], damping_ratio=sw["damping_ratio"],
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
                                 free_vibration=sw["free_vibration"], settings=settings)
     state = column.initial_state(d["porosity"], d["initial_excess_ratio"])
+    nb = state.vertical.n_bar
+    if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
+            and np.all(np.isfinite(column.sigma_v0)) and np.all(column.sigma_v0 > 0.0)):
+        raise CaseError(source, "[sand] compressibility", f"{sa['compressibility']:g} with p_ref = "
+                        f"{sa['p_ref']:g} Pa gives an initial reference porosity outside (0, 1) "
+                        f"({nb.min():.4g} .. {nb.max():.4g}); lower A or p_ref")
     return Built(column, state, motion, tm["end"], tm["step"], case["reconsolidation"]["step"])
 
 
@@ -204,13 +217,12 @@ def run_liquefaction(case, out_dir=None, progress: bool = False):
     """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path)."""
     from .simulation import RunResult, run_guard
 
-    if not isinstance(case, dict):
-        case = load_case(case)
+    case = load_case(case) if not isinstance(case, dict) else validated(case)
+    b = build_column(case)  # reads the record and weights: a bad one stops here, nothing written
     name = case["case"]["name"]
     out = Path(out_dir or f"twofluid-out/{name}")
     out.mkdir(parents=True, exist_ok=True)
     write_resolved_case(out / "case.resolved.toml", case)
-    b = build_column(case)
     col, state = b.column, b.state
     mesh = col.v.mesh
     H = float(mesh.y[-1])

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import postprocess as pp
 from .casefile.loader import load_case
-from .casefile.schema import CaseError
+from .casefile.schema import CaseError, validate
 
 __all__ = ["ALIASES", "parse_change", "key_figure", "sensitivity_study", "Sensitivity"]
 
@@ -46,8 +46,69 @@ def parse_change(param: str, by: str) -> tuple[str, str, float]:
     if not section:
         raise CaseError("<sensitivity>", param, "give a parameter as section.key, e.g. materials.particle_diameter")
     b = by.strip()
-    frac = float(b[:-1]) / 100.0 if b.endswith("%") else float(b)
+    try:
+        frac = float(b[:-1]) / 100.0 if b.endswith("%") else float(b)
+    except ValueError:
+        frac = float("nan")
+    if not (np.isfinite(frac) and frac > -1.0):
+        raise CaseError("<sensitivity>", "--by", f"{by!r} is not a valid change; valid: a number > -1 or "
+                        "a percentage > -100 %, e.g. 10% or -0.05")
     return section, key, frac
+
+
+def _figure_time(figure: str, case: dict, source: str) -> None:
+    """Check ``figure`` before any run (CaseError naming --figure and what is valid)."""
+    model = case["case"]["model"]
+    if model not in ("two_fluid_1d", "reduced_1d"):
+        raise CaseError(source, "[case] model", f"{model!r}: sensitivity studies run the 1D column models; "
+                        "valid: 'two_fluid_1d', 'reduced_1d'")
+    if figure == "t1":
+        if case["case"]["study"] != "step_change":
+            raise CaseError(source, "--figure", "t1 needs a case with [case] study = \"step_change\"; "
+                            "use porosity_error@T for this one")
+        return
+    if figure.startswith("porosity_error@"):
+        try:
+            T = float(figure.split("@", 1)[1])
+        except ValueError:
+            T = float("nan")
+        end = case["time"]["end"]
+        if not 0.0 < T <= end:
+            raise CaseError(source, "--figure", f"{figure!r}: the time must be a number in (0, {end:g}] s "
+                            "(the case's end time)")
+        return
+    raise CaseError(source, "--figure", f"unknown key figure {figure!r}; valid: t1 or porosity_error@T")
+
+
+def _revalidated(case: dict, source: str, where: str, frac: float) -> dict:
+    """The perturbed case checked again through the schema (ranges and cross-key checks)."""
+    doc = {k: v for k, v in case.items() if not k.startswith("_")}
+    try:
+        out = validate(doc, source)
+    except CaseError as exc:
+        detail = str(exc)[len(f"{exc.source}: {exc.key}: "):]
+        raise CaseError(exc.source, exc.key, f"{detail} (after the change {100 * frac:+g} % of {where})") \
+            from None
+    out["_source"] = case.get("_source", source)
+    return out
+
+
+def _perturbed(case_name: str, section: str, key: str, frac: float) -> tuple[dict, float]:
+    """(the case with [section] key multiplied by 1 + frac and re-validated, base value)."""
+    case = load_case(case_name)
+    source = case.get("_source", case_name)
+    case["output"]["plots"] = False
+    if section not in case or key not in case[section]:
+        raise CaseError(source, f"[{section}] {key}", "no such parameter in this case (--vary)")
+    v0 = case[section][key]
+    if isinstance(v0, bool) or not isinstance(v0, (int, float)):
+        raise CaseError(source, f"[{section}] {key}", f"is not a number ({v0!r}): it cannot be varied")
+    value = v0 * (1.0 + frac)
+    case[section][key] = int(round(value)) if isinstance(v0, int) else value
+    if section == "initial" and key == "porosity" and case["boundary.bottom"]["porosities"]:
+        por = case["boundary.bottom"]["porosities"]
+        case["boundary.bottom"]["porosities"] = [case[section][key]] + list(por[1:])
+    return _revalidated(case, source, f"[{section}] {key} = {v0:g}", frac), v0
 
 
 def key_figure(case: dict, figure: str, base_n: np.ndarray | None = None) -> tuple[float, np.ndarray]:
@@ -101,18 +162,12 @@ def sensitivity_study(case_name: str, changes: list[tuple[str, str, float]], fig
     base["output"]["plots"] = False
     if figure is None:
         figure = "t1" if base["case"]["study"] == "step_change" else f"porosity_error@{base['time']['end']:g}"
+    _figure_time(figure, base, base.get("_source", case_name))
+    # every change checked (known key, a number, perturbed value valid) before anything runs
+    cases = [(section, key, frac, *_perturbed(case_name, section, key, frac)) for section, key, frac in changes]
     f0, n0 = key_figure(base, figure)
     res = Sensitivity(base["case"]["name"], figure, f0)
-    for section, key, frac in changes:
-        case = load_case(case_name)
-        case["output"]["plots"] = False
-        if section not in case or key not in case[section]:
-            raise CaseError(case_name, f"[{section}] {key}", "no such parameter in this case")
-        v0 = case[section][key]
-        case[section][key] = v0 * (1.0 + frac)
-        if section == "initial" and key == "porosity" and case["boundary.bottom"]["porosities"]:
-            por = case["boundary.bottom"]["porosities"]
-            case["boundary.bottom"]["porosities"] = [case[section][key]] + list(por[1:])
+    for section, key, frac, case, v0 in cases:
         f, _ = key_figure(case, figure, n0)
         change = (f - f0) / f0 if figure == "t1" else f
         res.rows.append({"parameter": f"{section}.{key}", "base_value": v0, "value": case[section][key],

@@ -122,10 +122,20 @@ def test_fine_sand_liquefies_first_at_intermediate_depth(bundled_runs):
 
 
 def test_reconsolidation_after_shaking(bundled_runs):
-    """SPEC 6.5: base pore pressure peaks shortly after the shaking, then dissipates."""
+    """SPEC 6.5: the base pore pressure of the fine sand peaks shortly after the shaking, then
+    dissipates; the deposit keeps settling after the shaking.
+
+    Measured (docs/liquefaction.md): fine sand, base peak at 6.08 s for shaking that ends at
+    6.0 s; the medium sand (elcentro) drains fast and peaks *during* the shaking (5.38 s), so
+    only the dissipation and the settlement are asserted for it.
+    """
+    r = bundled_runs["fine"]
+    t_peak = r.summary["base_excess_pore_pressure"]["time_of_peak_s"]
+    end = r.summary["shaking"]["end_s"]
+    assert end <= t_peak <= end + 0.5
     for name in ("fine", "elcentro"):
         r = bundled_runs[name]
-        t, pb = r.history["t"], r.history["base_excess_pore_pressure_Pa"]
+        pb = r.history["base_excess_pore_pressure_Pa"]
         assert pb[-1] < 0.5 * pb.max(), name
         s = r.summary
         assert s["settlement_end_m"] > s["settlement_end_of_shaking_m"] > 0.0, name
@@ -209,3 +219,4 @@ def test_missing_record_is_a_case_error(tmp_path):
     c["ground_motion"]["file"] = "no-such-record.AT2"
     with pytest.raises(CaseError, match=r"\[ground_motion\] file"):
         run_liquefaction(c, tmp_path / "x")
+    assert not (tmp_path / "x").exists()  # checked before the output folder is made

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_banded
 
-from twofluid.models.shear_column import ShearColumn, rayleigh_coefficients
+from twofluid.models.shear_column import NewmarkFailure, ShearColumn, rayleigh_coefficients
 
 H, NE, RHO, G = 10.0, 40, 2000.0, 50e6
 
@@ -116,3 +116,19 @@ def test_softening_backbone_and_negligible_shear_when_g_is_zero():
     for k in range(1, 11):
         s0 = col0.step(s0, 0.01, 1.0, np.zeros(NE))
     assert s0.u[-1] == pytest.approx(-0.5 * 1.0 * 0.1**2, rel=1e-12)
+
+
+@pytest.mark.parametrize("what", ["g_max", "a_g", "rho"])
+def test_non_finite_input_is_a_newmark_failure_not_a_solver_error(what):
+    """A NaN modulus, base acceleration or density ends the step with NewmarkFailure (which the
+    column turns into a failed step), not with solve_banded's ValueError."""
+    col = ShearColumn(np.linspace(0.0, 10.0, 11), rho=np.full(10, 2000.0))
+    g_max, a_g = np.full(10, 50e6), 1.0
+    if what == "g_max":
+        g_max[3] = np.nan
+    elif what == "a_g":
+        a_g = np.inf
+    else:
+        col.rho[0] = np.nan
+    with pytest.raises(NewmarkFailure, match="non-finite"):
+        col.step(col.rest(), 0.01, a_g, g_max)

@@ -70,3 +70,36 @@ def test_cli_sensitivity_and_unknown_parameter(tmp_path, capsys):
     path.write_text(CASE.replace("end = 75.0", "end = 10.0"))
     assert main(["sensitivity", str(path), "--vary", "materials.nonsense", "--by", "10%"]) == 2
     assert "no such parameter" in capsys.readouterr().err
+
+
+@pytest.fixture
+def no_runs(monkeypatch):
+    """Fail the test if any run starts: the inputs must be rejected before."""
+    import twofluid.sensitivity as sens
+
+    def boom(*a, **k):
+        raise AssertionError("a run started before the inputs were checked")
+
+    monkeypatch.setattr(sens, "key_figure", boom)
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--vary", "materials.particle_diameter", "--by", "abc"], ["--by", "'abc'", "10%"]),
+    (["--vary", "materials.particle_diameter", "--by=-100%"], ["--by", "> -100 %"]),
+    (["--vary", "materials.particle_diameter", "materials.nonsense", "--by", "10%"],
+     ["case.toml", "[materials] nonsense", "no such parameter"]),
+    (["--vary", "case.name"], ["[case] name", "not a number"]),
+    (["--vary", "initial.porosity", "--by", "50%"],
+     ["case.toml", "[initial] porosity", "1.2", "outside the valid range (0, 1]", "+50 %"]),
+    (["--vary", "closures.drag.n_switch", "--by", "100%"], ["[closures.drag] n_switch", "[0, 1]"]),
+    (["--vary", "materials.particle_diameter", "--figure", "porosity_error@abc"], ["--figure", "(0, 75]"]),
+    (["--vary", "materials.particle_diameter", "--figure", "height"], ["--figure", "unknown key figure"]),
+])
+def test_bad_sensitivity_input_is_exit_2_before_any_run(tmp_path, capsys, no_runs, args, words):
+    path = tmp_path / "case.toml"
+    path.write_text(CASE)
+    assert main(["sensitivity", str(path), *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    for w in words:
+        assert w in err, err

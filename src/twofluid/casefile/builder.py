@@ -84,13 +84,9 @@ def build(case: dict) -> Built:
     mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
                     d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
     clo = _closures(case)
-    if mat.rho_s > mat.rho_f:  # saturate the drag law's |slip| at 3 terminal velocities (SPEC 5.2a)
-        try:
-            u_t = drag_laws.terminal_velocity(clo.drag, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
-                                              **clo.drag_params)
-            clo = replace(clo, slip_max=3.0 * u_t)
-        except ValueError:  # a law without a dilute limit (Ergun alone): no saturation
-            pass
+    clo = replace(clo, slip_max=drag_laws.slip_limit(
+        clo.drag, case["closures.drag"]["slip_saturation"], mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
+        **clo.drag_params))
     bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
     top, vt = _boundary(case["boundary.top"], clo, mat)
     cls = TwoFluid1D

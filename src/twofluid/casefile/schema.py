@@ -87,6 +87,9 @@ SCHEMA: dict[str, list[Key]] = {
         K("stokes", bool, False, "-", "drop the inertial part of the drag (Stokes limits)"),
         K("n_switch", float, 0.6, "-", "gidaspow: Ergun below, Wen–Yu above", lo=0.0, hi=1.0),
         K("blend_width", float, 0.0, "-", "gidaspow: half-width of a C¹ smoothstep blend across n_switch (0: the sharp switch of the thesis)", lo=0.0),
+        K("slip_saturation", float, 3.0, "-", "the |slip| the law sees saturates smoothly at this multiple of "
+          "the single-particle terminal velocity, which keeps nearly empty elements (1 − n → 0) "
+          "finite and fast to converge; 0 = off (the law as published)", lo=0.0),
     ],
     "closures.solids_pressure": [
         K("law", str, "exponential", "-", "P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]", choices=("exponential",)),

@@ -12,9 +12,13 @@ vertical step while the column shakes.
 """
 from __future__ import annotations
 
+import math
+from pathlib import Path
+
 from .schema import FLOATS, SCHEMA, CaseError, K, register_model
 
-__all__ = ["SECTIONS_LIQUEFACTION", "check_liquefaction"]
+__all__ = ["SECTIONS_LIQUEFACTION", "check_liquefaction", "case_relative_path", "load_motion",
+           "load_ann_weights"]
 
 _DEPOSIT = [
     K("depth", float, 10.0, "m", "deposit thickness H (base to surface)", lo=0.0, lo_open=True, hi=1000.0),
@@ -37,7 +41,8 @@ _SAND = [
       lo=0.0, lo_open=True, hi=1.0),
     K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (SPEC 4.5)",
       choices=("byrne", "ann")),
-    K("ann_weights", str, "", "-", "ann: weights JSON file ('' = the shipped default, trained on byrne)"),
+    K("ann_weights", str, "", "-", "ann: weights JSON file, a path relative to the case file ('' = the "
+      "shipped default, trained on byrne)"),
     K("gamma_law_max", float, 0.01, "-", "|γ| beyond which the strain path adds no densification "
       "(the range of Byrne's law; strains in a liquefied layer are not bounded by this model)",
       lo=0.0, lo_open=True, hi=1.0),
@@ -123,6 +128,117 @@ def check_liquefaction(case: dict, source: str) -> None:
     for tt in out["times"]:
         if not 0.0 <= tt <= t["end"]:
             raise CaseError(source, "[output] times", f"{tt:g} lies outside [0, {t['end']:g}] s")
+    _check_physics(case, source)
+    # the files the case names, read and checked now: a bad one must not start a run
+    load_ann_weights(case, source)
+    load_motion(case, source)
+
+
+def _check_physics(case: dict, source: str) -> None:
+    """Inputs each valid alone whose combination has no deposit at rest to start from."""
+    ma, d, sa = case["materials"], case["deposit"], case["sand"]
+    if not ma["gravity"] > 0.0:
+        raise CaseError(source, "[materials] gravity", f"{ma['gravity']:g} is outside the valid range "
+                        "(0, inf) [m/s²]: the deposit's weight drives the model")
+    if not ma["particle_density"] > ma["liquid_density"]:
+        raise CaseError(source, "[materials] particle_density", f"{ma['particle_density']:g} must exceed "
+                        f"[materials] liquid_density = {ma['liquid_density']:g} kg/m³ (grains without "
+                        "buoyant weight carry no effective stress)")
+    # initial reference porosity n̄0 = 1 − (1 − n)(1 − A ln(σ′/p_ref)) must lie in (0, 1) over the
+    # range of σ′_v0 (1 − r_u0): top element centre .. base (bounds of the discrete values)
+    n, A, p_ref = d["porosity"], sa["compressibility"], sa["p_ref"]
+    unit = (1.0 - n) * (ma["particle_density"] - ma["liquid_density"]) * ma["gravity"]
+    keep = 1.0 - d["initial_excess_ratio"]
+    hi = keep * (unit * d["depth"] + d["surcharge"])
+    lo = keep * (unit * 0.5 * d["depth"] / d["elements"] + d["surcharge"])
+    if A * math.log(hi / p_ref) >= 1.0:
+        raise CaseError(source, "[sand] compressibility", f"{A:g} gives a reference porosity n̄ >= 1 at the "
+                        f"base (σ′ = {hi:.4g} Pa); valid: A < 1/ln(σ′/p_ref) = {1.0 / math.log(hi / p_ref):.4g}")
+    if (1.0 - n) * (1.0 - A * math.log(lo / p_ref)) >= 1.0:
+        limit = lo * math.exp(n / ((1.0 - n) * A))
+        raise CaseError(source, "[sand] p_ref", f"{p_ref:g} Pa gives a reference porosity n̄ <= 0 at the "
+                        f"top element (σ′ = {lo:.4g} Pa); valid: p_ref < {limit:.4g} Pa")
+
+
+def case_relative_path(case: dict, source: str, name: str) -> Path:
+    """``name`` as given, or relative to the case file's folder (current folder for a bundled
+    case or one built in memory)."""
+    p = Path(name)
+    if p.is_absolute() or not source or source.startswith("<") or source.endswith("(bundled)"):
+        return p
+    return Path(source).parent / p
+
+
+def load_ann_weights(case: dict, source: str):
+    """The ``[sand] ann_weights`` network (None: the law's shipped default or not ann)."""
+    name = case["sand"]["ann_weights"]
+    if not name or case["sand"]["reference_porosity_law"] != "ann":
+        return None
+    from ..closures.reference_porosity import AnnWeightsError, load_weights
+
+    path = case_relative_path(case, source, name)
+    try:
+        return load_weights(path)
+    except AnnWeightsError as exc:
+        raise CaseError(source, "[sand] ann_weights", f"{exc} (valid: a twofluid-ann-1 JSON file; a "
+                        "relative path is taken from the case file's folder)") from None
+
+
+def _record_path(case: dict, source: str) -> Path:
+    from ..io import ground_motion as gm
+
+    name = case["ground_motion"]["file"]
+    path = case_relative_path(case, source, name)
+    if path.is_file():
+        return path
+    try:
+        return gm.bundled_record(name)
+    except FileNotFoundError as exc:
+        raise CaseError(source, "[ground_motion] file", f"{name!r} is neither a file ({path}) nor a "
+                        f"bundled record ({exc})") from None
+
+
+def load_motion(case: dict, source: str):
+    """The base record in m/s²: read, cut to ``duration``, baseline-corrected, scaled to
+    ``pga_g``; None if ``pga_g = 0``. Every problem is a CaseError naming the file and key."""
+    from ..io import ground_motion as gm
+
+    g = case["ground_motion"]
+    if g["pga_g"] == 0.0:
+        return None
+    path = _record_path(case, source)
+    key = "[ground_motion] file"
+    try:
+        m = gm.load(path, units=g["units"] if path.suffix.lower() != ".at2" else None)
+    except gm.GroundMotionError as exc:
+        raise CaseError(source, key, str(exc)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CaseError(source, key, f"{path}: cannot be read ({exc})") from None
+    if g["duration"] > 0.0:
+        keep = m.time <= g["duration"] + 1e-12
+        if int(keep.sum()) < 2:
+            raise CaseError(source, "[ground_motion] duration", f"{g['duration']:g} s keeps "
+                            f"{int(keep.sum())} sample(s) of {path.name} (its first samples are at "
+                            f"{', '.join(f'{x:g}' for x in m.time[:2])} s); valid: a duration that keeps "
+                            "at least 2 samples, or -1 for the whole record")
+        m = gm.GroundMotion(m.time[keep], m.acceleration[keep], m.name, m.source, m.dt)
+    elif m.npts < 2:
+        raise CaseError(source, key, f"{path.name}: has {m.npts} sample(s); a record needs at least 2")
+    order = g["baseline_order"]
+    if m.npts < order + 1:
+        raise CaseError(source, "[ground_motion] baseline_order", f"{order} needs at least {order + 1} "
+                        f"samples, the record has {m.npts}; valid: 0 .. {m.npts - 1}")
+    raw = m.pga
+    if order > 0:
+        m = gm.baseline_correct(m, order)
+    if not raw > 0.0 or not m.pga > 1e-9 * raw:
+        what = ("all zero" if not raw > 0.0 else
+                f"zero once the velocity baseline of order {order} is removed")
+        cut = f" (first {g['duration']:g} s)" if g["duration"] > 0.0 else ""
+        raise CaseError(source, key, f"{path.name}{cut} is {what}: it cannot be scaled to pga_g = "
+                        f"{g['pga_g']:g}; valid: a record with non-zero acceleration, or pga_g = 0 "
+                        "for no shaking")
+    return gm.scale_to_pga(m, g["pga_g"])
 
 
 register_model("liquefaction_1d", SECTIONS_LIQUEFACTION, check_liquefaction)

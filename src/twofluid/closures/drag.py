@@ -183,6 +183,25 @@ def terminal_velocity(law, d, rho_s, rho_f, mu_f, g=G, **params):
     return _velocity_root(residual, "terminal velocity")
 
 
+def slip_limit(law, factor, d, rho_s, rho_f, mu_f, g=G, **params) -> float:
+    """``factor`` × the terminal velocity of ``law`` [m/s]: the ``slip_max`` of :func:`saturated_slip`.
+
+    Infinite (no saturation) when ``factor`` is 0, when the particles do not
+    sink, or when the law has no dilute limit (Ergun alone).
+
+    >>> slip_limit(ergun, 3.0, 1e-3, 2600., 1000., 1e-3, stokes=True)
+    inf
+    >>> round(slip_limit(wen_yu, 3.0, 1e-4, 2600., 1000., 1e-3, stokes=True) / (1600*9.81*1e-8/18e-3), 9)
+    3.0
+    """
+    if factor <= 0.0 or rho_s <= rho_f:
+        return np.inf
+    try:
+        return factor * terminal_velocity(law, d, rho_s, rho_f, mu_f, g, **params)
+    except ValueError:
+        return np.inf
+
+
 def saturated_slip(slip_abs, slip_max, p=4):
     """|slip| passed to a drag law, saturating smoothly at ``slip_max`` [m/s].
 

@@ -162,7 +162,10 @@ def ann(dgamma: ArrayLike, gamma: ArrayLike, n_bar: ArrayLike, state: ShearState
     rise and an unsheared element keeps its n̄ (see :class:`AnnWeights`).
 
     ``weights``: an :class:`AnnWeights`, a path to a JSON file, or None for the
-    shipped ``data/ann/default_weights.json`` (trained on :func:`byrne`).
+    shipped ``data/ann/default_weights.json`` (trained on :func:`byrne`). A path is
+    read and validated once, then reused while the file is unchanged (the law is
+    called at every shear sub-step); callers in a loop may also pass the parsed
+    :class:`AnnWeights` (:func:`load_weights`).
 
     >>> s = ShearState.zeros(1)
     >>> nb, s = ann([1e-4], [1e-4], [0.5], s)
@@ -171,7 +174,7 @@ def ann(dgamma: ArrayLike, gamma: ArrayLike, n_bar: ArrayLike, state: ShearState
 
     Reference: Pringle (2001), McMaster University, sec. 3.3.3 and appendix 3.1.
     """
-    w = weights if isinstance(weights, AnnWeights) else load_weights(weights)
+    w = weights if isinstance(weights, AnnWeights) else _cached_weights(weights)
     step, gamma, peak, direction, path = _kinematics(dgamma, gamma, state)
     n_bar = np.asarray(n_bar, dtype=float)
     n_bar_new = w.predict(path, step, n_bar)
@@ -289,10 +292,33 @@ def load_weights(path: str | Path | None = None) -> AnnWeights:
         return _default_weights()
     path = Path(path)
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(path.read_text(encoding="utf-8"))
     except json.JSONDecodeError as err:
         raise AnnWeightsError(f"{path}: not valid JSON (line {err.lineno}: {err.msg})") from None
+    except UnicodeDecodeError:
+        raise AnnWeightsError(f"{path}: not UTF-8 text (a weights file is JSON)") from None
+    except FileNotFoundError:
+        raise AnnWeightsError(f"{path}: no such file") from None
+    except OSError as err:
+        raise AnnWeightsError(f"{path}: cannot be read ({err.strerror or err})") from None
     return weights_from_dict(data, str(path))
+
+
+def _cached_weights(path: str | Path | None) -> AnnWeights:
+    """:func:`load_weights`, parsed once per file version (path, mtime, size)."""
+    if path is None:
+        return _default_weights()
+    p = Path(path)
+    try:
+        st = p.stat()
+    except OSError:
+        return load_weights(p)  # raises the AnnWeightsError naming the file
+    return _weights_version(str(p.resolve()), st.st_mtime_ns, st.st_size)
+
+
+@lru_cache(maxsize=8)
+def _weights_version(path: str, mtime_ns: int, size: int) -> AnnWeights:
+    return load_weights(path)
 
 
 @lru_cache(maxsize=1)

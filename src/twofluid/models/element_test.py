@@ -38,7 +38,7 @@ from ..closures.shear_modulus import hyperbolic, seed_idriss_gmax, strain_from_s
 from ..closures.solids_pressure import exponential, reference_porosity_for
 
 __all__ = ["LooseSand", "DEFAULT_SAND", "ElementTestResult", "cyclic_simple_shear",
-           "run_element_test"]
+           "run_element_test", "OPTION_RANGES", "check_options"]
 
 
 @dataclass(frozen=True)
@@ -225,6 +225,54 @@ def cyclic_simple_shear(*, csr=None, gamma_amplitude=None, sigma_v0=100e3,
                 "sand": asdict(sand)}
     return ElementTestResult(hist[0], hist[1], hist[2], hist[3], hist[4], hist[5],
                              1.0 - hist[3] / sig0, liq_at, settings)
+
+
+#: Valid ranges of the ``twofluid element-test`` options: (low, high, low open, high open, unit).
+#: The material ranges are those of the ``liquefaction_1d`` case keys ([deposit] porosity, [sand] …).
+OPTION_RANGES = {
+    "--csr": (0.0, 1.0, True, False, "-"),
+    "--gamma": (0.0, 0.1, True, False, "-"),
+    "--sigma-v0": (1e-3, 1e5, True, False, "kPa"),  # above p_ref = 1 Pa, up to 100 MPa
+    "--dr": (0.0, 100.0, True, False, "%"),
+    "--porosity": (0.2, 0.7, False, False, "-"),
+    "--A": (0.0, 1.0, True, False, "-"),
+    "--k2max": (0.0, 200.0, True, False, "-"),
+    "--gamma-ref": (0.0, 1.0, True, False, "-"),
+    "--max-cycles": (0.0, 1000.0, True, False, "cycles"),
+    "--steps-per-cycle": (4, 1000, False, False, "-"),
+}
+
+
+def check_options(values: dict, source: str = "element-test") -> None:
+    """Range-check element-test options {"--csr": 0.1, ...} (None = default, not checked).
+
+    Raises :class:`~twofluid.casefile.schema.CaseError` naming the option and its valid range.
+
+    >>> check_options({"--porosity": 0.44, "--csr": None})
+    >>> check_options({"--porosity": 1.5})
+    Traceback (most recent call last):
+    ...
+    twofluid.casefile.schema.CaseError: element-test: --porosity: 1.5 is outside the valid range [0.2, 0.7] [-]
+    """
+    from ..casefile.schema import CaseError
+
+    for opt, value in values.items():
+        if value is None:
+            continue
+        lo, hi, lo_open, hi_open, unit = OPTION_RANGES[opt]
+        ok = (lo < value if lo_open else lo <= value) and (value < hi if hi_open else value <= hi)
+        if not ok:  # also NaN
+            rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
+            raise CaseError(source, opt, f"{value:g} is outside the valid range {rng} [{unit}]")
+    # the initial state must exist: n̄0 = 1 − (1 − n)(1 − A ln(σ′_v0/p_ref)) < 1 (> 0 holds, as
+    # σ′_v0 > p_ref)
+    sig = values.get("--sigma-v0")
+    sig = 100e3 if sig is None else 1e3 * sig
+    A = values.get("--A") if values.get("--A") is not None else DEFAULT_SAND.A
+    if A * np.log(sig / DEFAULT_SAND.p_ref) >= 1.0:
+        raise CaseError(source, "--A", f"{A:g} gives a reference porosity n̄ >= 1 at sigma'_v0 = "
+                        f"{sig / 1e3:g} kPa; valid: A < 1/ln(sigma'_v0/p_ref) = "
+                        f"{1.0 / np.log(sig / DEFAULT_SAND.p_ref):.4g}")
 
 
 def run_element_test(*, csr: float | None = None, gamma_amplitude: float | None = None,

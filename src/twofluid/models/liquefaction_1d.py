@@ -265,6 +265,8 @@ class LiquefactionColumn:
         return w, n_bar, hist, m
 
     def _wave_step(self, w, h, a_g, g_max, depth=0):
+        if not (np.all(np.isfinite(g_max)) and np.isfinite(a_g)):  # halving cannot help
+            return self.wave.step(w, h, a_g, g_max)  # raises NewmarkFailure naming the value
         try:
             return self.wave.step(w, h, a_g, g_max)
         except NewmarkFailure:
@@ -283,6 +285,9 @@ class LiquefactionColumn:
                 wave, n_bar, hist, m = self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(s.t, dt, str(exc), s) from None
+            if not (np.all(np.isfinite(n_bar)) and np.all(np.isfinite(wave.u))):
+                raise StepFailure(s.t, dt, "shear sub-steps gave a non-finite reference porosity or "
+                                  "displacement", s)
         vert = s.vertical.copy(n_bar=n_bar)
         its, inflow = 0, 0.0
         for st in integrate(self.v, vert, t_new, dt, settings=self.settings):

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.linalg import solve_banded
+from scipy.linalg import LinAlgError, solve_banded
 
 __all__ = ["WaveState", "ShearColumn", "rayleigh_coefficients", "NewmarkFailure"]
 
@@ -171,9 +171,17 @@ class ShearColumn:
         """Advance by ``dt`` [s] with base acceleration ``a_g`` [m/s²] at the end of the step.
 
         ``g_max`` (ne,) is the small-strain modulus per element [Pa] during the step.
-        Raises :class:`NewmarkFailure` if Newton does not converge.
+        Raises :class:`NewmarkFailure` if Newton does not converge or meets a
+        non-finite value (inputs, iterates or the tridiagonal solve).
         """
         g_max = np.broadcast_to(np.asarray(g_max, dtype=float), self.h.shape)
+        t_new = s.t + dt
+        for what, x in (("G_max", g_max), ("mixture density", self.rho), ("viscosity", self.eta),
+                        ("base acceleration", a_g), ("state", s.u), ("state", s.v), ("state", s.a)):
+            if not np.all(np.isfinite(x)):
+                raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: non-finite {what}")
+        if np.any(g_max < 0.0) or np.any(self.rho <= 0.0):
+            raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: negative G_max or density <= 0")
         md, mo = self._mass_bands()
         _, gt0 = self.backbone(s.gamma)
         cd, co = self._bar_bands((self.eta + self.a1 * g_max * gt0) / self.h)
@@ -199,12 +207,17 @@ class ShearColumn:
             ab[0, 1:] = jo[1:]
             ab[1] = jd[1:]
             ab[2, :-1] = jo[1:]
-            du = solve_banded((1, 1), ab, -res[1:])
+            try:
+                du = solve_banded((1, 1), ab, -res[1:])
+            except (ValueError, LinAlgError) as exc:  # non-finite or singular system
+                raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: {exc}") from None
+            if not np.all(np.isfinite(du)):
+                raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: Newton update is not finite")
             u[1:] += du
             if np.max(np.abs(du)) <= self.tol * max(np.max(np.abs(u)), 1e-9):
                 break
         else:
-            raise NewmarkFailure(f"shear step at t = {s.t + dt:.6g} s: Newton did not converge "
+            raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: Newton did not converge "
                                  f"in {self.max_iter} iterations")
         acc = c0 * (u - s.u) - pa
         vel = s.v + dt * ((1.0 - GAMMA) * s.a + GAMMA * acc)
