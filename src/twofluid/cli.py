@@ -56,8 +56,13 @@ def _cmd_verify(args) -> int:
 def _cmd_sensitivity(args) -> int:
     from .sensitivity import parse_change, sensitivity_study
 
-    changes = [parse_change(v, b) for v, b in zip(args.vary, args.by or [])] if args.by \
-        and len(args.by) == len(args.vary) else [parse_change(v, (args.by or ["10%"])[0]) for v in args.vary]
+    from .casefile.schema import CaseError
+
+    by = args.by or ["10%"]
+    if len(by) not in (1, len(args.vary)):
+        raise CaseError("command line", "--by", f"give one change for all parameters or one per --vary "
+                        f"parameter ({len(args.vary)}), not {len(by)}")
+    changes = [parse_change(v, b) for v, b in zip(args.vary, by * len(args.vary) if len(by) == 1 else by)]
     res = sensitivity_study(args.case, changes, figure=args.figure, csv_path=args.csv)
     print(res.markdown())
     if args.csv:
@@ -120,7 +125,8 @@ def parser() -> argparse.ArgumentParser:
     se.add_argument("case", help="bundled case name or TOML file")
     se.add_argument("--vary", nargs="+", required=True,
                     help="parameters as section.key, e.g. materials.particle_diameter (short: particle.diameter)")
-    se.add_argument("--by", nargs="+", help="relative change per parameter (one for all), e.g. 10%% or -0.05")
+    se.add_argument("--by", nargs="+", help="relative change per parameter (one for all), e.g. 10%% or 0.05; "
+                    "write a negative change as --by=-5%%")
     se.add_argument("--figure", help="key figure: t1 (step_change) or porosity_error@T (default from the study)")
     se.add_argument("--csv", help="also write the table as CSV")
     se.set_defaults(func=_cmd_sensitivity)

@@ -103,3 +103,12 @@ def test_bad_sensitivity_input_is_exit_2_before_any_run(tmp_path, capsys, no_run
     assert len(err.splitlines()) == 1 and "Traceback" not in err
     for w in words:
         assert w in err, err
+
+
+def test_cli_rejects_a_count_of_changes_that_fits_no_parameter_list(capsys):
+    from twofluid.cli import main
+
+    assert main(["sensitivity", "fluidized-bed-step", "--vary", "particle.diameter", "particle.density",
+                 "--by", "10%", "5%", "3%"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--by" in err
