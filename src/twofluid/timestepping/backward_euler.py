@@ -68,8 +68,8 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
     for it in range(1, settings.max_iter + 1):
         if hook:
             hook(it, k)
-        S = model.assemble(k, old, dt, t_new)
-        with np.errstate(all="ignore"):
+        with np.errstate(all="ignore"):  # a trial iterate may leave (0, 1]; checked below
+            S = model.assemble(k, old, dt, t_new)
             a = model.solve(S, t_new) if hasattr(model, "solve") else _solve(model, S, t_new)
         new = model.unpack(a, k, t_new)
         if not np.all(np.isfinite(a)):
