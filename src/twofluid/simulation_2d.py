@@ -17,10 +17,9 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from .casefile.builder import Schedule, _closures
+from .casefile.builder import Schedule, closures, inlet_velocities, materials
 from .casefile.schema import CaseError
 from .casefile.schema_2d import BOUNDARY_NAMES
-from .closures import drag as drag_laws
 from .closures.solids_pressure import reference_porosity_for
 from .io.fields import FieldWriter
 from .io.results import write_json, write_resolved_case
@@ -59,11 +58,13 @@ def _inlet_velocities(case: dict, b: dict) -> list[float]:
     """Inlet schedule values [m/s]: given, or the velocities fluidizing a uniform bed at each porosity."""
     if b["velocities"]:
         return list(b["velocities"])
-    ma, clo = case["materials"], _closures(case)
-    d = ma["sphericity"] * ma["particle_diameter"]
-    return [drag_laws.steady_fluidization_velocity(
-        clo.drag, n, d, ma["particle_density"], ma["liquid_density"], ma["liquid_viscosity"],
-        ma["gravity"], **clo.drag_params) for n in b["porosities"]]
+    mat = materials(case)
+    return list(inlet_velocities(b["porosities"], _model_closures(case), mat))
+
+
+def _model_closures(case: dict):
+    """The case's closures with the drag law's |slip| saturation (as the 1D builder)."""
+    return closures(case, materials(case))
 
 
 @dataclass
@@ -91,7 +92,7 @@ def build_2d(case: dict) -> Built2D:
     ma = case["materials"]
     mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
                     d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
-    clo = _closures(case)
+    clo = _model_closures(case)
     bcs = []
     for name in BOUNDARY_NAMES:
         b = case[f"boundary.{name}"]
@@ -136,6 +137,7 @@ def initial_state(model: TwoFluid2D, case: dict) -> State:
         solid = ps > 0.0
         n_bar[solid] = reference_porosity_for(n[solid], ps[solid], model.clo.A, model.clo.p_ref)
     V, W = np.zeros(model.nv), np.zeros(model.nv)
+    model._node_porosity = model.nodal_porosity(n)  # rotating walls: W_θ = (2n − 1)ωr
     idx, val = model.dirichlet(0.0)
     half = idx.size // 2
     vy = val[:half][idx[:half] // model.nn == 1]

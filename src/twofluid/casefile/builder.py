@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Callable
 
 import numpy as np
 
@@ -50,6 +49,28 @@ class Built:
     inlet_velocities: tuple  # resolved inlet schedule [m/s] (for the summary)
 
 
+def materials(case: dict) -> Materials:
+    """The ``[materials]`` section as :class:`Materials` (SI)."""
+    ma = case["materials"]
+    return Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
+                     d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
+
+
+def closures(case: dict, mat: Materials) -> Closures:
+    """The case's closures, with the drag law's |slip| saturation (``[closures.drag] slip_saturation``)."""
+    clo = _closures(case)
+    return replace(clo, slip_max=drag_laws.slip_limit(
+        clo.drag, case["closures.drag"]["slip_saturation"], mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
+        **clo.drag_params))
+
+
+def inlet_velocities(porosities, clo: Closures, mat: Materials) -> tuple[float, ...]:
+    """Superficial velocities [m/s] that fluidize a uniform bed at each porosity with the model's law."""
+    return tuple(drag_laws.steady_fluidization_velocity(
+        clo.saturated_drag, n, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **clo.drag_params)
+        for n in porosities)
+
+
 def _closures(case: dict) -> Closures:
     d = case["closures.drag"]
     law = get("drag", d["law"]).func
@@ -61,32 +82,23 @@ def _closures(case: dict) -> Closures:
                     viscous=case["closures.viscosity"]["law"] != "none")
 
 
-def _boundary(b: dict, closures: Closures, mat: Materials) -> tuple[Boundary, tuple]:
+def _boundary(b: dict, clo: Closures, mat: Materials) -> tuple[Boundary, tuple]:
     if b["kind"] != "inlet":
         return Boundary(b["kind"], pressure=b["pressure"]), ()
     if b["porosities"]:
-        def law(n, s, *args, **kw):  # the model's law, with its slip saturation
-            return closures.drag(n, drag_laws.saturated_slip(s, closures.slip_max), *args, **kw)
-
-        vel = tuple(drag_laws.steady_fluidization_velocity(
-            law, n, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **closures.drag_params)
-            for n in b["porosities"])
+        vel = inlet_velocities(b["porosities"], clo, mat)
     else:
         vel = tuple(b["velocities"])
     return Boundary("inlet", velocity=Schedule(tuple(b["times"]), vel)), vel
 
 
 def build(case: dict) -> Built:
-    m, ma = case["mesh"], case["materials"]
+    m = case["mesh"]
     area = m["area"] if m["area_top"] == -1.0 else (m["area"], m["area_top"])
     mesh = uniform_line(m["length"], m["elements"], area=area,
                         inclination_rad=np.deg2rad(m["inclination_deg"]))
-    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
-                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
-    clo = _closures(case)
-    clo = replace(clo, slip_max=drag_laws.slip_limit(
-        clo.drag, case["closures.drag"]["slip_saturation"], mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
-        **clo.drag_params))
+    mat = materials(case)
+    clo = closures(case, mat)
     bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
     top, vt = _boundary(case["boundary.top"], clo, mat)
     cls = TwoFluid1D

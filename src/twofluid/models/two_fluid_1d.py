@@ -52,7 +52,7 @@ from ..closures.solids_pressure import exponential
 from ..closures.viscosity import solid_viscosity
 from ..fem import terms_1d as terms
 from ..fem.assembly import BlockSystem
-from ..fem.line import LINE1, LINE2, Lagrange1D, element_values
+from ..fem.line import LINE1, LINE2, element_values
 from ..mesh.line import LineMesh
 
 __all__ = ["Materials", "Closures", "Boundary", "State", "TwoFluid1D", "ELEMENTS"]
@@ -89,9 +89,12 @@ class Closures:
     viscosity_params: dict = field(default_factory=dict)
     slip_max: float = np.inf  # slip at which the drag law's |slip| saturates [m/s] (3 U_t)
 
+    def saturated_drag(self, n, slip, *args, **kw):
+        """The drag law with this run's |slip| saturation (same signature as the laws)."""
+        return self.drag(n, drag_laws.saturated_slip(slip, self.slip_max), *args, **kw)
+
     def beta_per_solids(self, n, slip, mat: Materials):
-        s = drag_laws.saturated_slip(slip, self.slip_max)
-        return self.drag(n, s, mat.d, mat.rho_f, mat.mu_f, per_solids=True, **self.drag_params)
+        return self.saturated_drag(n, slip, mat.d, mat.rho_f, mat.mu_f, per_solids=True, **self.drag_params)
 
 
 @dataclass(frozen=True)
@@ -230,7 +233,7 @@ class TwoFluid1D:
     # -------------------------------------------------------------- assembly
     def assemble(self, k: State, old: State, dt: float, t_new: float):
         """Matrix and right-hand side of one Picard iterate (see module docstring)."""
-        mat, clo, ne = self.mat, self.clo, self.mesh.n_elements
+        mat, clo = self.mat, self.clo
         S = BlockSystem(self.sizes)
         vd, ed, pd = self.vdofs, self.edofs, self.pdofs
         n = k.n

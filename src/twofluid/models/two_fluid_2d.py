@@ -16,8 +16,9 @@ backward Euler (SPEC 3, 5.2):
   ρ_f g − βs/n to the jump), and on a column one element wide with free-slip
   walls the discrete equations are those of ``TwoFluid1D`` on the vertical mesh;
 - continuity (δP): −∫δP ∇·V − C(P, δP) = 0, C the macroelement checkerboard
-  penalty (:func:`~twofluid.fem.terms_2d.checkerboard_penalty`, scale δ/μ_f), which
-  leaves pressures linear on a 2×2 patch alone;
+  penalty (:func:`~twofluid.fem.terms_2d.checkerboard_penalty`), which leaves
+  pressures linear on a 2×2 patch alone, scaled δ/μ_eff with the Brinkman viscosity
+  μ_eff = μ_f + βh²/n² (:meth:`TwoFluid2D._penalty_scale`; δ/μ_f in clear liquid);
 - porosity (δn): 2|e|(n − nᵗ)/Δt − 2 Σ_F r_F Φ_F = 0, Φ_F = ∫_F (V − W)/2 · ν the
   outward Galerkin solids flux of each face and r_F = (1 − n_up)/(1 − n̄_F) its
   upwind ratio (as the 1D vertex flux: solids balance exact per element, an element
@@ -61,8 +62,9 @@ class Boundary2D:
     kind: ``inlet`` (porous distributor: V = W = superficial inflow along the inward
     normal, tangential 0; ``solids_velocity`` > 0 feeds solids: V = j_f + j_s,
     W = j_f − j_s), ``wall`` (no slip), ``slip`` (normal components 0),
-    ``axis`` (r = 0: radial and swirl 0), ``rotating_wall`` (no slip, swirl ω r
-    [rad/s]) or ``outlet`` (liquid pressure ``pressure`` [Pa]; solids may leave).
+    ``axis`` (r = 0: radial and swirl 0), ``rotating_wall`` (no slip for both
+    phases, swirl U_f = U_s = ω r [rad/s]: V_θ = ωr, W_θ = (2n − 1)ωr) or
+    ``outlet`` (liquid pressure ``pressure`` [Pa]; solids may leave).
     """
 
     group: str
@@ -123,18 +125,26 @@ class LaggedSolver:
         self.lu = spla.splu(Aff.tocsc(), permc_spec="COLAMD")
         self.stats["factorisations"] += 1
 
-    def solve(self, A, b: np.ndarray, values: np.ndarray) -> np.ndarray:
-        """Solution with x[fixed] = values."""
+    def solve(self, A, b: np.ndarray, values: np.ndarray, guess: np.ndarray | None = None) -> np.ndarray:
+        """Solution with x[fixed] = values.
+
+        Solved as a correction to ``guess`` (the current iterate): A δ = b − A x_guess,
+        so GMRES's relative tolerance applies to the Newton residual, not to the whole
+        right-hand side (which M/Δt aᵗ dominates at small Δt: a 1e-10 relative solve
+        of it left velocity noise above the Picard tolerance and stalled steps).
+        """
         import scipy.sparse.linalg as spla
 
-        x = np.zeros(self.size)
+        x = np.zeros(self.size) if guess is None else np.array(guess, dtype=float)
         x[self.fixed] = values
         Aff = self._reduce(A)
         r = (b - A @ x)[self.free] * self.scale
         self.stats["solves"] += 1
         if self.kind == "direct" or self.lu is None:
             self._factor(Aff)
-            x[self.free] = self.lu.solve(r)
+            x[self.free] += self.lu.solve(r)
+            return x
+        if not np.any(r):
             return x
         op = spla.LinearOperator(Aff.shape, matvec=lambda v: Aff @ self.lu.solve(v))
         count = [0]
@@ -142,14 +152,14 @@ class LaggedSolver:
         def cb(_):
             count[0] += 1
 
-        z, info = spla.gmres(op, r, x0=r.copy(), rtol=self.rtol, atol=0.0, restart=self.max_inner,
+        z, info = spla.gmres(op, r, rtol=self.rtol, atol=0.0, restart=self.max_inner,
                              maxiter=1, callback=cb, callback_type="pr_norm")
         self.stats["gmres_iterations"] += count[0]
         if info != 0:
             self._factor(Aff)
-            x[self.free] = self.lu.solve(r)
+            x[self.free] += self.lu.solve(r)
             return x
-        x[self.free] = self.lu.solve(z)
+        x[self.free] += self.lu.solve(z)
         return x
 
 
@@ -192,7 +202,7 @@ class TwoFluid2D:
     delta : float
         Checkerboard-penalty parameter [-] (needs ``mesh.patches``; 0 disables it).
     solver : {"lagged", "direct"}
-        Linear solver (see :class:`~twofluid.models.linear_2d.LaggedSolver`).
+        Linear solver (see :class:`LaggedSolver`).
     """
 
     element = "2DQ1"
@@ -200,8 +210,8 @@ class TwoFluid2D:
     freeze_porosity = False
     #: which porosity dependences are Newton-linearised (the rest are Picard, frozen at the iterate)
     newton_n = ("drag", "upwind")
-    #: consistency load of the checkerboard penalty (see _penalty_load)
-    penalty_load = True
+    #: scale the checkerboard penalty by μ_f/μ_eff (Brinkman); False: by μ_f alone
+    brinkman_penalty = True
 
     def __init__(self, mesh: QuadMesh, materials: Materials, closures: Closures,
                  boundaries: list[Boundary2D], swirl: bool = False, delta: float = 0.25,
@@ -251,7 +261,7 @@ class TwoFluid2D:
         self.fe = f.elements
         v = self.vol[self.fe]
         self.fth = v / v.sum(axis=1, keepdims=True)  # weights of n̄_F
-        self._centres = mesh.points[mesh.cells].mean(axis=1)
+        self._h2 = mesh.element_size() ** 2
         self.patch = None
         if self.delta > 0.0 and mesh.patches is not None:
             C, el = checkerboard_penalty(b, self.delta, self.mat.mu_f)
@@ -278,6 +288,7 @@ class TwoFluid2D:
         self.bvd = nodal_dofs(bnodes, self.nn, 2)
         self.bwd = self.bvd + self.nv
         self._fixed, self._dir = self._dirichlet_setup()
+        self._node_porosity = np.ones(self.nn)  # until the first assembly (clear liquid)
 
     def _dirichlet_setup(self):
         """Fixed dofs (V and W) and, per boundary, (dofs, velocity-component factor) of its values."""
@@ -325,7 +336,11 @@ class TwoFluid2D:
                 v[sel] = inward * (jf + bc.solids_velocity)
                 w[sel] = inward * (jf - bc.solids_velocity)
             elif bc.kind == "rotating_wall" and c == 2:
-                v[sel] = w[sel] = bc.omega * self.mesh.points[node[sel], 0]
+                # both phases turn with the wall: U_f = U_s = ωr, so V = ωr and
+                # W = (2n − 1) ωr with n the wall node's porosity at the iterate
+                u = bc.omega * self.mesh.points[node[sel], 0]
+                v[sel] = u
+                w[sel] = (2.0 * self._node_porosity[node[sel]] - 1.0) * u
         return self._fixed, np.concatenate([v, w])
 
     def _build_pattern(self):
@@ -338,11 +353,8 @@ class TwoFluid2D:
         blocks += [(self.bwd, bp), (bn, self.bvd), (bn, self.bwd), (bn, bn)]
         self._n_couplings = (10, 11, 12, 14, 15, 16)  # face and edge rows of n (frozen porosity)
         if self.patch is not None:
-            el = self.patch[1]
-            pe = self.pd[el, 0]
+            pe = self.pd[self.patch[1], 0]
             blocks.append((pe, pe))
-            cv = self.vd[el].reshape(el.shape[0], -1)  # the patch's velocity dofs, element by element
-            blocks += [(pe, cv), (pe, cv + self.nv)]
         self.pattern = SparsityPattern(blocks, (self.size, self.size))
 
     # --------------------------------------------------------------- helpers
@@ -350,6 +362,12 @@ class TwoFluid2D:
         """Element means of a nodal vector field (nc·n_nodes,) -> (n_el, nc)."""
         x = nodal[self.vd].reshape(self.ne, self.nc, 4)
         return np.einsum("eca,ea->ec", x, self.wavg)
+
+    def nodal_porosity(self, n: np.ndarray) -> np.ndarray:
+        """Volume-weighted average of the porosity of the elements around each node."""
+        num = np.bincount(self.mesh.cells.ravel(), weights=np.repeat(n * self.vol, 4), minlength=self.nn)
+        den = np.bincount(self.mesh.cells.ravel(), weights=np.repeat(self.vol, 4), minlength=self.nn)
+        return num / den
 
     def solids_pressure(self, n, n_bar, derivative=False):
         return exponential(n, n_bar, self.clo.A, self.clo.p_ref, derivative=derivative)
@@ -365,6 +383,8 @@ class TwoFluid2D:
         if k.n.min() <= 0.0 or k.n.max() > 1.0:  # an iterate outside (0, 1]: coefficients at the bound
             k = k.copy(n=np.clip(k.n, 1e-3, 1.0))
         n = k.n
+        self._iterate = self.pack(k)  # the linear solve corrects it (LaggedSolver.solve)
+        self._node_porosity = self.nodal_porosity(n)  # for the rotating-wall values of W
         rho_hat, d_rho = 0.5 * (mat.rho_s + mat.rho_f), 0.5 * (mat.rho_s - mat.rho_f)
         rhs = np.zeros(self.size)
         vd, wd = self.vd, self.wd
@@ -401,57 +421,27 @@ class TwoFluid2D:
             for i in self._n_couplings:
                 vals[i] = np.zeros_like(vals[i])
         if self.patch is not None:
-            vals.append(self.patch[0])
-            vals += self._penalty_load(k, rhs) if self.penalty_load else \
-                [np.zeros((self.patch[1].shape[0], 4, 16 * self.nc))] * 2
+            vals.append(self.patch[0] * self._penalty_scale(n)[:, None, None])
         return self.pattern.assemble(vals), rhs
 
-    def element_pressure_gradient(self, k: State) -> np.ndarray:
-        """∇P (n_el, 2) [Pa/m] of each element's liquid balance at rest: ρ_f g − β s̄/n.
+    def _penalty_scale(self, n: np.ndarray) -> np.ndarray:
+        """μ_f/μ_eff per macroelement: the checkerboard penalty δ|M|/μ_eff of a Brinkman medium.
 
-        The pressure gradient an element would carry on its own in the liquid
-        equation per unit liquid volume without inertia and viscous stress,
-        β s̄/n = K q̄/(2n²) from the element-mean q̄ = (1 − 2n)V + W.
+        μ_eff = μ_f + mean over the patch of β h²/n² (β = K(1 − n) the drag
+        coefficient at the iterate, per unit liquid volume as the liquid rows, h the
+        element size): the pressure–velocity scale h²/(μ + βh²) of drag-dominated
+        flow (Brinkman/Darcy stabilisation). In clear liquid β = 0 and the penalty is
+        the single-fluid one; in a bed it is weaker by the factor μ_f/(βh²) (~1e-5).
+        The plain μ_f scaling made the penalty the dominant pressure–velocity
+        coupling inside a bed and grew a porosity checkerboard at ≈ 10 1/s
+        (docs/verification_2d.md, section 7).
         """
-        n = k.n
-        _, K, _, _, qbar, _, _ = self._drag_force(n, k.V, k.W)
-        G = -(K / (2.0 * n * n))[:, None] * qbar[:, :2]
-        G[:, 1] -= self.mat.rho_f * self.mat.g
-        return G
-
-    def _penalty_load(self, k: State, rhs: np.ndarray) -> list:
-        """Consistency load of the checkerboard penalty: −C(P − P*, δP) instead of −C(P, δP).
-
-        P*_e = G_e · (x_e − x_M), G_e = ρ_f g − K_e q̄_e/(2n_e²) the element's own
-        liquid pressure gradient (:meth:`element_pressure_gradient`; K and n frozen at
-        the iterate, q̄ implicit: the V, W columns of the continuity rows) and x_M the
-        macroelement centre. Where porosity (hence G) differs between the elements of
-        a patch, the discrete liquid balance gives jumps (G_below + G_above)·Δx/2
-        between neighbours: a checkerboard c_M(P) ≠ 0 that the plain penalty turns
-        into a spurious mass flux, which grew a porosity checkerboard
-        (docs/verification_2d.md). c_M(P − P*) vanishes for those pressures; for
-        uniform G, P* is linear and changes nothing (c_M of a linear field is zero).
-        Returns the (P, V) and (P, W) blocks per patch.
-        """
-        mC, el = self.patch  # −C
-        n = k.n
-        _, K, _, _, _, _, _ = self._drag_force(n, k.V, k.W)
-        kap = K / (2.0 * n * n)
-        xc = self._centres[el]
-        dx = xc - xc.mean(axis=1, keepdims=True)  # (n_patch, 4, 2)
-        grav = -self.mat.rho_f * self.mat.g * dx[:, :, 1]
-        np.add.at(rhs, self.pd[el, 0], np.einsum("pab,pb->pa", mC, grav))
-        # ∂P*_b/∂q at element b's dofs: −κ_b dx_b,c wavg_b,a (component-major, c < 2)
-        nc = self.nc
-        Lq = np.zeros(el.shape + (nc, 4))
-        Lq[:, :, :2, :] = -(kap[el][:, :, None, None] * dx[:, :, :, None]
-                            * self.wavg[el][:, :, None, :])
-        Lq = Lq.reshape(el.shape + (4 * nc,))  # (n_patch, 4, 4nc)
-        Lv = (1.0 - 2.0 * n[el])[:, :, None] * Lq
-        # rows a, columns (b, dof): C_ab ∂P*_b  (= −(−C)_ab ∂P*_b)
-        PV = -np.einsum("pab,pbj->pabj", mC, Lv).reshape(el.shape[0], 4, -1)
-        PW = -np.einsum("pab,pbj->pabj", mC, Lq).reshape(el.shape[0], 4, -1)
-        return [PV, PW]
+        el = self.patch[1]
+        if not self.brinkman_penalty:
+            return np.ones(el.shape[0])
+        beta = self._K_iter * (1.0 - n)
+        mu_eff = self.mat.mu_f + (beta * self._h2 / (n * n))[el].mean(axis=1)
+        return self.mat.mu_f / mu_eff
 
     def _faces(self, k: State, rhs: np.ndarray) -> list:
         """Interior faces: [[P]] in the liquid rows and the upwinded solids flux."""
@@ -503,8 +493,7 @@ class TwoFluid2D:
         dr = np.zeros(e.size)
         if self.solids_flux == "upwind":
             # clear liquid enters through an outlet; a clear element has no solids to give
-            # (continuous in n: falls linearly to 0 over the last ε of solids)
-            r = np.where(out & (flux < 0.0), 0.0, np.where(out, np.clip((1.0 - ne_) / _CLEAR, 0.0, 1.0), 1.0))
+            r = np.where(out & ((flux < 0.0) | (1.0 - ne_ < _CLEAR)), 0.0, 1.0)
         NV = -(r[:, None] * R)[:, None, :]
         NN = (2.0 * flux * dr)[:, None, None]
         return [WP, NV, -NV, NN]
@@ -514,12 +503,9 @@ class TwoFluid2D:
         q = (1.0 - 2.0 * n)[:, None] * V[self.vd] + W[self.vd]
         qbar = np.einsum("eca,ea->ec", q.reshape(self.ne, self.nc, 4), self.wavg)
         qn = np.sqrt((qbar ** 2).sum(axis=1))
-        # |s| = |q̄|/(2n(1 − n)), taken smoothly to 0 (the Stokes limit) in clear liquid:
-        # (1 − n)/((1 − n)² + ε²) instead of a switch at 1 − n = ε, which made the
-        # iterates of an element at n ≈ 1 − ε flip between two drag laws
-        one_m = 1.0 - n
-        s_abs = qn * one_m / (2.0 * n * (one_m ** 2 + _CLEAR ** 2))
-        K = self.clo.beta_per_solids(n, s_abs, self.mat)
+        # 1 − n floored at _CLEAR as in TwoFluid1D.slip: continuous as an element empties
+        s_abs = qn / (2.0 * n * np.maximum(1.0 - n, _CLEAR))
+        K = self.clo.beta_per_solids(n, s_abs, self.mat)  # |slip| saturated at clo.slip_max
         Mq = np.einsum("eij,ej->ei", self.Mv, q)
         return (K / (2.0 * n * n))[:, None] * Mq, K, s_abs, q, qbar, qn, Mq
 
@@ -527,6 +513,7 @@ class TwoFluid2D:
         """Newton linearisation of β s/n tested with δW about iterate k (as 1D, vector slip)."""
         n = k.n
         D0, K0, s_abs, q, qbar, qn, Mq = self._drag_force(n, k.V, k.W)
+        self._K_iter = K0
         ds = 1e-6 * np.maximum(s_abs, 1e-6)
         dK = (self.clo.beta_per_solids(n, s_abs + ds, self.mat) - K0) / ds * s_abs  # K'|s|
         gain = np.where(qn > 0.0, dK / np.where(qn > 0.0, qn ** 2, 1.0), 0.0)
@@ -546,8 +533,9 @@ class TwoFluid2D:
         idx, val = self.dirichlet(t)
         if not (np.all(np.isfinite(A.data)) and np.all(np.isfinite(b))):
             return np.full(self.size, np.nan)  # the stepper retries with a smaller step
+        guess = getattr(self, "_iterate", None)
         try:
-            return self.linear.solve(A, b, val)
+            return self.linear.solve(A, b, val, guess)
         except RuntimeError:  # exactly singular factor
             self.linear.lu = None
             return np.full(self.size, np.nan)
@@ -597,7 +585,7 @@ class TwoFluid2D:
             liq = 0.5 * np.einsum("fi,fi->f", R, s.V[d] + s.W[d])
             sol = 0.5 * np.einsum("fi,fi->f", R, s.V[d] - s.W[d])
             if bc.kind == "outlet" and self.solids_flux == "upwind":  # as _boundary_edges
-                sol = np.where(sol < 0.0, 0.0, sol * np.clip((1.0 - s.n[own]) / _CLEAR, 0.0, 1.0))
+                sol = np.where((sol < 0.0) | (1.0 - s.n[own] < _CLEAR), 0.0, sol)
             out[bc.group] = {"kind": bc.kind, "liquid_m3_s": float(liq.sum()),
                              "solids_m3_s": float(sol.sum())}
         return out

@@ -22,7 +22,6 @@ Errors are relative; tolerance 3 %.
 """
 from __future__ import annotations
 
-import numpy as np
 
 from .. import postprocess as pp
 from . import kynch

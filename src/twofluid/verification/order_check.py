@@ -39,7 +39,6 @@ def bump_solution(elements: int, dt: float) -> np.ndarray:
         "boundary": {"bottom": {"kind": "inlet", "porosities": [N0]}, "top": {"kind": "outlet"}},
         "time": {"end": T, "step": dt, "picard_tol": 1e-9}})
     b = build(case)
-    y = b.model.mesh.centres
     # cell averages of the bump (exact integral) so every mesh starts from the same field
     e = b.model.mesh.y
     from scipy.special import erf
