@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from .casefile.builder import Schedule, closures, inlet_velocities, materials
 from .casefile.schema import CaseError
@@ -26,7 +25,7 @@ from .io.results import write_json, write_resolved_case
 from .mesh.quad import QuadMesh, rectangle, remove_block
 from .models.two_fluid_1d import Materials, State
 from .models.two_fluid_2d import Boundary2D, TwoFluid2D
-from .simulation import RunResult
+from .simulation import RunResult, run_guard
 from .timestepping.backward_euler import PicardSettings, StepFailure, integrate, picard_step
 
 __all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile"]
@@ -287,10 +286,8 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     prof.write(state.t, f)
     solids0, outflow = model.solids_volume(state), 0.0
     tol, calm = case["profiles"]["steady_tolerance"], 0
-    status, reason, n_steps, last, rate = "completed", "", 0, state, (np.inf, np.inf)
-    bar = tqdm(total=b.t_end, unit="s", disable=not progress, leave=False,
-               bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated [{elapsed}<{remaining}]")
-    try:
+    n_steps, last, rate, steady_reason = 0, state, (np.inf, np.inf), ""
+    with run_guard(b.t_end, progress) as run:
         for step in integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings):
             s = step.state
             outflow += step.dt * model.solids_outflow(s)
@@ -301,16 +298,12 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
             steady = calm >= 3
             if steady or any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times):
                 prof.write(s.t, _write_fields(writer, model, s))
-            bar.update(s.t - bar.n)
+            run.bar.update(s.t - run.bar.n)
             if steady:
-                reason = f"steady: max |dn/dt| = {rate[0]:.3g} 1/s, max |dV/dt|/|V| = {rate[1]:.3g} 1/s"
+                steady_reason = (f"steady: max |dn/dt| = {rate[0]:.3g} 1/s, "
+                                 f"max |dV/dt|/|V| = {rate[1]:.3g} 1/s")
                 break
-    except KeyboardInterrupt:
-        status, reason = "interrupted", "interrupted by the user (Ctrl-C)"
-    except StepFailure as exc:
-        status, reason = "failed", str(exc)
-    finally:
-        bar.close()
+    status, reason = run.status, run.reason or steady_reason
     if not writer.entries or writer.entries[-1][0] != last.t:
         prof.write(last.t, _write_fields(writer, model, last))
     prof.close()
