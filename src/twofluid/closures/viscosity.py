@@ -10,6 +10,8 @@ value at n_c: denser states are the elastic skeleton of the dense region.
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from .registry import register
@@ -27,11 +29,14 @@ def _fit(eps, k1, k2):
     return mu, dmu
 
 
-def _blend_coefficients(eps_b, k1, k2):
+@lru_cache(maxsize=16)
+def _blend_coefficients(eps_b: float, k1: float, k2: float) -> tuple[float, float]:
+    """(b, c) of the cubic blend; cached: it depends only on the parameters."""
     value, slope = _fit(eps_b, k1, k2)
     rhs = np.array([value - 1.0 - 2.5 * eps_b, slope - 2.5])
     mat = np.array([[eps_b ** 2, eps_b ** 3], [2 * eps_b, 3 * eps_b ** 2]])
-    return np.linalg.solve(mat, rhs)
+    b, c = np.linalg.solve(mat, rhs)
+    return float(b), float(c)
 
 
 @register("viscosity", "mooney_pringle",
@@ -51,7 +56,7 @@ def mooney_pringle(n, mu_f, *, k1=K1, k2=K2, eps_blend=0.2, n_c=0.5):
     Reference: Pringle (2001), section 3.3.1 (Barnes sand in water, R² = 0.97).
     """
     eps = np.clip(1.0 - np.asarray(n, dtype=float), 0.0, 1.0 - n_c)
-    b, c = _blend_coefficients(eps_blend, k1, k2)
+    b, c = _blend_coefficients(float(eps_blend), float(k1), float(k2))
     low = 1.0 + eps * (2.5 + eps * (b + c * eps))
     high, _ = _fit(np.maximum(eps, eps_blend), k1, k2)
     return mu_f * np.where(eps < eps_blend, low, high)
