@@ -17,9 +17,14 @@ def _cmd_run(args) -> int:
     if s["status"] != "completed":
         print(f"  {s['reason']}; everything written so far is in {res.out_dir}", file=sys.stderr)
         return 130 if s["status"] == "interrupted" else 1
-    for key in ("t1_s", "bed_height_initial_m", "bed_height_final_m"):
+    for key in ("t1_s", "bed_height_initial_m", "bed_height_final_m", "liquefied_thickness_m",
+                "peak_r_u_top_element", "settlement_end_of_shaking_m", "settlement_end_m"):
         if s.get(key) is not None:
             print(f"  {key} = {s[key]:.6g}")
+    if "first_liquefaction" in s:
+        first = s["first_liquefaction"]
+        print(f"  first liquefaction (r_u > 0.95) at t = {first['time_s']:.3g} s, depth {first['depth_m']:.3g} m"
+              if first else "  no liquefaction (r_u > 0.95 nowhere)")
     print(f"  solids volume balance error = {s['solids_volume_balance_error']:.3g}")
     return 0
 
