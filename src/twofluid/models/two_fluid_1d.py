@@ -87,7 +87,7 @@ class Closures:
     p_ref: float = 1.0  # [Pa]
     viscous: bool = True
     viscosity_params: dict = field(default_factory=dict)
-    slip_max: float = np.inf  # slip at which the drag law's |slip| saturates [m/s] (3 U_t)
+    slip_max: float = np.inf  # [m/s] where the |slip| the law sees saturates (builder: slip_saturation × U_t)
 
     def saturated_drag(self, n, slip, *args, **kw):
         """The drag law with this run's |slip| saturation (same signature as the laws)."""
