@@ -13,11 +13,24 @@ initial state to drive ``twofluid.integrate`` yourself.
 """
 __version__ = "0.1.0"
 
-from .casefile.builder import build
-from .casefile.loader import bundled_cases, load_case
-from .casefile.schema import CaseError
-from .simulation import RunResult, run_case
-from .timestepping.backward_euler import PicardSettings, StepFailure, integrate
+_EXPORTS = {
+    "build": "twofluid.casefile.builder",
+    "bundled_cases": "twofluid.casefile.loader",
+    "load_case": "twofluid.casefile.loader",
+    "CaseError": "twofluid.casefile.schema",
+    "RunResult": "twofluid.simulation",
+    "run_case": "twofluid.simulation",
+    "PicardSettings": "twofluid.timestepping.backward_euler",
+    "StepFailure": "twofluid.timestepping.backward_euler",
+    "integrate": "twofluid.timestepping.backward_euler",
+}
+__all__ = ["__version__", *_EXPORTS]
 
-__all__ = ["__version__", "build", "bundled_cases", "load_case", "CaseError", "RunResult", "run_case",
-           "PicardSettings", "StepFailure", "integrate"]
+
+def __getattr__(name: str):
+    """Import the facade's names on first use (keeps ``python -m twofluid.<module>`` clean)."""
+    if name in _EXPORTS:
+        import importlib
+
+        return getattr(importlib.import_module(_EXPORTS[name]), name)
+    raise AttributeError(f"module 'twofluid' has no attribute {name!r}")
