@@ -157,10 +157,19 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+def _show_case_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"twofluid: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
-    from .casefile.schema import CaseError
+    import warnings
+
+    from .casefile.schema import CaseError, CaseWarning
 
     args = parser().parse_args(argv)
+    default_show = warnings.showwarning
+    warnings.showwarning = lambda m, c, *a, **k: (_show_case_warning(m, c, *a, **k) if issubclass(c, CaseWarning)
+                                                  else default_show(m, c, *a, **k))
     try:
         return args.func(args)
     except CaseError as exc:
@@ -169,6 +178,8 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("twofluid: interrupted", file=sys.stderr)
         return 130
+    finally:
+        warnings.showwarning = default_show
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -34,7 +34,7 @@ import numpy as np
 
 from .casefile import schema_liquefaction
 from .casefile.loader import load_case
-from .casefile.schema import CaseError, validate
+from .casefile.schema import CaseError, revalidate
 from .closures import drag as drag_laws
 from .closures.registry import get
 from .io import ground_motion as gm
@@ -78,8 +78,7 @@ def validated(case: dict) -> dict:
     """``case`` (a resolved dict, possibly edited since loading) checked again through the schema,
     including the files it names; CaseError otherwise. Nothing is written."""
     source = _source(case)
-    doc = {k: v for k, v in case.items() if not k.startswith("_")}
-    out = validate(doc, source)
+    out = revalidate(case, source)
     if "_source" in case:
         out["_source"] = case["_source"]
     return out

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import postprocess as pp
 from .casefile.loader import load_case
-from .casefile.schema import CaseError, validate
+from .casefile.schema import CaseError, revalidate
 
 __all__ = ["ALIASES", "parse_change", "key_figure", "sensitivity_study", "Sensitivity"]
 
@@ -82,9 +82,8 @@ def _figure_time(figure: str, case: dict, source: str) -> None:
 
 def _revalidated(case: dict, source: str, where: str, frac: float) -> dict:
     """The perturbed case checked again through the schema (ranges and cross-key checks)."""
-    doc = {k: v for k, v in case.items() if not k.startswith("_")}
     try:
-        out = validate(doc, source)
+        out = revalidate(case, source)
     except CaseError as exc:
         detail = str(exc)[len(f"{exc.source}: {exc.key}: "):]
         raise CaseError(exc.source, exc.key, f"{detail} (after the change {100 * frac:+g} % of {where})") \

@@ -98,3 +98,21 @@ def test_interrupted_or_failed_run_keeps_what_it_wrote(tmp_path, monkeypatch, ki
     probes = np.genfromtxt(tmp_path / "probes.csv", delimiter=",", names=True)
     assert probes["time_s"].max() == pytest.approx(s["stopped_at_s"], abs=0.11)
     assert (tmp_path / "porosity.png").exists()
+
+
+def test_a_key_without_effect_is_a_warning_naming_file_and_key(tmp_path, capsys):
+    import warnings
+
+    from twofluid.casefile.schema import CaseWarning
+
+    path = _write(tmp_path, 'kind = "wall"', 'kind = "wall"\npressure = 5.0', name="unused.toml")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_case(path)
+    msgs = [str(w.message) for w in caught if issubclass(w.category, CaseWarning)]
+    assert len(msgs) == 1 and "unused.toml" in msgs[0] and "[boundary.bottom] pressure" in msgs[0]
+    # the bundled cases carry no such keys
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CaseWarning)
+        for name in ("fluidized-bed-step", "settling-illite"):
+            load_case(name)

@@ -8,10 +8,12 @@ reference table of ``docs/case-file.md`` from the same data.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Key", "SCHEMA", "SCHEMAS", "COMMON", "register_model", "CaseError", "validate", "markdown"]
+__all__ = ["Key", "SCHEMA", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning", "validate",
+           "revalidate", "effective", "markdown"]
 
 REQUIRED = object()
 
@@ -28,6 +30,7 @@ class Key:
     lo_open: bool = False
     hi_open: bool = False
     choices: tuple | None = None
+    used_when: tuple[str, tuple] | None = None  # (other key of the section, values that use this key)
 
     def range_text(self) -> str:
         if self.choices:
@@ -47,9 +50,10 @@ FLOATS = ("list", float)
 BOUNDARY = [
     K("kind", str, REQUIRED, "-", "inlet (porous distributor, V = W = inflow), wall (V = W = 0) "
       "or outlet (prescribed liquid pressure)", choices=("inlet", "wall", "outlet")),
-    K("pressure", float, 0.0, "Pa", "liquid pressure on an outlet"),
+    K("pressure", float, 0.0, "Pa", "liquid pressure on an outlet", used_when=("kind", ("outlet",))),
     K("times", FLOATS, [0.0], "s", "inlet schedule: times, non-decreasing; a repeated time is a step "
-      "(value before = first, after = second); constant before the first and after the last"),
+      "(value before = first, after = second); constant before the first and after the last",
+      used_when=("kind", ("inlet",))),
     K("velocities", FLOATS, [], "m/s", "inlet schedule: superficial liquid velocity into the column at `times`"),
     K("porosities", FLOATS, [], "-", "inlet schedule instead of velocities: the velocity that holds a "
       "uniform bed fluidized at each porosity (computed with the drag law)"),
@@ -85,8 +89,10 @@ SCHEMA: dict[str, list[Key]] = {
     "closures.drag": [
         K("law", str, "gidaspow", "-", "drag law (SPEC 4.1)", choices=("gidaspow", "ergun", "wen_yu")),
         K("stokes", bool, False, "-", "drop the inertial part of the drag (Stokes limits)"),
-        K("n_switch", float, 0.6, "-", "gidaspow: Ergun below, Wen–Yu above", lo=0.0, hi=1.0),
-        K("blend_width", float, 0.0, "-", "gidaspow: half-width of a C¹ smoothstep blend across n_switch (0: the sharp switch of the thesis)", lo=0.0),
+        K("n_switch", float, 0.6, "-", "gidaspow: Ergun below, Wen–Yu above", lo=0.0, hi=1.0,
+          used_when=("law", ("gidaspow",))),
+        K("blend_width", float, 0.0, "-", "gidaspow: half-width of a C¹ smoothstep blend across n_switch "
+          "(0: the sharp switch of the thesis)", lo=0.0, used_when=("law", ("gidaspow",))),
         K("slip_saturation", float, 3.0, "-", "the |slip| the law sees saturates smoothly at this multiple of "
           "the single-particle terminal velocity, which keeps nearly empty elements (1 − n → 0) "
           "finite and fast to converge; 0 = off (the law as published)", lo=0.0),
@@ -159,6 +165,10 @@ _MODEL_MODULES = {"two_fluid_1d": "twofluid.casefile.consistency",
                   "liquefaction_1d": "twofluid.casefile.schema_liquefaction"}
 
 
+class CaseWarning(UserWarning):
+    """A case-file key that is valid but has no effect (e.g. ``pressure`` on a wall)."""
+
+
 class CaseError(ValueError):
     """A case file problem: names the file, the key and what is valid."""
 
@@ -209,15 +219,43 @@ def validate(doc: dict, source: str = "<case>") -> dict:
         if where not in schema:
             raise CaseError(source, f"[{where}]", f"unknown section for model {case['model']!r}; "
                             f"valid sections: {', '.join(schema)}")
-    resolved = {where: _resolve_section(source, where, keys, flat.get(where, {}))
+    unused: list[str] = []
+    resolved = {where: _resolve_section(source, where, keys, flat.get(where, {}), unused)
                 for where, keys in schema.items()}
     check = MODEL_CHECKS.get(case["model"])
     if check is not None:
         check(resolved, source)
+    for message in unused:  # only for a valid case: an error is the one line a bad case gets
+        warnings.warn(CaseWarning(message), stacklevel=2)
     return resolved
 
 
-def _resolve_section(source: str, where: str, keys: list[Key], given: dict) -> dict:
+def effective(case: dict) -> dict:
+    """The resolved ``case`` without the keys that have no effect in it (``Key.used_when``)."""
+    schema = _model_schema(case["case"]["model"])
+    out = {}
+    for where, table in case.items():
+        keys = {k.name: k for k in schema.get(where, [])}
+        out[where] = {name: value for name, value in table.items()
+                      if not (name in keys and keys[name].used_when
+                              and table.get(keys[name].used_when[0], None) not in keys[name].used_when[1])} \
+            if isinstance(table, dict) else table
+    return out
+
+
+def revalidate(case: dict, source: str) -> dict:
+    """Validate a resolved (possibly edited) case again: every key is range-checked, but the
+    keys without effect that a resolved case carries raise no warning."""
+    doc = {k: v for k, v in case.items() if not k.startswith("_")}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CaseWarning)
+        return validate(doc, source)
+
+
+def _resolve_section(source: str, where: str, keys: list[Key], given: dict,
+                     unused: list[str] | None = None) -> dict:
+    """Section with defaults filled in; keys given without effect are appended to ``unused``."""
+    unused = [] if unused is None else unused
     known = {k.name for k in keys}
     for name in given:
         if name not in known:
@@ -230,6 +268,12 @@ def _resolve_section(source: str, where: str, keys: list[Key], given: dict) -> d
             raise CaseError(source, f"[{where}] {key.name}", f"missing (required; {key.doc} [{key.unit}])")
         else:
             out[key.name] = list(key.default) if isinstance(key.default, list) else key.default
+    for key in keys:
+        if key.name in given and key.used_when and key.used_when[0] in out \
+                and out[key.used_when[0]] not in key.used_when[1]:
+            other, values = key.used_when
+            unused.append(f"{source}: [{where}] {key.name}: ignored ({other} = {out[other]!r}; used only "
+                          f"when {other} is {' or '.join(map(repr, values))})")
     return out
 
 
@@ -260,7 +304,7 @@ def markdown() -> str:
             pass
     lines = ["# Case-file reference", "",
              "Generated from the schemas in `twofluid.casefile` (`python -m twofluid.casefile.schema "
-             "> docs/case-file.md`). Values are in SI units except where the unit column says otherwise (degrees, per cent, g). Unknown sections or keys are errors.",
+             "> docs/case-file.md`). Values are in SI units except where the unit column says otherwise (degrees, per cent, g). Unknown sections or keys are errors; a key without effect (e.g. `pressure` on a wall) is a warning.",
              "`[case] model` chooses the equation set; each model lists its sections below.", ""]
     seen: set[str] = set()
     for model, schema in SCHEMAS.items():

@@ -17,9 +17,11 @@ __all__ = ["ResultWriter", "write_resolved_case", "write_json"]
 
 
 def write_resolved_case(path: Path, case: dict) -> None:
-    """The fully resolved case (all keys, defaults filled) as TOML, re-loadable as a case."""
+    """The fully resolved case (every key that acts, defaults filled) as TOML, re-loadable as a case."""
+    from ..casefile.schema import effective
+
     doc: dict = {}
-    for where, table in case.items():
+    for where, table in effective(case).items():
         if where.startswith("_"):
             continue
         node = doc
