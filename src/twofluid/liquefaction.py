@@ -27,21 +27,21 @@ from __future__ import annotations
 
 import csv
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .casefile import schema_liquefaction
+from .casefile.builder import closures, materials
 from .casefile.loader import load_case
 from .casefile.schema import CaseError, revalidate
 from .closures import drag as drag_laws
-from .closures.registry import get
 from .io import ground_motion as gm
 from .io.results import ResultWriter, write_json, write_resolved_case
 from .mesh.line import uniform_line
 from .models.liquefaction_1d import ColumnState, LiquefactionColumn, Sand, VerticalColumn
-from .models.two_fluid_1d import Boundary, Closures, Materials
+from .models.two_fluid_1d import Boundary
 from .timestepping.backward_euler import PicardSettings
 from .verification.terzaghi import consolidation_coefficient
 
@@ -84,30 +84,16 @@ def validated(case: dict) -> dict:
     return out
 
 
-def _closures(case: dict, mat: Materials) -> Closures:
-    """Drag, granular pressure and viscosity of the column, with the drag law's |slip| saturated
-    as in the 1D and 2D models (``[closures.drag] slip_saturation``)."""
-    dr, sa = case["closures.drag"], case["sand"]
-    params = {"stokes": dr["stokes"]}
-    if dr["law"] == "gidaspow":
-        params.update(n_switch=dr["n_switch"], blend_width=dr["blend_width"])
-    clo = Closures(drag=get("drag", dr["law"]).func, drag_params=params, A=sa["compressibility"],
-                   p_ref=sa["p_ref"], viscous=case["closures.viscosity"]["law"] != "none")
-    return replace(clo, slip_max=drag_laws.slip_limit(clo.drag, dr["slip_saturation"], mat.d, mat.rho_s,
-                                                       mat.rho_f, mat.mu_f, mat.g, **clo.drag_params))
-
-
 def build_column(case: dict) -> Built:
     """Column, geostatic initial state and stepping of a resolved ``liquefaction_1d`` case.
 
     Reads the record and the ANN weights (CaseError if they cannot be used); writes nothing.
     """
-    d, ma, sa, sw = case["deposit"], case["materials"], case["sand"], case["shear_wave"]
+    d, sa, sw = case["deposit"], case["sand"], case["shear_wave"]
     source = _source(case)
     mesh = uniform_line(d["depth"], d["elements"])
-    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
-                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
-    clo = _closures(case, mat)
+    mat = materials(case)
+    clo = closures(case, mat, pressure_section="sand")
     tm = case["time"]
     settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
                               dt_min=min(1e-7, tm["step"] * 1e-4))

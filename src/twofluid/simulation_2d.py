@@ -53,17 +53,9 @@ def build_mesh(case: dict) -> QuadMesh:
     return mesh
 
 
-def _inlet_velocities(case: dict, b: dict) -> list[float]:
+def _inlet_velocities(b: dict, clo, mat: Materials) -> list[float]:
     """Inlet schedule values [m/s]: given, or the velocities fluidizing a uniform bed at each porosity."""
-    if b["velocities"]:
-        return list(b["velocities"])
-    mat = materials(case)
-    return list(inlet_velocities(b["porosities"], _model_closures(case), mat))
-
-
-def _model_closures(case: dict):
-    """The case's closures with the drag law's |slip| saturation (as the 1D builder)."""
-    return closures(case, materials(case))
+    return list(b["velocities"]) if b["velocities"] else list(inlet_velocities(b["porosities"], clo, mat))
 
 
 @dataclass
@@ -88,10 +80,8 @@ def build_2d(case: dict) -> Built2D:
     """Model, initial state (bed at rest in the initial inflow, P from a tiny step) and settings."""
     src = case.get("_source", "<case>")
     mesh = build_mesh(case)
-    ma = case["materials"]
-    mat = Materials(rho_f=ma["liquid_density"], mu_f=ma["liquid_viscosity"], rho_s=ma["particle_density"],
-                    d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
-    clo = _model_closures(case)
+    mat = materials(case)
+    clo = closures(case, mat)
     bcs = []
     for name in BOUNDARY_NAMES:
         b = case[f"boundary.{name}"]
@@ -103,7 +93,7 @@ def build_2d(case: dict) -> Built2D:
                             f"groups: {', '.join(sorted(mesh.boundaries))}")
         vel = None
         if b["kind"] == "inlet":
-            vel = Schedule(tuple(b["times"]), tuple(_inlet_velocities(case, b)))
+            vel = Schedule(tuple(b["times"]), tuple(_inlet_velocities(b, clo, mat)))
         bcs.append(Boundary2D(group, b["kind"], velocity=vel, solids_velocity=b["solids_velocity"],
                               pressure=b["pressure"], omega=b["omega"]))
     missing = _uncovered(mesh, [b.group for b in bcs])
@@ -219,7 +209,8 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
         b = case[f"boundary.{name}"]
         grp = b["group"] or name
         if b["kind"] == "inlet":
-            dirichlet[grp] = {"r": 0.0, "z": _inlet_velocities(case, b)[0], "theta": 0.0}
+            mat = materials(case)
+            dirichlet[grp] = {"r": 0.0, "z": _inlet_velocities(b, closures(case, mat), mat)[0], "theta": 0.0}
         elif b["kind"] == "wall":
             dirichlet[grp] = {"r": 0.0, "z": 0.0, "theta": 0.0}
         elif b["kind"] == "axis":

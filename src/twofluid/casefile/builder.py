@@ -56,9 +56,12 @@ def materials(case: dict) -> Materials:
                      d_p=ma["particle_diameter"], sphericity=ma["sphericity"], g=ma["gravity"])
 
 
-def closures(case: dict, mat: Materials) -> Closures:
-    """The case's closures, with the drag law's |slip| saturation (``[closures.drag] slip_saturation``)."""
-    clo = _closures(case)
+def closures(case: dict, mat: Materials, pressure_section: str = "closures.solids_pressure") -> Closures:
+    """The case's closures, with the drag law's |slip| saturation (``[closures.drag] slip_saturation``).
+
+    ``pressure_section`` is the section holding ``compressibility`` and ``p_ref`` of P_s.
+    """
+    clo = _closures(case, pressure_section)
     return replace(clo, slip_max=drag_laws.slip_limit(
         clo.drag, case["closures.drag"]["slip_saturation"], mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
         **clo.drag_params))
@@ -71,13 +74,13 @@ def inlet_velocities(porosities, clo: Closures, mat: Materials) -> tuple[float, 
         for n in porosities)
 
 
-def _closures(case: dict) -> Closures:
+def _closures(case: dict, pressure_section: str) -> Closures:
     d = case["closures.drag"]
     law = get("drag", d["law"]).func
     params = {"stokes": d["stokes"]}
     if d["law"] == "gidaspow":
         params.update(n_switch=d["n_switch"], blend_width=d["blend_width"])
-    sp = case["closures.solids_pressure"]
+    sp = case[pressure_section]
     return Closures(drag=law, drag_params=params, A=sp["compressibility"], p_ref=sp["p_ref"],
                     viscous=case["closures.viscosity"]["law"] != "none")
 
