@@ -78,10 +78,7 @@ def validated(case: dict) -> dict:
     """``case`` (a resolved dict, possibly edited since loading) checked again through the schema,
     including the files it names; CaseError otherwise. Nothing is written."""
     source = _source(case)
-    out = revalidate(case, source)
-    if "_source" in case:
-        out["_source"] = case["_source"]
-    return out
+    return revalidate(case, source)
 
 
 def build_column(case: dict) -> Built:

@@ -83,13 +83,11 @@ def _figure_time(figure: str, case: dict, source: str) -> None:
 def _revalidated(case: dict, source: str, where: str, frac: float) -> dict:
     """The perturbed case checked again through the schema (ranges and cross-key checks)."""
     try:
-        out = revalidate(case, source)
+        return revalidate(case, source)
     except CaseError as exc:
         detail = str(exc)[len(f"{exc.source}: {exc.key}: "):]
         raise CaseError(exc.source, exc.key, f"{detail} (after the change {100 * frac:+g} % of {where})") \
             from None
-    out["_source"] = case.get("_source", source)
-    return out
 
 
 def _perturbed(case_name: str, section: str, key: str, frac: float) -> tuple[dict, float]:

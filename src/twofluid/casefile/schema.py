@@ -249,7 +249,9 @@ def revalidate(case: dict, source: str) -> dict:
     doc = {k: v for k, v in case.items() if not k.startswith("_")}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CaseWarning)
-        return validate(doc, source)
+        out = validate(doc, source)
+    out["_source"] = case.get("_source", source)
+    return out
 
 
 def _resolve_section(source: str, where: str, keys: list[Key], given: dict,
