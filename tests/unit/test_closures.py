@@ -108,3 +108,34 @@ def test_saturated_slip_is_increasing_bounded_and_identity_for_small_slip():
     assert np.all(np.diff(eff) >= 0) and np.all(np.diff(eff[s < 100]) > 0) and eff.max() <= 1.0
     assert eff[s < 0.1] == pytest.approx(s[s < 0.1], rel=3e-5)
     assert np.array_equal(drag.saturated_slip(s, np.inf), s)
+
+
+def test_foscolo_gibilaro_pressure_integrates_its_modulus():
+    """P_e(1) = 0 and −∂P_e/∂n = E = 3.2 g d (ρ_s − ρ_f)(1 − n): central differences and the integral."""
+    n = np.linspace(0.4, 1.0, 61)
+    args = (4e-3, 1140.0, 998.2, 9.81)
+    p, dp = solids_pressure.foscolo_gibilaro(n, *args, derivative=True)
+    modulus = 3.2 * 9.81 * 4e-3 * (1140.0 - 998.2) * (1.0 - n)
+    np.testing.assert_allclose(-dp, modulus, rtol=1e-12)
+    h = 1e-6
+    fd = (solids_pressure.foscolo_gibilaro(n[:-1] + h, *args) - solids_pressure.foscolo_gibilaro(n[:-1] - h, *args)) / (2 * h)
+    np.testing.assert_allclose(fd, dp[:-1], rtol=1e-6)
+    assert p[-1] == 0.0 and np.all(np.diff(p) < 0)
+    # the dynamic wave speed of the paper, √(E/ρ_s), from the pressure's slope
+    np.testing.assert_allclose(np.sqrt(-dp / 1140.0), np.sqrt(3.2 * 9.81 * 4e-3 * (1 - n) * 141.8 / 1140.0))
+
+
+def test_case_key_adds_the_fluidized_pressure_to_the_models_ps():
+    from twofluid.casefile.builder import build
+    from twofluid.casefile.loader import load_case
+
+    case = load_case("slis-step-change")
+    on = build(case).model
+    case["closures.solids_pressure"]["fluidized"] = "none"
+    off = build(case).model
+    n, nb = np.array([0.5, 0.7, 1.0]), np.full(3, 0.4)
+    pe = solids_pressure.foscolo_gibilaro(n, 3e-3, 1140.0, 998.2, 9.81)
+    np.testing.assert_allclose(on.solids_pressure(n, nb) - off.solids_pressure(n, nb), pe, rtol=1e-12)
+    d_on, d_off = on.solids_pressure(n, nb, derivative=True)[1], off.solids_pressure(n, nb, derivative=True)[1]
+    np.testing.assert_allclose(d_on - d_off, solids_pressure.foscolo_gibilaro(n, 3e-3, 1140.0, 998.2, 9.81,
+                                                                             derivative=True)[1], rtol=1e-12)

@@ -81,8 +81,13 @@ def _closures(case: dict, pressure_section: str) -> Closures:
     if d["law"] == "gidaspow":
         params.update(n_switch=d["n_switch"], blend_width=d["blend_width"])
     sp = case[pressure_section]
+    fluidized, fparams = None, {}
+    if sp.get("fluidized", "none") != "none":
+        fluidized = get("fluidized_pressure", sp["fluidized"]).func
+        fparams = {"coefficient": sp["fluidized_coefficient"]}
     return Closures(drag=law, drag_params=params, A=sp["compressibility"], p_ref=sp["p_ref"],
-                    viscous=case["closures.viscosity"]["law"] != "none")
+                    viscous=case["closures.viscosity"]["law"] != "none",
+                    fluidized_pressure=fluidized, fluidized_params=fparams)
 
 
 def _boundary(b: dict, clo: Closures, mat: Materials) -> tuple[Boundary, tuple]:
@@ -130,6 +135,9 @@ def initial_state(model: TwoFluid1D, case: dict) -> State:
     n_bar = np.full(mesh.n_elements, case["closures.solids_pressure"]["reference_porosity"])
     if init["state"] == "settled":
         ps = model.settled_solids_pressure(n)
+        clo, mat = model.clo, model.mat
+        if clo.fluidized_pressure is not None:  # the exponential law carries the rest
+            ps = ps - clo.fluidized_pressure(n, mat.d, mat.rho_s, mat.rho_f, mat.g, **clo.fluidized_params)
         solid = ps > 0.0
         n_bar[solid] = reference_porosity_for(n[solid], ps[solid], model.clo.A, model.clo.p_ref)
     P = np.zeros(model.np)

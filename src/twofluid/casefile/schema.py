@@ -103,6 +103,12 @@ SCHEMA: dict[str, list[Key]] = {
         K("reference_porosity", float, 0.4, "-", "n̄ (P_s = p_ref at n = n̄); ignored where [initial] "
           "state = \"settled\" computes it", lo=0.0, hi=1.0, lo_open=True, hi_open=True),
         K("p_ref", float, 1.0, "Pa", "reference pressure", lo=0.0, lo_open=True),
+        K("fluidized", str, "none", "-", "particle-phase pressure of a fluidized bed added to P_s: "
+          "foscolo_gibilaro = (c/2) g d (ρ_s − ρ_f)(1 − n)², the elasticity that makes liquid-fluidized "
+          "beds stable (Foscolo & Gibilaro 1984); none: P_s alone (uniform fluidization is then "
+          "unstable, Jackson 1963)", choices=("none", "foscolo_gibilaro")),
+        K("fluidized_coefficient", float, 3.2, "-", "c of the foscolo_gibilaro term (3.2 in the paper)",
+          lo=0.0, lo_open=True, used_when=("fluidized", ("foscolo_gibilaro",))),
     ],
     "closures.viscosity": [
         K("law", str, "mooney_pringle", "-", "mixture viscosity (SPEC 4.3)", choices=("mooney_pringle", "none")),

@@ -5,7 +5,7 @@ import numpy as np
 
 from .registry import register
 
-__all__ = ["exponential", "reference_porosity_for"]
+__all__ = ["exponential", "foscolo_gibilaro", "reference_porosity_for"]
 
 _MAX_EXPONENT = 700.0  # exp(700) ~ 1e304: beyond it the state is meaningless anyway
 
@@ -39,6 +39,35 @@ def exponential(n, n_bar, A, p_ref=1.0, derivative=False):
         return ps
     dps = np.where(solid, -ps * (1.0 - n_bar) / (A * safe * safe), 0.0)
     return ps, dps
+
+
+@register("fluidized_pressure", "foscolo_gibilaro", params={"coefficient": 3.2},
+          porosity_range=(0.0, 1.0), reference="Foscolo & Gibilaro (1984), Chem. Eng. Sci. 39, 1667")
+def foscolo_gibilaro(n, d, rho_s, rho_f, g, coefficient=3.2, derivative=False):
+    """Foscolo–Gibilaro particle-phase pressure of a fluidized bed, P_e = (c/2) g d (ρ_s − ρ_f)(1 − n)² [Pa].
+
+    The "particle bed model" of Foscolo & Gibilaro (1984) gives a fluidized bed an
+    elastic modulus E = −∂P_e/∂n = c g d (ρ_s − ρ_f)(1 − n) [Pa] with c = 3.2, which
+    comes from the dependence of the drag on the porosity gradient. Its dynamic wave
+    speed u_e = √(E/ρ_s) is what makes liquid-fluidized beds stable (particulate)
+    where u_e exceeds the kinematic wave speed of the porosity (their criterion); the
+    two-component equations without it are unstable at every fluidized porosity
+    (Jackson 1963). Integrating E from clear liquid (P_e = 0 at n = 1) gives the
+    pressure above. ``d`` [m], densities [kg/m³], ``g`` [m/s²]; returns P_e and, if
+    asked, ∂P_e/∂n [Pa].
+
+    >>> round(float(foscolo_gibilaro(0.6, 4e-3, 1140.0, 998.2, 9.81)), 4)
+    1.4244
+    >>> p, dp = foscolo_gibilaro(1.0, 4e-3, 1140.0, 998.2, 9.81, derivative=True)
+    >>> float(p), float(dp)
+    (0.0, -0.0)
+    """
+    one_m = 1.0 - np.asarray(n, dtype=float)
+    modulus = coefficient * g * d * (rho_s - rho_f)
+    pe = 0.5 * modulus * one_m * one_m
+    if not derivative:
+        return pe
+    return pe, -modulus * one_m
 
 
 def reference_porosity_for(n, p_s, A, p_ref=1.0):

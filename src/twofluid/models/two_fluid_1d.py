@@ -88,6 +88,17 @@ class Closures:
     viscous: bool = True
     viscosity_params: dict = field(default_factory=dict)
     slip_max: float = np.inf  # [m/s] where the |slip| the law sees saturates (builder: slip_saturation × U_t)
+    fluidized_pressure: Callable | None = None  # added to P_s, e.g. solids_pressure.foscolo_gibilaro
+    fluidized_params: dict = field(default_factory=dict)
+
+    def solids_pressure(self, n, n_bar, mat: Materials, derivative=False):
+        """P_s(n, n̄) [Pa] (and ∂P_s/∂n): the exponential law plus the fluidized-bed term if chosen."""
+        ps = exponential(n, n_bar, self.A, self.p_ref, derivative=derivative)
+        if self.fluidized_pressure is None:
+            return ps
+        pe = self.fluidized_pressure(n, mat.d, mat.rho_s, mat.rho_f, mat.g, derivative=derivative,
+                                     **self.fluidized_params)
+        return (ps[0] + pe[0], ps[1] + pe[1]) if derivative else ps + pe
 
     def saturated_drag(self, n, slip, *args, **kw):
         """The drag law with this run's |slip| saturation (same signature as the laws)."""
@@ -215,7 +226,7 @@ class TwoFluid1D:
         return nb, na, nf
 
     def solids_pressure(self, n, n_bar, derivative=False):
-        return exponential(n, n_bar, self.clo.A, self.clo.p_ref, derivative=derivative)
+        return self.clo.solids_pressure(n, n_bar, self.mat, derivative=derivative)
 
     def inlet_value(self, b: Boundary, t: float, sign: float) -> float:
         return sign * b.velocity(t) if b.kind == "inlet" else 0.0
