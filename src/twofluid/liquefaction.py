@@ -4,7 +4,8 @@
 :data:`twofluid.simulation.RUNNERS`). The run folder holds
 
 - ``case.resolved.toml`` — every key with the value used;
-- ``probes.csv`` — time series: base acceleration, surface settlement, base pore
+- ``probes.csv`` — time series: base acceleration (absolute; on a compliant base the
+  outcrop record plus the base's motion relative to it), surface settlement, base pore
   pressure, surface displacement relative to the base, and r_u and σ′_v at the
   ``[report] depths`` (every vertical step, or every ``[output] probe_interval``);
 - ``ru_field.csv`` — r_u of every element against time (the depth–time map);
@@ -17,9 +18,9 @@
 - ``ru_histories.png``, ``ru_map.png``, ``settlement.png``.
 
 Inputs are checked before the folder is created: the case (again, if it is a dictionary
-that may have been edited since loading) with the record and the ANN weights it names, read
-and validated (:mod:`twofluid.casefile.schema_liquefaction`); a bad one is a CaseError and
-nothing is written. Once running, CSV rows are flushed as they are written, so Ctrl-C or a
+that may have been edited since loading) with the record, the ANN weights and the G/G_max
+table it names, read and validated (:mod:`twofluid.casefile.schema_liquefaction`); a bad one
+is a CaseError and nothing is written. Once running, CSV rows are flushed as they are written, so Ctrl-C or a
 failed step (including a non-finite shear step) leaves readable files, and ``summary.json``
 is written whatever the outcome.
 """
@@ -37,6 +38,7 @@ from .casefile.builder import closures, materials
 from .casefile.loader import load_case
 from .casefile.schema import CaseError, revalidate
 from .closures import drag as drag_laws
+from .closures.shear_modulus import seed_idriss_gmax, tabulated_curve
 from .io import ground_motion as gm
 from .io.results import ResultWriter, write_json, write_resolved_case
 from .mesh.line import uniform_line
@@ -84,7 +86,8 @@ def validated(case: dict) -> dict:
 def build_column(case: dict) -> Built:
     """Column, geostatic initial state and stepping of a resolved ``liquefaction_1d`` case.
 
-    Reads the record and the ANN weights (CaseError if they cannot be used); writes nothing.
+    Reads the record, the ANN weights and the G/G_max table (CaseError if they cannot be used);
+    writes nothing.
     """
     d, sa, sw = case["deposit"], case["sand"], case["shear_wave"]
     source = _source(case)
@@ -99,15 +102,18 @@ def build_column(case: dict) -> Built:
                               surcharge=d["surcharge"])
     weights = schema_liquefaction.load_ann_weights(case, source)  # parsed once, not per sub-step
     law_params = {"weights": weights} if weights is not None else {}
+    table = schema_liquefaction.load_reduction_table(case, source)  # None: hyperbolic
     sand = Sand(k2max=sa["k2max"], gamma_ref=sa["gamma_ref"], dr=sa["relative_density"],
                 law=sa["reference_porosity_law"], law_params=law_params,
+                reduction=None if table is None else tabulated_curve(*table),
                 gamma_law_max=sa["gamma_law_max"])
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
     column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,
                                 shear_step=sw["step"], damping_ratio=sw["damping_ratio"],
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
-                                free_vibration=sw["free_vibration"], settings=settings)
+                                free_vibration=sw["free_vibration"], settings=settings,
+                                base_impedance=schema_liquefaction.base_impedance(case))
     state = column.initial_state(d["porosity"], d["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
@@ -164,11 +170,11 @@ class _Recorder:
     def probe_values(self, s: ColumnState, ru) -> dict:
         col = self.col
         ps = col.granular_pressure(s)
-        vals = {"base_acceleration_m_s2": col.a_g(s.t) if s.t <= col.shaking_end else 0.0,
+        vals = {"base_acceleration_m_s2": col.base_acceleration(s),
                 "surface_settlement_m": self.settle[-1],
                 "base_pore_pressure_Pa": float(s.vertical.P[0]),
                 "base_excess_pore_pressure_Pa": self.pbase[-1],
-                "surface_displacement_m": float(s.wave.u[-1])}
+                "surface_displacement_m": col.surface_displacement(s)}
         for z, e in zip(self.depths, self.elem):
             vals[f"r_u@{z:g}m"] = float(ru[e])
         for z, e in zip(self.depths, self.elem):
@@ -293,6 +299,15 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
         first_info = {"time_s": t1, "depth_range_m": _zone(at, mesh),
                       "depth_m": float(np.mean(col.depth[at]))}
     m = case["ground_motion"]
+    c_base = col.wave.base_impedance
+    if c_base is None:
+        base = {"kind": "rigid", "record_is": "base motion"}
+    else:  # α = ρ̄ V_s / (ρ_r V_r) of the bottom element at the initial G_max
+        g0 = seed_idriss_gmax(col.sigma_v0[0], col.sand.k2max)
+        rho0 = float(col.mixture_density(n0)[0])
+        base = {"kind": "compliant", "record_is": "outcrop motion of the bedrock",
+                "bedrock_impedance_Pa_s_m": c_base,
+                "impedance_ratio_bottom_element": float(np.sqrt(rho0 * g0)) / c_base}
     s = {
         "case": case["case"]["name"], "status": status, "stopped_at_s": last.t, "reason": reason,
         "end_time_s": b.t_end, "wall_time_s": wall, "steps": n_steps, "shear_substeps": n_sub,
@@ -305,7 +320,8 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
             H / 2, col.depth[::-1], c_v[::-1])), "base": float(c_v[0])},
         "shaking": {"record": m["file"], "pga_g": m["pga_g"],
                     "end_s": col.shaking_end, "shear_wave_end_s": col.shear_end,
-                    "applied_pga_m_s2": None if b.motion is None else b.motion.pga},
+                    "applied_pga_m_s2": None if b.motion is None else b.motion.pga, "base": base,
+                    "modulus_reduction": case["sand"]["modulus_reduction"]},
         "r_u_definition": "(P - P_hydrostatic) / sigma'_v0 per element; liquefied: r_u > "
                           f"{rec.ru_liq:g}",
         "by_depth": {"depth_m": col.depth, "peak_r_u": rec.peak, "time_of_peak_s": rec.t_peak,

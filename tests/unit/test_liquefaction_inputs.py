@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from twofluid.casefile.loader import load_case
-from twofluid.casefile.schema import CaseError
+from twofluid.casefile.schema import CaseError, CaseWarning
 from twofluid.cli import main
 from twofluid.closures import reference_porosity as rp
 from twofluid.liquefaction import build_column, run_liquefaction
@@ -95,6 +95,44 @@ BAD = [  # (case sections, extra files, words in the message)
      ["[materials] particle_density", "must exceed [materials] liquid_density = 1000"]),
     (dict(materials={"gravity": 0.0}), (), ["[materials] gravity", "(0, inf)"]),
     (dict(sand={"compressibility": 0.5}), (), ["[sand] compressibility", "valid: A <"]),
+    # tabulated G/G_max (SPEC 4.3): inline lists or a CSV file next to the case file
+    (dict(sand={"modulus_reduction": "tabulated"}), (), ["[sand] modulus_reduction", "needs a table"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-4, 1e-5],
+                "reduction_ratios": [1.0, 0.5]}), (),
+     ["bad.toml", "[sand] reduction_strains", "strictly increase", "0.0001 (point 1) then 1e-05"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [0.0, 1e-4],
+                "reduction_ratios": [1.0, 0.5]}), (), ["[sand] reduction_strains", "valid range (0, inf)"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4],
+                "reduction_ratios": [1.0, 1.5]}), (), ["[sand] reduction_ratios", "1.5", "valid range (0, 1]"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4, 1e-3],
+                "reduction_ratios": [1.0, 0.5, 0.7]}), (), ["[sand] reduction_ratios", "must not increase"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5],
+                "reduction_ratios": [1.0]}), (), ["[sand] reduction_strains", "at least 2"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4, 1e-3],
+                "reduction_ratios": [1.0, 0.5]}), (), ["[sand] reduction_ratios", "3 strain(s) but 2"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4],
+                "reduction_ratios": "0.5"}), (), ["[sand] reduction_ratios", "list of numbers"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "missing.csv"}), (),
+     ["[sand] reduction_file", "missing.csv", "no such file"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
+     [("g.csv", "strain,G_over_Gmax\n1e-5,1.0\n1e-4,abc\n")],
+     ["[sand] reduction_file", "g.csv line 3", "non-numeric"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
+     [("g.csv", "1e-5,1.0,3\n1e-4,0.5\n")], ["[sand] reduction_file", "g.csv line 1", "3 value(s)"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
+     [("g.csv", "# Seed-Idriss\n1e-5,1.0\n1e-4,0.0\n")],
+     ["[sand] reduction_file", "g.csv: G/G_max = 0 at strain 0.0001", "(0, 1]"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}), [("g.csv", "strain,ratio\n")],
+     ["[sand] reduction_file", "has 0 point(s)", "at least 2"]),
+    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv", "reduction_strains": [1e-5, 1e-4],
+                "reduction_ratios": [1.0, 0.5]}), [("g.csv", "1e-5,1\n1e-4,0.5\n")],
+     ["[sand] reduction_file", "not both"]),
+    # compliant base (SPEC 5.4)
+    (dict(shear_wave={"base": "elastic"}), (), ["[shear_wave] base", "'rigid', 'compliant'"]),
+    (dict(shear_wave={"base": "compliant", "bedrock_shear_velocity": 0.0}), (),
+     ["[shear_wave] bedrock_shear_velocity", "(0, 10000]", "m/s"]),
+    (dict(shear_wave={"base": "compliant", "bedrock_density": 500.0}), (),
+     ["[shear_wave] bedrock_density", "[1000, 5000]", "kg/m³"]),
 ]
 
 
@@ -185,3 +223,81 @@ def test_non_finite_shear_step_is_a_failed_run_with_its_results(folder, monkeypa
     assert s["stopped_at_s"] == pytest.approx(0.06)
     rows = list(csv.DictReader(open(out / "probes.csv")))
     assert float(rows[-1]["time_s"]) == pytest.approx(0.06)
+
+
+def _probes(out):
+    return list(csv.DictReader(open(out / "probes.csv")))
+
+
+def test_tabulated_reduction_from_a_csv_next_to_the_case_file(folder):
+    """A table of the default hyperbola (γ_ref = 0.1 %, 20 points per decade) runs like the default
+    (surface displacement within 1.2e-4 of its peak; asserted 1e-3); a stiffer table (γ_ref = 1 %)
+    does not (127 %). The CSV is found next to the case file."""
+    from twofluid.closures.shear_modulus import hyperbolic
+
+    strains = np.logspace(-7, -1, 121)
+    for name, ref in (("same.csv", 1e-3), ("stiff.csv", 1e-2)):
+        rows = "".join(f"{g:.10g},{r:.10g}\n" for g, r in zip(strains, hyperbolic(strains, ref)))
+        (folder / name).write_text("# shear strain [-], G/G_max\nstrain,G_over_Gmax\n" + rows)
+    runs = {}
+    for name, sand in (("hyp", {}), ("same", {"modulus_reduction": "tabulated", "reduction_file": "same.csv"}),
+                       ("stiff", {"modulus_reduction": "tabulated", "reduction_file": "stiff.csv"})):
+        path = folder / f"{name}.toml"
+        path.write_text(_case(sand=sand, ground_motion={"pga_g": 0.5}))
+        r = run_liquefaction(str(path), folder / name)
+        assert r.status == "completed"
+        assert r.summary["shaking"]["modulus_reduction"] == ("hyperbolic" if name == "hyp" else "tabulated")
+        runs[name] = np.array([float(row["surface_displacement_m"]) for row in _probes(folder / name)])
+    scale = np.max(np.abs(runs["hyp"]))
+    assert scale > 0.0
+    assert np.max(np.abs(runs["same"] - runs["hyp"])) < 1e-3 * scale
+    assert np.max(np.abs(runs["stiff"] - runs["hyp"])) > 0.01 * scale
+
+
+def test_inline_table_and_its_warnings(folder, capsys):
+    """Inline lists work; gamma_ref is then ignored (warning), and a table whose log interpolation
+    makes the stress fall between two points is run with a warning naming them."""
+    path = folder / "inline.toml"
+    path.write_text(_case(sand={"modulus_reduction": "tabulated", "gamma_ref": 2e-3,
+                                "reduction_strains": [1e-6, 1e-4, 1e-3, 3e-3, 1e-2],
+                                "reduction_ratios": [1.0, 0.9, 0.5, 0.3, 0.12]}))
+    assert main(["run", str(path), "--out", str(folder / "o"), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "[sand] gamma_ref: ignored" in err
+    assert "[sand] reduction_ratios" in err and "0.003–0.01" in err and "softening" in err
+    with pytest.warns(CaseWarning) as caught:
+        case = load_case(str(path))
+    assert sorted("softening" in str(w.message) for w in caught) == [False, True]
+    b = build_column(case)
+    assert b.column.sand.reduction(np.array([1e-3, 1.0])).tolist() == [0.5, 0.12]
+
+
+def test_compliant_base_case(folder):
+    """[shear_wave] base = "compliant": the record is the outcrop motion, the base node moves, the
+    summary gives c = ρ_r V_r and the impedance ratio of the bottom element. The stiffest bedrock
+    the ranges allow (α = 0.0053) moves the surface 1.6 % of its peak away from the rigid base,
+    a soft one (α = 0.44) 67 %: asserted < 5 % of the soft difference, and > 10 %. (The precise
+    checks against the exact solution are in test_liquefaction_base.py.)"""
+    out = {}
+    for name, sw in (("rigid", {}), ("soft", {"base": "compliant", "bedrock_density": 2000.0,
+                                             "bedrock_shear_velocity": 300.0}),
+                     ("stiff", {"base": "compliant", "bedrock_density": 5000.0,
+                                "bedrock_shear_velocity": 10000.0})):
+        path = folder / f"{name}.toml"
+        path.write_text(_case(shear_wave=sw))
+        r = run_liquefaction(str(path), folder / name)
+        assert r.status == "completed"
+        out[name] = (r, _probes(folder / name))
+    base = out["soft"][0].summary["shaking"]["base"]
+    assert base["kind"] == "compliant" and base["bedrock_impedance_Pa_s_m"] == pytest.approx(6e5)
+    b = build_column(load_case(str(folder / "soft.toml")))
+    rho0 = b.column.mixture_density(b.state.vertical.n)[0]
+    vs0 = np.sqrt(liquefaction_1d.seed_idriss_gmax(b.column.sigma_v0[0], 30.0) / rho0)
+    assert base["impedance_ratio_bottom_element"] == pytest.approx(rho0 * vs0 / 6e5, rel=1e-12)
+    assert out["rigid"][0].summary["shaking"]["base"] == {"kind": "rigid", "record_is": "base motion"}
+    rec = {k: np.array([float(row["base_acceleration_m_s2"]) for row in rows]) for k, (_, rows) in out.items()}
+    top = {k: np.array([float(row["surface_displacement_m"]) for row in rows]) for k, (_, rows) in out.items()}
+    assert np.max(np.abs(rec["soft"] - rec["rigid"])) > 0.1 * np.max(np.abs(rec["rigid"]))  # the base moves
+    soft = np.max(np.abs(top["soft"] - top["rigid"]))
+    assert soft > 0.1 * np.max(np.abs(top["rigid"]))
+    assert np.max(np.abs(top["stiff"] - top["rigid"])) < 0.05 * soft

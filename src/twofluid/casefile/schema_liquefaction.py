@@ -1,11 +1,11 @@
 """Case-file sections of model ``liquefaction_1d`` (SPEC 5.4, 6.4–6.5).
 
-A level deposit of loose saturated sand on a rigid, impervious base, water table
-at the surface (drained top), shaken by a base acceleration record, then left to
-reconsolidate. Sections: ``[deposit]`` (geometry, initial state), ``[sand]``
-(skeleton: compressibility, shear modulus, densification law),
+A level deposit of loose saturated sand on an impervious base (rigid, or compliant for the
+shear wave), water table at the surface (drained top), shaken by an acceleration record,
+then left to reconsolidate. Sections: ``[deposit]`` (geometry, initial state), ``[sand]``
+(skeleton: compressibility, shear modulus and its reduction curve, densification law),
 ``[ground_motion]`` (record and scaling), ``[shear_wave]`` (horizontal
-equation: sub-step and damping), ``[reconsolidation]`` (vertical step after the
+equation: sub-step, damping, base), ``[reconsolidation]`` (vertical step after the
 shaking) and ``[report]`` (depths of the time series). ``[closures.drag]`` and
 ``[closures.viscosity]`` are those of the 1D model; ``[time] step`` is the
 vertical step while the column shakes.
@@ -13,12 +13,13 @@ vertical step while the column shakes.
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
-from .schema import FLOATS, SCHEMA, CaseError, K, register_model
+from .schema import FLOATS, SCHEMA, CaseError, CaseWarning, K, register_model
 
 __all__ = ["SECTIONS_LIQUEFACTION", "check_liquefaction", "case_relative_path", "load_motion",
-           "load_ann_weights"]
+           "load_ann_weights", "load_reduction_table", "base_impedance"]
 
 _DEPOSIT = [
     K("depth", float, 10.0, "m", "deposit thickness H (base to surface)", lo=0.0, lo_open=True, hi=1000.0),
@@ -38,7 +39,18 @@ _SAND = [
     K("k2max", float, 30.0, "-", "Seed–Idriss modulus number: G_max = 218.8 K2max √(P_s/1 kPa) kPa",
       lo=0.0, lo_open=True, hi=200.0),
     K("gamma_ref", float, 1e-3, "-", "reference strain of the hyperbolic G/G_max = 1/(1 + |γ|/γ_ref)",
-      lo=0.0, lo_open=True, hi=1.0),
+      lo=0.0, lo_open=True, hi=1.0, used_when=("modulus_reduction", ("hyperbolic",))),
+    K("modulus_reduction", str, "hyperbolic", "-", "G/G_max(γ) curve (SPEC 4.3): hyperbolic "
+      "1/(1 + |γ|/γ_ref), or tabulated (reduction_strains + reduction_ratios, or reduction_file), "
+      "interpolated linearly in log γ with the end values held outside the table",
+      choices=("hyperbolic", "tabulated")),
+    K("reduction_strains", FLOATS, [], "-", "tabulated: shear strains γ of the table (a fraction, not %): "
+      "> 0, strictly increasing, at least 2", used_when=("modulus_reduction", ("tabulated",))),
+    K("reduction_ratios", FLOATS, [], "-", "tabulated: G/G_max at reduction_strains: in (0, 1], "
+      "non-increasing", used_when=("modulus_reduction", ("tabulated",))),
+    K("reduction_file", str, "", "-", "tabulated, instead of the two lists: CSV file of rows \"shear "
+      "strain, G/G_max\" (strain a fraction; a header line and # comments allowed), a path relative to "
+      "the case file", used_when=("modulus_reduction", ("tabulated",))),
     K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (SPEC 4.5)",
       choices=("byrne", "ann")),
     K("ann_weights", str, "", "-", "ann: weights JSON file, a path relative to the case file ('' = the "
@@ -49,7 +61,8 @@ _SAND = [
 ]
 
 _MOTION = [
-    K("file", str, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "-", "base acceleration record: a bundled name "
+    K("file", str, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "-", "acceleration record — of the base "
+      "([shear_wave] base = \"rigid\") or of the bedrock outcrop (\"compliant\"): a bundled name "
       "(data/ground_motions) or a path (.AT2 in g, or .csv time_s,acceleration) relative to the case file"),
     K("units", str, "g", "-", "CSV acceleration units", choices=("g", "m/s2")),
     K("pga_g", float, 0.1, "g", "peak |a| the record is scaled to; 0 switches the shaking off",
@@ -67,6 +80,14 @@ _SHEAR = [
     K("damping_frequencies", FLOATS, [1.0, 10.0], "Hz", "the two frequencies of the Rayleigh damping"),
     K("free_vibration", float, 5.0, "s", "the shear wave keeps running this long after the record ends",
       lo=0.0),
+    K("base", str, "rigid", "-", "rigid: the record is the motion of the base; compliant: the record is the "
+      "outcrop motion of an elastic bedrock and the base has a Lysmer–Kuhlemeyer dashpot ρ_r V_r "
+      "(docs/liquefaction.md)", choices=("rigid", "compliant")),
+    K("bedrock_density", float, 2400.0, "kg/m³", "compliant base: bedrock density ρ_r", lo=1000.0, hi=5000.0,
+      used_when=("base", ("compliant",))),
+    K("bedrock_shear_velocity", float, 760.0, "m/s", "compliant base: bedrock shear-wave velocity V_r "
+      "(760 m/s: the NEHRP B/C boundary)", lo=0.0, lo_open=True, hi=10000.0,
+      used_when=("base", ("compliant",))),
 ]
 
 _RECON = [
@@ -132,6 +153,93 @@ def check_liquefaction(case: dict, source: str) -> None:
     # the files the case names, read and checked now: a bad one must not start a run
     load_ann_weights(case, source)
     load_motion(case, source)
+    _warn_softening(case, source, load_reduction_table(case, source))  # last: a warning only for a valid case
+
+
+def base_impedance(case: dict) -> float | None:
+    """c = ρ_r V_r [Pa·s/m] of a compliant base, None for a rigid one."""
+    sw = case["shear_wave"]
+    return None if sw["base"] == "rigid" else sw["bedrock_density"] * sw["bedrock_shear_velocity"]
+
+
+def load_reduction_table(case: dict, source: str):
+    """(strains, ratios) of a tabulated ``[sand] modulus_reduction`` (None: hyperbolic), from the
+    inline lists or the CSV file, checked; every problem is a CaseError naming file and key."""
+    from ..closures.shear_modulus import table_problem
+
+    sa = case["sand"]
+    if sa["modulus_reduction"] != "tabulated":
+        return None
+    lists = bool(sa["reduction_strains"] or sa["reduction_ratios"])
+    if sa["reduction_file"] and lists:
+        raise CaseError(source, "[sand] reduction_file", "give the table either as reduction_file or as "
+                        "reduction_strains + reduction_ratios, not both")
+    if not sa["reduction_file"] and not lists:
+        raise CaseError(source, "[sand] modulus_reduction", "\"tabulated\" needs a table: reduction_strains "
+                        "and reduction_ratios, or reduction_file")
+    if sa["reduction_file"]:
+        key = "[sand] reduction_file"
+        path = case_relative_path(case, source, sa["reduction_file"])
+        strains, ratios = _read_table(path, source, key)
+        problem = table_problem(strains, ratios)
+        if problem is not None:
+            raise CaseError(source, key, f"{path.name}: {problem[1]}")
+        return strains, ratios
+    strains, ratios = sa["reduction_strains"], sa["reduction_ratios"]
+    problem = table_problem(strains, ratios)
+    if problem is not None:
+        what = "strains" if problem[0] == "strains" or len(strains) < 2 else "ratios"
+        raise CaseError(source, f"[sand] reduction_{what}", problem[1])
+    return list(strains), list(ratios)
+
+
+def _read_table(path: Path, source: str, key: str):
+    """Rows "strain, G/G_max" of a CSV file; the first row may be a header, # starts a comment."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise CaseError(source, key, f"{path}: no such file (valid: a CSV file of shear strain, G/G_max "
+                        "rows; a relative path is taken from the case file's folder)") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CaseError(source, key, f"{path}: cannot be read ({exc})") from None
+    strains, ratios = [], []
+    first = True
+    for number, line in enumerate(text.splitlines(), start=1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        fields = [f.strip() for f in line.split(",")]
+        try:
+            values = [float(f) for f in fields]
+        except ValueError:
+            if first:  # a header
+                first = False
+                continue
+            raise CaseError(source, key, f"{path.name} line {number}: non-numeric value in {line!r} "
+                            "(valid: two numbers, shear strain [-] and G/G_max)") from None
+        first = False
+        if len(values) != 2:
+            raise CaseError(source, key, f"{path.name} line {number}: {len(values)} value(s) in {line!r} "
+                            "(valid: two numbers, shear strain [-] and G/G_max)")
+        strains.append(values[0])
+        ratios.append(values[1])
+    return strains, ratios
+
+
+def _warn_softening(case: dict, source: str, table) -> None:
+    """A valid table whose log interpolation makes the stress–strain backbone decrease somewhere."""
+    if table is None:
+        return
+    from ..closures.shear_modulus import backbone_dips
+
+    g, r = table
+    dips = backbone_dips(g, r)
+    if dips:
+        key = "reduction_file" if case["sand"]["reduction_file"] else "reduction_ratios"
+        pairs = ", ".join(f"{g[i]:g}–{g[i + 1]:g}" for i in dips)
+        warnings.warn(CaseWarning(f"{source}: [sand] {key}: the stress G_max (G/G_max) γ falls by more than "
+                                  f"1 % with growing strain between the points at γ = {pairs} under log "
+                                  "interpolation (a softening backbone; add points between them)"), stacklevel=3)
 
 
 def _check_physics(case: dict, source: str) -> None:

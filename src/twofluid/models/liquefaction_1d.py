@@ -3,8 +3,10 @@
 SPEC 5.4. The vertical motion is the full 1D two-component model
 (:class:`~twofluid.models.two_fluid_1d.TwoFluid1D`, unknowns V, W, P, n, with the
 reference porosity n̄ per element); the horizontal motion is the shear wave of
-:class:`~twofluid.models.shear_column.ShearColumn`, driven by the base
-acceleration a_g(t) (relative formulation, rigid base, free top). They are
+:class:`~twofluid.models.shear_column.ShearColumn`, driven by the
+acceleration record a_g(t) (relative formulation, free top; rigid base by default,
+where a_g is the base motion, or a compliant base — a Lysmer–Kuhlemeyer dashpot
+c = ρ_r V_r — where a_g is the outcrop motion of the bedrock). They are
 coupled through two state variables of each element:
 
 * the granular pressure P_s(n, n̄) sets the small-strain shear modulus
@@ -84,7 +86,7 @@ class Sand:
     dr: float = 47.0  # relative density [%] (byrne)
     law: str = "byrne"  # reference-porosity law
     law_params: dict = field(default_factory=dict)  # extra arguments of the law (e.g. ann weights)
-    reduction: Callable | None = None  # G/G_max(γ); None: hyperbolic with gamma_ref
+    reduction: Callable | None = None  # G/G_max(γ) (e.g. a tabulated curve); None: hyperbolic with gamma_ref
     gamma_law_max: float = 0.01  # |γ| beyond this adds no densification [-] (module docstring)
 
     def n_bar_law(self) -> Callable:
@@ -172,19 +174,24 @@ class LiquefactionColumn:
     ----------
     vertical : VerticalColumn — bottom must be a wall, top an outlet.
     sand : Sand
-    base_acceleration : callable t [s] -> a_g [m/s²] (0 outside the record), or None.
+    base_acceleration : callable t [s] -> a_g [m/s²] (0 outside the record), or None: the base
+        acceleration on a rigid base, the outcrop acceleration on a compliant one.
     shaking_end : time [s] when the record ends.
     shear_step : shear sub-step [s].
     damping_ratio, damping_frequencies : Rayleigh damping of the shear wave.
     free_vibration : seconds of shear wave after ``shaking_end``.
     settings : Picard settings of the vertical steps.
+    base_impedance : None (rigid base) or c = ρ_r V_r [Pa·s/m] of a compliant base
+        (:class:`~twofluid.models.shear_column.ShearColumn`); the vertical model's base stays
+        an impervious wall either way.
     """
 
     def __init__(self, vertical: VerticalColumn, sand: Sand = Sand(),
                  base_acceleration: Callable[[float], float] | None = None,
                  shaking_end: float = 0.0, shear_step: float = 0.005,
                  damping_ratio: float = 0.05, damping_frequencies=(1.0, 10.0),
-                 free_vibration: float = 5.0, settings: PicardSettings = PicardSettings()):
+                 free_vibration: float = 5.0, settings: PicardSettings = PicardSettings(),
+                 base_impedance: float | None = None):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand = vertical, sand
@@ -196,7 +203,8 @@ class LiquefactionColumn:
         mat, mesh = vertical.mat, vertical.mesh
         self.wave = ShearColumn(mesh.y, rho=np.full(mesh.n_elements, mat.rho_s),
                                 gamma_ref=sand.gamma_ref, reduction=sand.reduction,
-                                damping_ratio=damping_ratio, damping_frequencies=damping_frequencies)
+                                damping_ratio=damping_ratio, damping_frequencies=damping_frequencies,
+                                base_impedance=base_impedance)
         self.depth = mesh.y[-1] - mesh.centres  # element centres below the surface [m]
         self.p_hydro = vertical.top.pressure - mat.rho_f * vertical.g_y * (mesh.y[-1] - mesh.centres)
         self.sigma_v0 = None  # set by initial_state
@@ -239,6 +247,19 @@ class LiquefactionColumn:
         """Surface settlement [m] (positive down): Σ h (n0 − n)/(1 − n)."""
         n = s.vertical.n
         return float(np.sum(self.v.mesh.lengths * (self.n0 - n) / (1.0 - n)))
+
+    def surface_displacement(self, s: ColumnState) -> float:
+        """Horizontal displacement of the surface relative to the base [m]."""
+        return float(s.wave.u[-1] - s.wave.u[0])
+
+    def base_acceleration(self, s: ColumnState) -> float:
+        """Absolute horizontal acceleration of the base [m/s²] while the shear wave runs (else 0):
+        the record on a rigid base; record (outcrop) + the base's relative acceleration on a
+        compliant one."""
+        a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
+        if self.wave.base_impedance is None:
+            return a_in
+        return a_in + float(s.wave.a[0]) if s.t <= self.shear_end + 1e-12 else 0.0
 
     def mixture_density(self, n) -> np.ndarray:
         mat = self.v.mat
