@@ -2,10 +2,14 @@
 
 Outputs in ``out_dir``: ``case.resolved.toml``; ``fields.pvd`` + ``fields_NNNN.vtu``
 (ParaView, every [output] time); ``profiles.csv`` (horizontal/radial profiles at the
-[profiles] heights, long format); ``summary.json``; PNGs (``porosity.png``,
+[profiles] heights, long format); ``steps.csv`` (one row per step: Δt, iterations,
+rates and changes of the fields, linear-solver counts, U_f along the axis at the
+[profiles] heights); ``summary.json``; PNGs (``porosity.png``,
 ``velocity.png``, ``profiles.png``, and ``single_fluid.png`` with the annulus check).
 Ctrl-C or a step that cannot be made keeps what was written; the summary says
-where the run stopped.
+where the run stopped. ``[time] stepping = "pseudo_transient"`` replaces the
+transient stepper by pseudo-transient continuation to the steady state
+(:func:`pseudo_transient`).
 """
 from __future__ import annotations
 
@@ -26,9 +30,10 @@ from .mesh.quad import QuadMesh, rectangle, remove_block
 from .models.two_fluid_1d import Materials, State
 from .models.two_fluid_2d import Boundary2D, TwoFluid2D
 from .simulation import RunResult, run_guard
-from .timestepping.backward_euler import PicardSettings, StepFailure, integrate, picard_step
+from .timestepping.backward_euler import PicardSettings, Step, StepFailure, integrate, picard_step
 
-__all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile"]
+__all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile", "pseudo_transient",
+           "newton_step", "relative_change"]
 
 
 def build_mesh(case: dict) -> QuadMesh:
@@ -153,6 +158,81 @@ def steady_flow(model: TwoFluid2D, state: State, settings=PicardSettings(tol=1e-
     return state.copy(V=new.V, W=new.W, P=new.P)
 
 
+def relative_change(model: TwoFluid2D, new: State, old: State) -> tuple[float, float]:
+    """(max |Δn|, max(|ΔV|, |ΔW|)/|V, W|max) between two states: the relative change of the fields."""
+    dv = max(float(np.abs(new.V - old.V).max()), float(np.abs(new.W - old.W).max()))
+    return float(np.abs(new.n - old.n).max()), dv / model.velocity_scale(new)
+
+
+def newton_step(model: TwoFluid2D, old: State, dt: float, settings: PicardSettings, iterations: int):
+    """Backward-Euler step from ``old`` with at most ``iterations`` Newton iterates (fewer if converged).
+
+    For pseudo-transient continuation (Ψtc, Kelley & Keyes 1998): the intermediate
+    states are not wanted, so each step need not be solved to the Picard tolerance;
+    one iterate per step is the classic choice. Returns (state, iterations) or
+    (None, reason) when the linear solve fails or the state is not admissible.
+    """
+    t_new = old.t + dt
+    k = old.copy(t=t_new)
+    it = 0
+    for it in range(1, iterations + 1):
+        model.begin_iteration(it, k)
+        with np.errstate(all="ignore"):
+            a = model.solve(model.assemble(k, old, dt, t_new), t_new)
+        if not np.all(np.isfinite(a)):
+            return None, "linear solve gave non-finite values"
+        new = model.unpack(a, k, t_new)
+        dn, dv = relative_change(model, new, k)
+        k = new
+        if dv < settings.tol and dn < settings.tol:
+            break
+    reason = model.check(k)
+    if reason:
+        return None, reason
+    return model.end_step(old, k, dt), it
+
+
+def pseudo_transient(model: TwoFluid2D, state: State, t_end: float, dt: float, dt_max: float,
+                     settings: PicardSettings, grow: float = 2.0,
+                     iterations: int = 0):
+    """Backward Euler with switched evolution relaxation (SER): Δt grows as the fields settle.
+
+    After each converged step Δt ← Δt · min(``grow``, r_prev / r), r the relative rate
+    of change max(|Δn|, |ΔV|/|V|max)/Δt (the steady residual of the discrete
+    equations, scaled by their mass matrix), kept within [``dt``, ``dt_max``]; not
+    grown after a step that needed more than ``settings.easy_iters`` iterations;
+    halved (down to ``settings.dt_min``) when a step fails. Backward Euler is
+    unconditionally stable, so once Δt is far above the slowest relaxation time each
+    step is a (modified) Newton step on the steady equations: for the steady state
+    only, not for the transient. ``iterations`` > 0: at most that many Newton
+    iterates per step (:func:`newton_step`); 0: each step converged to
+    ``settings.tol`` (:func:`picard_step`). Yields :class:`Step` as ``integrate``.
+    """
+    h, n_steps, prev = dt, 0, None
+    eps = 1e-9 * max(dt, 1e-12)
+    while state.t < t_end - eps:
+        h_try = min(h, t_end - state.t)
+        if iterations > 0:
+            new, info = newton_step(model, state, h_try, settings, iterations)
+        else:
+            new, info = picard_step(model, state, h_try, settings)
+        if new is None:
+            if h_try / 2 < settings.dt_min:
+                raise StepFailure(state.t, h_try, info, state)
+            h = h_try / 2
+            prev = None
+            continue
+        n_steps += 1
+        r = max(relative_change(model, new, state)) / h_try
+        if prev is not None and r > 0.0:
+            h = h_try * min(grow, prev / r)
+        if info > settings.easy_iters:
+            h = min(h, h_try)
+        h = min(max(h, dt), dt_max)
+        prev, state = r, new
+        yield Step(state.t, h_try, info, state, n_steps)
+
+
 def horizontal_profile(model: TwoFluid2D, fields: dict, height: float) -> dict:
     """Element values along the row of elements containing ``height`` [m], sorted by x (r)."""
     y = model.mesh.points[model.mesh.cells][:, :, 1]
@@ -186,6 +266,49 @@ class _Profiles:
             for row in zip(*(p[c] for c in self.cols)):
                 self.w.writerow([f"{t:.10g}", f"{h:.10g}"] + [f"{v:.10g}" for v in row])
         self.f.flush()
+
+    def close(self):
+        self.f.close()
+
+
+class _History:
+    """Streams one row per step to steps.csv: Δt, iterations, rates, changes, solver counts, centreline U_f."""
+
+    def __init__(self, out: Path, model, heights):
+        self.model, self.heights = model, list(heights)
+        mesh = model.mesh
+        xc = mesh.points[mesh.cells].mean(axis=1)
+        y = mesh.points[mesh.cells][:, :, 1]
+        self.axis_el = []
+        for h in self.heights:  # element of the row at height h nearest to x (r) minimum
+            row = np.nonzero((y.min(axis=1) <= h) & (y.max(axis=1) > h))[0]
+            self.axis_el.append(int(row[np.argmin(xc[row, 0])]) if row.size else -1)
+        self.f = open(out / "steps.csv", "w", newline="", encoding="utf-8")
+        self.w = csv.writer(self.f)
+        self.w.writerow(["step", "time_s", "dt_s", "iterations", "max_dn_dt_1_s", "max_dV_dt_over_V_1_s",
+                         "max_dn", "max_dV_over_V", "factorisations", "solves", "gmres_iterations"]
+                        + [f"Uf_axial_at_{h:g}m_x_min" for h in self.heights])
+        self.last = {}
+
+    def write(self, k, s, dt, its, rate, change):
+        st = getattr(self.model.linear, "stats", {})
+        v = self.model.element_mean(s.V)
+        w = self.model.element_mean(s.W)
+        uf = [(v[e, 1] + w[e, 1]) / (2.0 * s.n[e]) if e >= 0 else np.nan for e in self.axis_el]
+        self.last = {"time_s": s.t, "uf": uf, "prev": self.last.get("uf"), "prev_t": self.last.get("time_s")}
+        self.w.writerow([k, f"{s.t:.10g}", f"{dt:.6g}", its, f"{rate[0]:.4g}", f"{rate[1]:.4g}", f"{change[0]:.4g}",
+                         f"{change[1]:.4g}", st.get("factorisations", 0), st.get("solves", 0),
+                         st.get("gmres_iterations", 0)] + [f"{u:.10g}" for u in uf])
+        self.f.flush()
+
+    def centreline(self) -> dict:
+        """U_f,axial of the element next to the axis (x min) at each profile height, and its last change."""
+        out = {}
+        for i, h in enumerate(self.heights):
+            u = float(self.last["uf"][i]) if self.last else float("nan")
+            d = float(self.last["uf"][i] - self.last["prev"][i]) if self.last.get("prev") else float("nan")
+            out[f"{h:g} m"] = {"value": u, "change_in_last_step": d}
+        return out
 
     def close(self):
         self.f.close()
@@ -276,39 +399,59 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     f = _write_fields(writer, model, state)
     prof.write(state.t, f)
     solids0, outflow = model.solids_volume(state), 0.0
-    tol, calm = case["profiles"]["steady_tolerance"], 0
-    n_steps, last, rate, steady_reason = 0, state, (np.inf, np.inf), ""
-    with run_guard(b.t_end, progress) as run:
-        for step in integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings):
+    pc = case["profiles"]
+    tol, tol_change, calm = pc["steady_tolerance"], pc["steady_change"], 0
+    n_steps, last, rate, change, steady_reason = 0, state, (np.inf, np.inf), (np.inf, np.inf), ""
+    tm = case["time"]
+    if tm["stepping"] == "pseudo_transient":
+        steps = pseudo_transient(model, state, b.t_end, b.dt, tm["max_step"] or b.t_end, b.settings,
+                                 iterations=tm["iterations_per_step"])
+    else:
+        steps = integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings)
+    history = _History(out, model, pc["heights"])
+    history.write(0, state, 0.0, 0, (np.nan, np.nan), (np.nan, np.nan))
+    pending = [t for t in out_times if t > state.t]
+    with run_guard(b.t_end, progress, history) as run:
+        for step in steps:
             s = step.state
             outflow += step.dt * model.solids_outflow(s)
-            rate = (float(np.abs(s.n - last.n).max() / step.dt),
-                    float(np.abs(s.V - last.V).max() / (model.velocity_scale(s) * step.dt)))
+            change = relative_change(model, s, last)
+            rate = (change[0] / step.dt, change[1] / step.dt)
             n_steps, last = step.n_steps, s
-            calm = calm + 1 if tol > 0 and max(rate) < tol else 0
+            history.write(n_steps, s, step.dt, step.iterations, rate, change)
+            calm = calm + 1 if tol > 0 and max(rate) < tol and (tol_change <= 0 or max(change) < tol_change) \
+                else 0
             steady = calm >= 3
-            if steady or any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times):
+            due = bool(pending) and s.t >= pending[0] * (1 - 1e-9)
+            while pending and s.t >= pending[0] * (1 - 1e-9):
+                pending.pop(0)
+            if steady or due:
                 prof.write(s.t, _write_fields(writer, model, s))
-            run.bar.update(s.t - run.bar.n)
+            run.bar.update(min(s.t, b.t_end) - run.bar.n)
             if steady:
-                steady_reason = (f"steady: max |dn/dt| = {rate[0]:.3g} 1/s, "
-                                 f"max |dV/dt|/|V| = {rate[1]:.3g} 1/s")
+                steady_reason = (f"steady: max |dn/dt| = {rate[0]:.3g} 1/s, max |dV/dt|/|V| = {rate[1]:.3g} 1/s, "
+                                 f"change in the last step {max(change):.3g} (Δt = {step.dt:.4g} s)")
                 break
     status, reason = run.status, run.reason or steady_reason
     if not writer.entries or writer.entries[-1][0] != last.t:
         prof.write(last.t, _write_fields(writer, model, last))
     prof.close()
     wall = time.perf_counter() - wall0
-    summary = _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra)
+    summary = _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra,
+                       change, history)
     write_json(out / "summary.json", summary)
     if case["output"]["plots"]:
         _plots(case, model, last, prof.last, out, extra)
     return RunResult(status, out, summary, {last.t: model.element_fields(last)}, {})
 
 
-def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra):
+def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra,
+             change=(np.nan, np.nan), history=None):
     solids = model.solids_volume(last)
     fluxes = model.boundary_fluxes(last)
+    pseudo = case["time"]["stepping"] == "pseudo_transient"
+    sol_in = sum(-v["solids_m3_s"] for v in fluxes.values() if v["solids_m3_s"] < 0.0)
+    steady_balance = sum(v["solids_m3_s"] for v in fluxes.values()) / sol_in if sol_in > 0 else 0.0
     inl = {k: sum(-v[k] for v in fluxes.values() if v["kind"] == "inlet") for k in ("liquid_m3_s", "solids_m3_s")}
     outl = {k: sum(v[k] for v in fluxes.values() if v["kind"] == "outlet") for k in ("liquid_m3_s", "solids_m3_s")}
     s = {
@@ -317,15 +460,25 @@ def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outfl
         "elements": model.ne, "nodes": model.nn, "unknowns": model.size,
         "linear_solver": {"kind": model.linear.kind, **model.linear.stats},
         "solids_volume_m3": {"initial": solids0, "final": solids, "outflow": outflow},
-        "solids_volume_balance_error": (solids - solids0 + outflow) / solids0 if solids0 > 0 else 0.0,
-        "solids_volume_balance_error_definition":
+        "solids_volume_balance_error": steady_balance if pseudo else
+        ((solids - solids0 + outflow) / solids0 if solids0 > 0 else 0.0),
+        "solids_volume_balance_error_definition": (
+            "steady balance (pseudo_transient stepping): (net solids outflow through the boundary) / "
+            "solids inflow, at the final state. The time-history balance is not computed: pseudo-transient "
+            "steps are not solved to convergence (one Newton iterate each) and are not a history"
+            if pseudo else
             "(solids volume now − initial + net solids that left through the boundary) / initial "
-            "(volumes with the 2πr weight in axisymmetry)",
+            "(volumes with the 2πr weight in axisymmetry)"),
+        "stepping": case["time"]["stepping"],
         "boundary_fluxes_m3_s": fluxes,
         "inflow_m3_s": inl, "outflow_m3_s": outl,
         "liquid_outflow_over_inflow": outl["liquid_m3_s"] / inl["liquid_m3_s"] if inl["liquid_m3_s"] else None,
         "solids_outflow_over_inflow": outl["solids_m3_s"] / inl["solids_m3_s"] if inl["solids_m3_s"] else None,
         "final_rates_1_s": {"max_dn_dt": rate[0], "max_dV_dt_over_Vmax": rate[1]},
+        "final_change": {"max_dn": change[0], "max_dV_over_Vmax": change[1],
+                         "definition": "change over the last step: max |Δn| and max(|ΔV|, |ΔW|)/|V, W|max; "
+                                       "rates are these over Δt"},
+        "centreline_liquid_velocity_m_s": history.centreline() if history is not None else {},
         "porosity_range": [float(last.n.min()), float(last.n.max())],
         **extra,
     }

@@ -9,7 +9,8 @@ from twofluid.casefile.loader import load_case
 from twofluid.casefile.schema import CaseError, validate
 from twofluid.simulation import run_case
 
-COARSE = {"pipe-flow": {"mesh": {"nx": 10, "ny": 20}, "time": {"end": 0.02, "step": 0.01},
+COARSE = {"pipe-flow": {"mesh": {"nx": 10, "ny": 20},
+                        "time": {"end": 0.02, "step": 0.01, "stepping": "fixed"},  # the transient balance
                         "output": {"times": []}},
           "viscometer": {"mesh": {"nx": 10, "ny": 32}, "time": {"end": 0.02, "step": 0.01},
                          "output": {"times": []}}}
@@ -36,6 +37,44 @@ def test_bundled_case_runs(name, tmp_path):
         sf = s["single_fluid"]
         assert sf["u_theta_relative_L2_error"] < 0.05 and sf["u_z_relative_L2_error"] < 0.05
         assert "below_cut" in s
+
+
+def test_pipe_flow_pseudo_transient_reaches_steady_state(tmp_path):
+    """The bundled pipe-flow settings (pseudo-transient continuation) on a 10 × 20 mesh, to the steady state.
+
+    The stop is the case's criterion (rates and the change over one step); the steady
+    state is checked against the discrete equations by continuing it with the transient
+    stepper (fixed Δt, every step converged): it must stay put, and liquid and solids
+    must leave as fast as they enter.
+    """
+    from twofluid.simulation_2d import build_2d
+    from twofluid.timestepping.backward_euler import picard_step
+
+    case = load_case("pipe-flow")
+    case["mesh"].update(nx=10, ny=20)
+    case["output"]["plots"] = False
+    res = run_case(case, tmp_path)
+    s = res.summary
+    assert res.status == "completed" and s["reason"].startswith("steady"), s["reason"]
+    assert s["steps"] < 60 and s["linear_solver"]["solves"] < 120
+    assert max(s["final_change"]["max_dn"], s["final_change"]["max_dV_over_Vmax"]) \
+        < case["profiles"]["steady_change"]
+    assert abs(s["liquid_outflow_over_inflow"] - 1.0) < 1e-3
+    assert abs(s["solids_outflow_over_inflow"] - 1.0) < 1e-3
+    assert abs(s["solids_volume_balance_error"]) < 1e-9  # the steady balance (see its definition)
+    assert s["solids_volume_balance_error_definition"].startswith("steady balance")
+    lines = (tmp_path / "steps.csv").read_text().splitlines()
+    assert len(lines) == s["steps"] + 2
+    # a converged backward-Euler step of 2 s from the final state changes it by round-off only
+    b = build_2d(case)
+    m, f = b.model, meshio.read(sorted(tmp_path.glob("fields_*.vtu"))[-1])
+    last = b.state.copy(V=f.point_data["V"][:, :m.nc].T.ravel().copy(),
+                        W=f.point_data["W"][:, :m.nc].T.ravel().copy(),
+                        P=f.cell_data["P"][0].copy(), n=f.cell_data["porosity"][0].copy())
+    new, its = picard_step(m, last, 2.0, b.settings)
+    assert new is not None
+    assert np.abs(new.n - last.n).max() < 1e-7
+    assert np.abs(new.V - last.V).max() < 1e-6 * m.velocity_scale(last)
 
 
 def test_2d_case_errors_name_key():

@@ -53,14 +53,32 @@ _NUMERICS = [
       choices=("upwind", "galerkin")),
     K("stabilisation_delta", float, 0.25, "-", "checkerboard-penalty parameter δ (scale δ/μ_f); 0: none",
       lo=0.0),
-    K("linear_solver", str, "lagged", "-", "lagged: LU of an earlier matrix preconditions GMRES, "
-      "refactorised when it stalls; direct: new LU every iteration", choices=("lagged", "direct")),
+    K("linear_solver", str, "lagged", "-", "lagged: LU of an earlier matrix preconditions GMRES across "
+      "iterations and steps (modified Newton), refactorised when GMRES would cost more than a new LU; "
+      "direct: new LU every iteration", choices=("lagged", "direct")),
 ]
 
 _PROFILES = [
     K("heights", FLOATS, [], "m", "heights (y/z) of the radial (horizontal) profiles written and plotted"),
-    K("steady_tolerance", float, 0.0, "1/s", "stop before [time] end when max |Δn|/Δt and "
-      "max |ΔV|/(|V|max Δt) stay below this for 3 steps (0: run to the end)", lo=0.0),
+    K("steady_tolerance", float, 0.0, "1/s", "stop before [time] end when the relative rates of change "
+      "max |Δn|/Δt and max(|ΔV|, |ΔW|)/(|V, W|max Δt) — the steady residual of the discrete equations "
+      "scaled by their mass matrix — stay below this for 3 steps (0: run to the end)", lo=0.0),
+    K("steady_change", float, 0.0, "-", "and (if > 0) the change over one step, max |Δn| and "
+      "max(|ΔV|, |ΔW|)/|V, W|max, stays below this: with pseudo_transient steps far longer than the "
+      "slowest relaxation time it estimates the distance to the steady state", lo=0.0),
+]
+
+_TIME = [
+    *SCHEMA["time"],
+    K("stepping", str, "fixed", "-", "fixed: Δt = step (shrinks where needed, lands on [output] times; "
+      "the transient); pseudo_transient: Δt grows as the fields settle (switched evolution relaxation, "
+      "up to max_step), for the steady state only: [output] times are written at the first step "
+      "reaching them", choices=("fixed", "pseudo_transient")),
+    K("max_step", float, 0.0, "s", "pseudo_transient: largest Δt (0: [time] end)", lo=0.0,
+      used_when=("stepping", ("pseudo_transient",))),
+    K("iterations_per_step", int, 1, "-", "pseudo_transient: Newton iterates per step (pseudo-transient "
+      "continuation: the intermediate states are not wanted, so one is the usual choice); 0: converge "
+      "every step to picard_tol", lo=0, hi=1000, used_when=("stepping", ("pseudo_transient",))),
 ]
 
 _SINGLE = [
@@ -73,6 +91,7 @@ _SINGLE = [
 ]
 
 SECTIONS_2D = {
+    "time": _TIME,
     "mesh": _MESH,
     "closures.drag": SCHEMA["closures.drag"],
     "closures.solids_pressure": SCHEMA["closures.solids_pressure"],
