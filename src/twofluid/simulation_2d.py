@@ -20,10 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .casefile.builder import Schedule, closures, inlet_velocities, materials
+from .casefile.builder import Schedule, closures, inlet_velocities, materials, settled_reference_porosity
 from .casefile.schema import CaseError
 from .casefile.schema_2d import BOUNDARY_NAMES
-from .closures.solids_pressure import reference_porosity_for
 from .io.fields import FieldWriter
 from .io.results import write_json, write_resolved_case
 from .mesh.quad import QuadMesh, rectangle, remove_block
@@ -100,7 +99,8 @@ def build_2d(case: dict) -> Built2D:
         if b["kind"] == "inlet":
             vel = Schedule(tuple(b["times"]), tuple(_inlet_velocities(b, clo, mat)))
         bcs.append(Boundary2D(group, b["kind"], velocity=vel, solids_velocity=b["solids_velocity"],
-                              pressure=b["pressure"], omega=b["omega"]))
+                              pressure=b["pressure"], omega=b["omega"],
+                              free_slip=b["tangential"] == "free_slip"))
     missing = _uncovered(mesh, [b.group for b in bcs])
     if missing:
         raise CaseError(src, "[boundary.*]", f"{missing} boundary edges have no condition; mesh groups: "
@@ -127,9 +127,7 @@ def initial_state(model: TwoFluid2D, case: dict) -> State:
     n = np.where(yc - y0 < h, init["porosity"], 1.0)
     n_bar = np.full(model.ne, case["closures.solids_pressure"]["reference_porosity"])
     if init["state"] == "settled":
-        ps = model.settled_solids_pressure(n)
-        solid = ps > 0.0
-        n_bar[solid] = reference_porosity_for(n[solid], ps[solid], model.clo.A, model.clo.p_ref)
+        settled_reference_porosity(n_bar, n, model.settled_solids_pressure(n), model.clo, model.mat)
     V, W = np.zeros(model.nv), np.zeros(model.nv)
     model._node_porosity = model.nodal_porosity(n)  # rotating walls: W_θ = (2n − 1)ωr
     idx, val = model.dirichlet(0.0)

@@ -149,3 +149,51 @@ def test_lagged_solver_reuses_factorisation_and_matches_direct():
         assert np.abs(x_lag - x_dir).max() < 1e-7 * np.abs(x_dir).max()
     assert lag.stats["factorisations"] == 1 and lag.stats["gmres_iterations"] > 0
     assert direct.stats["factorisations"] == 3
+
+
+def _fluidized_cylinder(tangential_slip):
+    """A vessel full of a bed fluidized at n = 0.6 by a uniform inflow; the outer wall no-slip or free-slip."""
+    mesh = rectangle(0.0, 0.05, 0.0, 0.1, 5, 10, axisymmetric=True)
+    mesh.boundaries["axis"] = mesh.boundaries["left"]
+    u = drag_laws.steady_fluidization_velocity(CLO.drag, 0.6, SAND.d, SAND.rho_s, SAND.rho_f, SAND.mu_f,
+                                               SAND.g, **CLO.drag_params)
+    bcs = [Boundary2D("bottom", "inlet", velocity=Schedule((0.0,), (u,))), Boundary2D("axis", "axis"),
+           Boundary2D("right", "wall", free_slip=tangential_slip), Boundary2D("top", "outlet")]
+    m = TwoFluid2D(mesh, SAND, CLO, bcs, solver="direct")
+    V = np.zeros(m.nv)
+    V[m.nn:2 * m.nn] = u  # axial component
+    return m, State(0.0, V, V.copy(), np.zeros(m.ne), np.full(m.ne, 0.6), np.full(m.ne, 0.4)), u
+
+
+def test_free_slip_wall_keeps_a_uniform_fluidized_bed_at_rest():
+    """With the wall's tangential velocity free the uniform bed is an exact steady state; with no slip
+    the wall elements lose drag (the liquid's boundary layer, ~0.05 mm, is not resolved) and the
+    mixture circulates — the reason the option exists."""
+    m, s, u = _fluidized_cylinder(True)
+    end = _run(m, s, t_end=1.0, dt=0.2)[-1].state
+    us = end.V - end.W  # 2(1 − n) U_s
+    assert np.abs(us).max() < 1e-9 * u and np.abs(end.n - 0.6).max() < 1e-10
+    m, s, u = _fluidized_cylinder(False)
+    end = _run(m, s, t_end=1.0, dt=0.2)[-1].state
+    assert np.abs(end.V - end.W).max() > 1e-2 * u
+
+
+def test_free_slip_on_an_l_shaped_group_holds_each_nodes_normal_components():
+    from twofluid.mesh.quad import remove_block
+
+    mesh = remove_block(rectangle(0.0, 0.05, 0.0, 0.1, 5, 10, axisymmetric=True), 0.0, 0.02, 0.04, 0.1)
+    mesh.boundaries["axis"] = mesh.boundaries["left"]
+    bcs = [Boundary2D("bottom", "inlet", velocity=Schedule((0.0,), (0.001,))), Boundary2D("axis", "axis"),
+           Boundary2D("right", "wall"), Boundary2D("top", "outlet"),
+           Boundary2D("cut", "rotating_wall", omega=3.0, free_slip=True)]
+    m = TwoFluid2D(mesh, SAND, CLO, bcs, swirl=True, solver="direct")
+    idx, val = m.dirichlet(0.0)
+    nn, x = m.nn, mesh.points
+    fixed = {(int(i) // nn, int(i) % nn): v for i, v in zip(idx[: idx.size // 2], val[: idx.size // 2])}
+    cut = mesh.boundary_nodes("cut")
+    side = cut[np.isclose(x[cut, 0], 0.02) & (x[cut, 1] > 0.04 + 1e-9)]
+    tip = cut[np.isclose(x[cut, 1], 0.04) & (x[cut, 0] < 0.02 - 1e-9) & (x[cut, 0] > 1e-9)]
+    assert side.size and tip.size
+    assert all((0, i) in fixed and (1, i) not in fixed for i in side)  # radial held, axial free
+    assert all((1, i) in fixed and (0, i) not in fixed for i in tip)  # axial held, radial free
+    assert all(np.isclose(fixed[(2, i)], 3.0 * x[i, 0]) for i in np.concatenate([side, tip]))  # swirl ωr

@@ -121,6 +121,18 @@ def build(case: dict) -> Built:
     return Built(model, state, tm["end"], tm["step"], settings, vb or vt)
 
 
+def settled_reference_porosity(n_bar: np.ndarray, n: np.ndarray, ps: np.ndarray, clo: Closures,
+                               mat: Materials) -> None:
+    """Set ``n_bar`` in place where the solids carry ``ps`` [Pa] at porosity ``n`` (a deposit at rest).
+
+    The exponential law carries ``ps`` minus the fluidized-bed term, if the case has one.
+    """
+    if clo.fluidized_pressure is not None:
+        ps = ps - clo.fluidized_pressure(n, mat.d, mat.rho_s, mat.rho_f, mat.g, **clo.fluidized_params)
+    solid = ps > 0.0
+    n_bar[solid] = reference_porosity_for(n[solid], ps[solid], clo.A, clo.p_ref)
+
+
 def initial_state(model: TwoFluid1D, case: dict) -> State:
     """Uniform bed (clear liquid above ``bed_height``) at rest in the initial inflow."""
     init = case["initial"]
@@ -134,11 +146,6 @@ def initial_state(model: TwoFluid1D, case: dict) -> State:
         u = -model.top.velocity(0.0)
     n_bar = np.full(mesh.n_elements, case["closures.solids_pressure"]["reference_porosity"])
     if init["state"] == "settled":
-        ps = model.settled_solids_pressure(n)
-        clo, mat = model.clo, model.mat
-        if clo.fluidized_pressure is not None:  # the exponential law carries the rest
-            ps = ps - clo.fluidized_pressure(n, mat.d, mat.rho_s, mat.rho_f, mat.g, **clo.fluidized_params)
-        solid = ps > 0.0
-        n_bar[solid] = reference_porosity_for(n[solid], ps[solid], model.clo.A, model.clo.p_ref)
+        settled_reference_porosity(n_bar, n, model.settled_solids_pressure(n), model.clo, model.mat)
     P = np.zeros(model.np)
     return State(0.0, np.full(model.nv, u), np.full(model.nv, u), P, n, n_bar)

@@ -46,6 +46,12 @@ _BOUNDARY_2D = [
     *[k for k in BOUNDARY if k.name in ("pressure", "times", "velocities", "porosities")],
     K("solids_velocity", float, 0.0, "m/s", "inlet: superficial solids velocity fed with the liquid", lo=0.0),
     K("omega", float, 0.0, "rad/s", "rotating_wall: angular speed (positive anticlockwise about +z)"),
+    K("tangential", str, "no_slip", "-", "wall, rotating_wall: no_slip holds both phases' velocity "
+      "in the (r, z) plane at 0; free_slip holds only its normal component (the swirl stays "
+      "set). A wall of a fluidized bed on a mesh that cannot resolve the liquid's drag "
+      "boundary layer (thickness √(nμ_f/β), well below a particle diameter) loses the drag "
+      "that holds up the solids in its wall elements under no_slip", choices=("no_slip", "free_slip"),
+      used_when=("kind", ("wall", "rotating_wall"))),
 ]
 
 _NUMERICS = [

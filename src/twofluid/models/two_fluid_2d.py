@@ -41,7 +41,6 @@ from typing import Callable
 
 import numpy as np
 
-from ..closures.solids_pressure import exponential
 from ..closures.viscosity import solid_viscosity
 from ..fem.quad import FaceBasis, QuadBasis, SparsityPattern, element_dofs, nodal_dofs
 from ..fem.terms_2d import (body_force, checkerboard_penalty, divergence, mass,
@@ -65,7 +64,11 @@ class Boundary2D:
     W = j_f − j_s), ``wall`` (no slip), ``slip`` (normal components 0),
     ``axis`` (r = 0: radial and swirl 0), ``rotating_wall`` (no slip for both
     phases, swirl U_f = U_s = ω r [rad/s]: V_θ = ωr, W_θ = (2n − 1)ωr) or
-    ``outlet`` (liquid pressure ``pressure`` [Pa]; solids may leave).
+    ``outlet`` (liquid pressure ``pressure`` [Pa]; solids may leave). With
+    ``free_slip`` a wall or rotating wall holds only the normal velocity and the
+    swirl; the tangential velocity in the (r, z) plane is free. Slip conditions
+    need boundaries made of edges along x or y (an L-shaped cut is fine: each
+    node holds the normal components of its edges).
     """
 
     group: str
@@ -74,6 +77,7 @@ class Boundary2D:
     solids_velocity: float = 0.0  # superficial solids inflow [m/s]
     pressure: float = 0.0  # [Pa]
     omega: float = 0.0  # [rad/s]
+    free_slip: bool = False  # wall, rotating_wall: meridional tangential velocity free (swirl still set)
 
 
 class LaggedSolver:
@@ -348,7 +352,15 @@ class TwoFluid2D:
             if bc.kind == "outlet":
                 continue
             normal = None
-            if bc.kind in ("inlet", "slip", "axis") and mesh.boundaries[bc.group].ndim == 2:
+            if bc.kind == "slip" or (bc.free_slip and bc.kind in ("wall", "rotating_wall")):
+                for c, on in enumerate(self._normal_nodes(bc)):  # per node: the normals of its edges
+                    rules.append((bc, c, None))
+                    fixed[c * nn + on] = len(rules) - 1
+                if self.swirl and bc.kind != "slip":
+                    rules.append((bc, 2, None))
+                    fixed[2 * nn + nodes] = len(rules) - 1
+                continue
+            if bc.kind in ("inlet", "axis") and mesh.boundaries[bc.group].ndim == 2:
                 _, _, nrm, _ = _edge_geometry(mesh, mesh.boundary_edges(bc.group))
                 normal = nrm.mean(axis=0)
                 if np.abs(np.abs(normal).max() - 1.0) > 1e-9:
@@ -357,8 +369,6 @@ class TwoFluid2D:
             elif bc.kind == "axis":
                 normal = np.array([-1.0, 0.0])
             comps = list(range(self.nc))
-            if bc.kind in ("slip",):
-                comps = [int(np.argmax(np.abs(normal)))]
             if bc.kind == "axis":
                 comps = [0] + ([2] if self.swirl else [])
             for c in comps:
@@ -368,6 +378,18 @@ class TwoFluid2D:
         self._rule_of = fixed[idx]
         self._rules = rules
         return np.concatenate([idx, idx + self.nv]), None
+
+    def _normal_nodes(self, bc: Boundary2D) -> tuple[np.ndarray, np.ndarray]:
+        """Nodes of ``bc``'s group on edges with normal along r (or x), and along z (or y)."""
+        mesh = self.mesh
+        if mesh.boundaries[bc.group].ndim != 2:
+            raise ValueError(f"boundary group {bc.group!r} ({bc.kind}, slip) needs its edges")
+        _, ccw, nrm, _ = _edge_geometry(mesh, mesh.boundary_edges(bc.group))
+        axis = np.argmax(np.abs(nrm), axis=1)
+        if np.any(np.abs(np.abs(nrm[np.arange(axis.size), axis]) - 1.0) > 1e-9):
+            raise ValueError(f"boundary group {bc.group!r} ({bc.kind}, slip) must be made of edges "
+                             "along x or y")
+        return tuple(np.unique(ccw[axis == c]) for c in (0, 1))
 
     def dirichlet(self, t: float) -> tuple[np.ndarray, np.ndarray]:
         """Global indices and values of prescribed V and W [m/s]."""
@@ -418,7 +440,7 @@ class TwoFluid2D:
         return num / den
 
     def solids_pressure(self, n, n_bar, derivative=False):
-        return exponential(n, n_bar, self.clo.A, self.clo.p_ref, derivative=derivative)
+        return self.clo.solids_pressure(n, n_bar, self.mat, derivative=derivative)
 
     def face_porosity(self, n):
         return (self.fth * n[self.fe]).sum(axis=1)
