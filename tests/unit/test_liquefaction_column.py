@@ -73,6 +73,64 @@ def test_reconsolidation_follows_terzaghi():
         assert abs(U[T] - ref) / ref < 0.02, (T, U[T], ref)
 
 
+def test_diverged_picard_iterate_is_a_rejected_step_not_a_crash():
+    """A Picard iterate that has run away (found in a run: porosity −1984 … 107 in the third
+    iterate of a 1 s reconsolidation step of the 0.8 mm case, drag × (1 + 3e-5)) overflows P_s, so
+    the next matrix holds inf/NaN and SuperLU raised "Factor is exactly singular" (a RuntimeError
+    that ended the run without summary.json). The column's solve must give non-finite values
+    instead, which ``picard_step`` rejects, so the stepper halves the step."""
+    from twofluid.timestepping.backward_euler import picard_step
+
+    col = _column(0.8e-3, ne=40)
+    old = col.initial_state(0.44).vertical
+    n = old.n.copy()
+    n[37] = -1984.0
+    k = old.copy(n=n)  # the diverged iterate
+    with np.errstate(all="ignore"):
+        S = col.v.assemble(k, old, 1.0, 1.0)
+        a = col.v.solve(S, 1.0)
+    assert not np.all(np.isfinite(a))
+
+    class Diverging:  # the column, whose Picard iteration starts from the diverged iterate
+        def __getattr__(self, name):
+            return getattr(col.v, name)
+
+        def assemble(self, kk, o, dt, t):
+            return col.v.assemble(k, o, dt, t)
+
+    new, reason = picard_step(Diverging(), old, 1.0)
+    assert new is None and "non-finite" in reason
+
+
+@pytest.mark.parametrize("d_p,dt", [(0.8e-3, 0.02), (0.08e-3, 1.0)])
+def test_top_element_excess_ratio_is_surface_flux_over_critical_flux(d_p, dt):
+    """The top element's r_u is the rate at which the surface settles over k i_c.
+
+    On an impervious base V ≡ 0, so the liquid leaving through the drained top (P = 0 at the
+    surface node) equals the settlement rate q; the excess pressure at the top element's centre
+    is the seepage loss over its upper half, so r_u(top) = i_excess/i_c ≈ q/(k_eff i_c),
+    i_c = (1 − n)(ρ_s − ρ_f)/ρ_f. Measured (imposed r_u0 = 0.5, no shaking, 40 elements):
+    r_u/(q/(k i_c)) = 0.983–0.998 (0.8 mm), 0.987–1.000 (0.08 mm) after the first 10 steps (in
+    the first steps the flow is still starting up from rest: 1.07) — the top element's own
+    compaction makes the flux at its centre a little smaller than at the surface. This is
+    why the 0.8 mm deposit's top element goes quick (docs/liquefaction.md).
+    """
+    col = _column(d_p, ne=40)
+    s = prev = col.initial_state(0.44, excess_ratio=0.5)
+    i_c = 0.56 * 1.65
+    ratios = []
+    for st in col.run(s, 100 * dt, dt):
+        x = st.state
+        rate = (col.settlement(x) - col.settlement(prev)) / st.dt
+        n = x.vertical.n[-1]
+        k = 1000.0 * 9.81 * n * n / drag.gidaspow(n, rate / n, d_p, 1000.0, 1e-3)
+        if x.t > 10 * dt and col.excess_ratio(x)[-1] > 0.01:  # after the start-up from rest
+            ratios.append(col.excess_ratio(x)[-1] / (rate / (k * i_c)))
+        prev = x
+    assert len(ratios) > 10
+    assert np.all(np.abs(np.array(ratios) - 1.0) < 0.03), (min(ratios), max(ratios))
+
+
 @pytest.fixture(scope="module")
 def bundled_runs(tmp_path_factory):
     """The three bundled cases as shipped (40 elements, 6 s of shaking, 180 s), no plots.
@@ -91,19 +149,37 @@ def bundled_runs(tmp_path_factory):
 
 
 def test_liquefied_zone_grows_as_the_sand_gets_finer(bundled_runs):
-    thick = {n: r.summary["liquefied_thickness_m"] for n, r in bundled_runs.items()}
+    """SPEC 6.4 "a wider zone for the fine sand, none in the gravel", compared at the end of the
+    shaking (6 s), as the thesis's figs 5.13–5.15.
+
+    Not on the zone liquefied *ever*: for the medium sand that is not a determinate output of
+    the model — after its first liquefaction (5.74 s) a 1e-5 relative change of the drag moves
+    it anywhere between 2.5 and 7.75 m (fine sand: 4.0 m in every member; docs/liquefaction.md,
+    "Robustness"). At 6 s the zones are the same in every member of that ensemble: fine
+    5.25–7.75 m (2.25–2.5 m thick), medium 0.25–2.25 m (2.0 m), gravel none.
+    """
     assert all(r.status == "completed" for r in bundled_runs.values())
-    assert thick["fine"] > 0.0
-    assert thick["fine"] > thick["elcentro"]
+
+    def thick_at_end_of_shaking(r):
+        i = int(np.argmin(np.abs(r.history["field_t"] - r.summary["shaking"]["end_s"])))
+        assert r.history["field_t"][i] == pytest.approx(6.0)
+        return 0.25 * int(np.sum(r.history["field_r_u"][i] > 0.95))
+
+    thick = {n: thick_at_end_of_shaking(r) for n, r in bundled_runs.items()}
+    assert thick["fine"] > thick["elcentro"] > 0.0
     assert thick["gravel"] == 0.0
+    assert bundled_runs["fine"].summary["liquefied_thickness_m"] > 0.0
+    assert bundled_runs["gravel"].summary["liquefied_thickness_m"] == 0.0
     assert bundled_runs["gravel"].summary["first_liquefaction"] is None
 
 
 @pytest.mark.parametrize("name", [
     "fine",
     pytest.param("elcentro", marks=pytest.mark.xfail(strict=True, reason=(
-        "measured: the medium sand (k = 1.1e-2 m/s) drains its densification upward at the critical "
-        "gradient, so the top element reaches r_u = 1.00 (a quick condition, docs/liquefaction.md)"))),
+        "measured: the top element's r_u is the surface settlement rate over k_eff i_c (see "
+        "test_top_element_excess_ratio_is_surface_flux_over_critical_flux); the medium sand's surface "
+        "settles at 9.1 mm/s = 0.99 k_eff i_c for 5 s, so r_u(top) = 0.995 (0.991-1.000 in the "
+        "perturbation ensemble of docs/liquefaction.md)"))),
     "gravel"])
 def test_top_element_never_liquefies(bundled_runs, name):
     assert bundled_runs[name].summary["peak_r_u_top_element"] < 0.95

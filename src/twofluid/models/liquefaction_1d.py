@@ -127,6 +127,12 @@ class VerticalColumn(TwoFluid1D):
 
         Same solution as the stepper's default solve, several times faster for a
         column: slicing a sparse matrix costs more than factorising it here.
+
+        A system that cannot be solved — non-finite entries (assembled about a Picard
+        iterate that has run away: P_s = p_ref exp(…) overflows) or an exactly singular
+        matrix — gives NaN, which ``picard_step`` rejects as a failed iterate, so the
+        stepper halves the step. (SuperLU raises a RuntimeError for both, which used to
+        end the run without a summary.)
         """
         A = S.matrix()
         idx, val = self.dirichlet(t_new)
@@ -137,7 +143,12 @@ class VerticalColumn(TwoFluid1D):
         A = (sp.diags(keep) @ A + sp.diags(scale)).tocsc()
         rhs = keep * S.rhs
         rhs[idx] = scale[idx] * val
-        lu = spla.splu(A)
+        if not (np.all(np.isfinite(A.data)) and np.all(np.isfinite(rhs))):
+            return np.full(S.size, np.nan)
+        try:
+            lu = spla.splu(A)
+        except RuntimeError:  # "Factor is exactly singular"
+            return np.full(S.size, np.nan)
         a = lu.solve(rhs)
         return a + lu.solve(rhs - A @ a)  # one step of iterative refinement
 
