@@ -44,12 +44,17 @@ class RunGuard:
     reason: str = ""
 
 
+# Errors of the numerics (not of the program) that end a run as "failed" with a summary.
+_NUMERICAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError, RuntimeError)
+
+
 @contextmanager
 def run_guard(t_end: float, progress: bool, *closing):
     """Context of a run's time loop: progress bar, Ctrl-C and failed steps.
 
-    A ``KeyboardInterrupt`` or :class:`StepFailure` inside the block ends the
-    loop, not the program: the guard records status ``interrupted`` or ``failed``
+    A ``KeyboardInterrupt``, a :class:`StepFailure` or a numerical error
+    (``ArithmeticError``, ``LinAlgError``, ``RuntimeError`` such as a singular
+    factorisation) inside the block ends the loop, not the program: the guard records status ``interrupted`` or ``failed``
     with the reason, closes the bar and every object in ``closing`` (result
     writers), and the runner goes on to write its summary from what it has.
     """
@@ -62,6 +67,8 @@ def run_guard(t_end: float, progress: bool, *closing):
         run.status, run.reason = "interrupted", "interrupted by the user (Ctrl-C)"
     except StepFailure as exc:
         run.status, run.reason = "failed", str(exc)
+    except _NUMERICAL_ERRORS as exc:  # e.g. SuperLU "Factor is exactly singular", overflow
+        run.status, run.reason = "failed", f"{type(exc).__name__}: {exc}"
     finally:
         run.bar.close()
         for c in closing:

@@ -84,17 +84,19 @@ def _stopping_after(k, exc):
     return integrate
 
 
-@pytest.mark.parametrize("kind", ["interrupted", "failed"])
+@pytest.mark.parametrize("kind", ["interrupted", "failed", "singular"])
 def test_interrupted_or_failed_run_keeps_what_it_wrote(tmp_path, monkeypatch, kind):
-    exc = (lambda s: KeyboardInterrupt()) if kind == "interrupted" else \
-        (lambda s: StepFailure(s.t, 1e-9, "test failure", s))
+    exc = {"interrupted": lambda s: KeyboardInterrupt(),
+           "failed": lambda s: StepFailure(s.t, 1e-9, "test failure", s),
+           "singular": lambda s: RuntimeError("Factor is exactly singular")}[kind]
     monkeypatch.setattr(simulation, "integrate", _stopping_after(30, exc))
     c = _short("settling-illite", 10.0)
     c["output"]["probe_interval"] = 0.1
     res = simulation.run_case(c, tmp_path)
-    assert res.status == kind
+    status = "failed" if kind == "singular" else kind
+    assert res.status == status
     s = json.loads((tmp_path / "summary.json").read_text())
-    assert s["status"] == kind and 0.0 < s["stopped_at_s"] < 10.0 and s["reason"]
+    assert s["status"] == status and 0.0 < s["stopped_at_s"] < 10.0 and s["reason"]
     probes = np.genfromtxt(tmp_path / "probes.csv", delimiter=",", names=True)
     assert probes["time_s"].max() == pytest.approx(s["stopped_at_s"], abs=0.11)
     assert (tmp_path / "porosity.png").exists()
