@@ -12,11 +12,14 @@ def _cmd_run(args) -> int:
 
     res = run_case(args.case, args.out, progress=not args.quiet and sys.stderr.isatty())
     s = res.summary
-    print(f"{s['case']}: {s['status']} at t = {s['stopped_at_s']:.6g} s after {s['steps']} steps "
+    clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" else "t"  # Δt grows to 1e4 s there
+    print(f"{s['case']}: {s['status']} at {clock} = {s['stopped_at_s']:.6g} s after {s['steps']} steps "
           f"in {s['wall_time_s']:.1f} s; results in {res.out_dir}")
     if s["status"] != "completed":
         print(f"  {s['reason']}; everything written so far is in {res.out_dir}", file=sys.stderr)
         return 130 if s["status"] == "interrupted" else 1
+    if str(s.get("reason", "")).startswith("steady"):  # a 2D run that stopped at its steady state
+        print(f"  {s['reason']}")
     for key in ("t1_s", "bed_height_initial_m", "bed_height_final_m", "liquefied_thickness_m",
                 "peak_r_u_top_element", "settlement_end_of_shaking_m", "settlement_end_m"):
         if s.get(key) is not None:

@@ -77,6 +77,19 @@ def test_pipe_flow_pseudo_transient_reaches_steady_state(tmp_path):
     assert np.abs(new.V - last.V).max() < 1e-6 * m.velocity_scale(last)
 
 
+def test_cli_says_a_pseudo_transient_run_stopped_at_its_steady_state(tmp_path, capsys):
+    """`twofluid run` names the clock a pseudo-time (Δt grows to 1e4 s) and prints the steady reason."""
+    from twofluid.cli import main
+
+    case = load_case("pipe-flow")
+    case["mesh"].update(nx=6, ny=12)
+    case["output"].update(plots=False, times=[])
+    run_case(case, tmp_path / "a")  # writes the resolved case file the CLI then runs
+    assert main(["run", str(tmp_path / "a" / "case.resolved.toml"), "--out", str(tmp_path / "b")]) == 0
+    out = capsys.readouterr().out
+    assert "completed at pseudo-time t = " in out and "\n  steady: " in out
+
+
 def test_viscometer_circulation_is_buoyancy_of_horizontal_porosity_contrasts():
     """What drives the viscometer's circulation (its README, "Why the mixture circulates").
 
