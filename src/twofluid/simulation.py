@@ -44,8 +44,11 @@ class RunGuard:
     reason: str = ""
 
 
-# Errors of the numerics (not of the program) that end a run as "failed" with a summary.
-_NUMERICAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError, RuntimeError)
+# Errors of the numerics (not of the program) that end a run as "failed" with a summary:
+# SuperLU's "Factor is exactly singular" is a RuntimeError; NotImplementedError and
+# RecursionError are RuntimeErrors of the program and propagate.
+_NUMERICAL_ERRORS = (FloatingPointError, OverflowError, np.linalg.LinAlgError, RuntimeError)
+_PROGRAM_ERRORS = (NotImplementedError, RecursionError)
 
 
 @contextmanager
@@ -53,7 +56,7 @@ def run_guard(t_end: float, progress: bool, *closing):
     """Context of a run's time loop: progress bar, Ctrl-C and failed steps.
 
     A ``KeyboardInterrupt``, a :class:`StepFailure` or a numerical error
-    (``ArithmeticError``, ``LinAlgError``, ``RuntimeError`` such as a singular
+    (floating-point overflow, ``LinAlgError``, a ``RuntimeError`` such as a singular
     factorisation) inside the block ends the loop, not the program: the guard records status ``interrupted`` or ``failed``
     with the reason, closes the bar and every object in ``closing`` (result
     writers), and the runner goes on to write its summary from what it has.
@@ -68,6 +71,8 @@ def run_guard(t_end: float, progress: bool, *closing):
     except StepFailure as exc:
         run.status, run.reason = "failed", str(exc)
     except _NUMERICAL_ERRORS as exc:  # e.g. SuperLU "Factor is exactly singular", overflow
+        if isinstance(exc, _PROGRAM_ERRORS):
+            raise
         run.status, run.reason = "failed", f"{type(exc).__name__}: {exc}"
     finally:
         run.bar.close()

@@ -417,8 +417,9 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
             rate = (change[0] / step.dt, change[1] / step.dt)
             n_steps, last = step.n_steps, s
             history.write(n_steps, s, step.dt, step.iterations, rate, change)
-            calm = calm + 1 if tol > 0 and max(rate) < tol and (tol_change <= 0 or max(change) < tol_change) \
-                else 0
+            criteria = (tol > 0 or tol_change > 0) and (tol <= 0 or max(rate) < tol) \
+                and (tol_change <= 0 or max(change) < tol_change)  # each criterion set (> 0) must hold
+            calm = calm + 1 if criteria else 0
             steady = calm >= 3
             due = bool(pending) and s.t >= pending[0] * (1 - 1e-9)
             while pending and s.t >= pending[0] * (1 - 1e-9):

@@ -45,10 +45,10 @@ def test_one_step_solves_the_full_models_equations(name, dt):
 
 
 @pytest.mark.parametrize("name, t_end", [("fluidized-bed-step", 6.0), ("settling-illite", 40.0)])
-def test_porosity_agrees_within_one_percent(name, t_end):
+def test_porosity_agrees_with_the_full_model(name, t_end):
     f = _final(_case(name, "two_fluid_1d", t_end))
     r = _final(_case(name, "reduced_1d", t_end))
-    assert np.max(np.abs(r.n - f.n) / f.n) < 0.01
+    assert np.max(np.abs(r.n - f.n) / f.n) < 1e-7  # the same equations, to the Picard tolerance (measured 2e-12)
     assert abs(r.t - f.t) < 1e-9
 
 
