@@ -136,3 +136,14 @@ def test_2d_case_errors_name_key():
     doc["boundary"]["left"] = {"kind": "rotating_wall", "omega": 1.0}
     with pytest.raises(CaseError, match=r"\[boundary.left\] kind"):
         validate(doc, "c.toml")
+
+
+def test_the_change_criterion_alone_stops_a_pseudo_transient_run(tmp_path):
+    """`steady_tolerance = 0` switches the rate criterion off; `steady_change` alone still ends the run."""
+    case = load_case("pipe-flow")
+    case["mesh"].update(nx=6, ny=12)
+    case["output"].update(plots=False, times=[])
+    case["profiles"].update(steady_tolerance=0.0, steady_change=1e-6)
+    res = run_case(case, tmp_path)
+    assert res.status == "completed" and res.summary["reason"].startswith("steady"), res.summary["reason"]
+    assert res.summary["final_change"]["max_dV_over_Vmax"] < 1e-6
