@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import csv
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -29,10 +29,10 @@ from .mesh.quad import QuadMesh, rectangle, remove_block
 from .models.two_fluid_1d import Materials, State
 from .models.two_fluid_2d import Boundary2D, TwoFluid2D
 from .simulation import RunResult, run_guard
-from .timestepping.backward_euler import PicardSettings, Step, StepFailure, integrate, picard_step
+from .timestepping.backward_euler import (PicardSettings, Step, StepFailure, integrate, picard_step,
+                                          relative_change)
 
-__all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile", "pseudo_transient",
-           "newton_step", "relative_change"]
+__all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile", "pseudo_transient"]
 
 
 def build_mesh(case: dict) -> QuadMesh:
@@ -156,40 +156,6 @@ def steady_flow(model: TwoFluid2D, state: State, settings=PicardSettings(tol=1e-
     return state.copy(V=new.V, W=new.W, P=new.P)
 
 
-def relative_change(model: TwoFluid2D, new: State, old: State) -> tuple[float, float]:
-    """(max |Δn|, max(|ΔV|, |ΔW|)/|V, W|max) between two states: the relative change of the fields."""
-    dv = max(float(np.abs(new.V - old.V).max()), float(np.abs(new.W - old.W).max()))
-    return float(np.abs(new.n - old.n).max()), dv / model.velocity_scale(new)
-
-
-def newton_step(model: TwoFluid2D, old: State, dt: float, settings: PicardSettings, iterations: int):
-    """Backward-Euler step from ``old`` with at most ``iterations`` Newton iterates (fewer if converged).
-
-    For pseudo-transient continuation (Ψtc, Kelley & Keyes 1998): the intermediate
-    states are not wanted, so each step need not be solved to the Picard tolerance;
-    one iterate per step is the classic choice. Returns (state, iterations) or
-    (None, reason) when the linear solve fails or the state is not admissible.
-    """
-    t_new = old.t + dt
-    k = old.copy(t=t_new)
-    it = 0
-    for it in range(1, iterations + 1):
-        model.begin_iteration(it, k)
-        with np.errstate(all="ignore"):
-            a = model.solve(model.assemble(k, old, dt, t_new), t_new)
-        if not np.all(np.isfinite(a)):
-            return None, "linear solve gave non-finite values"
-        new = model.unpack(a, k, t_new)
-        dn, dv = relative_change(model, new, k)
-        k = new
-        if dv < settings.tol and dn < settings.tol:
-            break
-    reason = model.check(k)
-    if reason:
-        return None, reason
-    return model.end_step(old, k, dt), it
-
-
 def pseudo_transient(model: TwoFluid2D, state: State, t_end: float, dt: float, dt_max: float,
                      settings: PicardSettings, grow: float = 2.0,
                      iterations: int = 0):
@@ -203,15 +169,17 @@ def pseudo_transient(model: TwoFluid2D, state: State, t_end: float, dt: float, d
     unconditionally stable, so once Δt is far above the slowest relaxation time each
     step is a (modified) Newton step on the steady equations: for the steady state
     only, not for the transient. ``iterations`` > 0: at most that many Newton
-    iterates per step (:func:`newton_step`); 0: each step converged to
-    ``settings.tol`` (:func:`picard_step`). Yields :class:`Step` as ``integrate``.
+    iterates per step, the last one taken even if not converged (one per step is
+    the classic choice, Kelley & Keyes 1998); 0: each step converged to
+    ``settings.tol``. Yields :class:`Step` as ``integrate``.
     """
     h, n_steps, prev = dt, 0, None
     eps = 1e-9 * max(dt, 1e-12)
     while state.t < t_end - eps:
         h_try = min(h, t_end - state.t)
         if iterations > 0:
-            new, info = newton_step(model, state, h_try, settings, iterations)
+            new, info = picard_step(model, state, h_try, replace(settings, max_iter=iterations),
+                                    accept_unconverged=True)
         else:
             new, info = picard_step(model, state, h_try, settings)
         if new is None:

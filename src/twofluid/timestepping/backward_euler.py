@@ -21,7 +21,7 @@ from typing import Iterable, Iterator
 import numpy as np
 import scipy.sparse.linalg as spla
 
-__all__ = ["Step", "StepFailure", "PicardSettings", "picard_step", "integrate"]
+__all__ = ["Step", "StepFailure", "PicardSettings", "picard_step", "relative_change", "integrate"]
 
 
 @dataclass(frozen=True)
@@ -60,8 +60,20 @@ def _solve(model, S, t_new):
     return a
 
 
-def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings()):
-    """One backward-Euler step from ``old``; returns (state, iterations) or (None, reason)."""
+def relative_change(model, new, old) -> tuple[float, float]:
+    """(max |Δn|, max(|ΔV|, |ΔW|)/velocity scale) between two states: the change the Picard test uses."""
+    dv = max(np.abs(new.V - old.V).max(), np.abs(new.W - old.W).max()) / model.velocity_scale(new)
+    return float(np.abs(new.n - old.n).max()), float(dv)
+
+
+def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings(),
+                accept_unconverged: bool = False):
+    """One backward-Euler step from ``old``; returns (state, iterations) or (None, reason).
+
+    ``accept_unconverged``: after ``settings.max_iter`` iterates the last one is the
+    step even if it has not met ``settings.tol`` (pseudo-transient continuation, where
+    the intermediate states are not wanted); it must still pass ``model.check``.
+    """
     t_new = old.t + dt
     k = old.copy(t=t_new)
     hook = getattr(model, "begin_iteration", None)
@@ -74,11 +86,9 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
         new = model.unpack(a, k, t_new)
         if not np.all(np.isfinite(a)):
             return None, "linear solve gave non-finite values"
-        scale = model.velocity_scale(new)
-        dv = max(np.abs(new.V - k.V).max(), np.abs(new.W - k.W).max()) / scale
-        dn = np.abs(new.n - k.n).max()
+        dn, dv = relative_change(model, new, k)
         k = new
-        if dv < settings.tol and dn < settings.tol:
+        if (dv < settings.tol and dn < settings.tol) or (accept_unconverged and it == settings.max_iter):
             reason = model.check(new)
             if reason:
                 return None, reason
