@@ -16,6 +16,7 @@ import math
 import warnings
 from pathlib import Path
 
+from ..io.tables import TableError, read_columns
 from .schema import FLOATS, SCHEMA, CaseError, CaseWarning, K, register_model
 
 __all__ = ["SECTIONS_LIQUEFACTION", "check_liquefaction", "case_relative_path", "load_motion",
@@ -202,27 +203,13 @@ def _read_table(path: Path, source: str, key: str):
                         "rows; a relative path is taken from the case file's folder)") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise CaseError(source, key, f"{path}: cannot be read ({exc})") from None
-    strains, ratios = [], []
-    first = True
-    for number, line in enumerate(text.splitlines(), start=1):
-        line = line.split("#", 1)[0].strip()
-        if not line:
-            continue
-        fields = [f.strip() for f in line.split(",")]
-        try:
-            values = [float(f) for f in fields]
-        except ValueError:
-            if first:  # a header
-                first = False
-                continue
-            raise CaseError(source, key, f"{path.name} line {number}: non-numeric value in {line!r} "
-                            "(valid: two numbers, shear strain [-] and G/G_max)") from None
-        first = False
-        if len(values) != 2:
-            raise CaseError(source, key, f"{path.name} line {number}: {len(values)} value(s) in {line!r} "
-                            "(valid: two numbers, shear strain [-] and G/G_max)")
-        strains.append(values[0])
-        ratios.append(values[1])
+    try:
+        rows = read_columns(text, 2)
+    except TableError as exc:
+        raise CaseError(source, key, f"{path.name} line {exc.line}: {exc.what} (valid: two numbers, "
+                        "shear strain [-] and G/G_max)") from None
+    strains = [g for _, (g, _) in rows]
+    ratios = [r for _, (_, r) in rows]
     return strains, ratios
 
 

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .tables import TableError, read_columns
+
 __all__ = ["G_STANDARD", "GroundMotion", "GroundMotionError", "read_at2", "read_csv",
            "load", "scale_to_pga", "baseline_correct", "value_at", "bundled_record",
            "write_csv"]
@@ -133,27 +135,13 @@ def read_csv(path: str | Path, units: str = "g") -> GroundMotion:
     factor = _unit_factor(units, path)
     times: list[float] = []
     accel: list[float] = []
-    seen_data = False
-    for number, raw in enumerate(path.read_text(errors="replace").splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        fields = [f.strip() for f in re.split(r"[,;\s]+", line) if f.strip()]
-        if not seen_data:
-            seen_data = True
-            try:
-                float(fields[0])
-            except ValueError:
-                continue  # header line
-        if len(fields) != 2:
-            raise _fail(path, number,
-                        f"expected 2 columns (time_s, acceleration), found {len(fields)}")
-        try:
-            t, a = float(fields[0]), float(fields[1])
-        except ValueError:
-            raise _fail(path, number, f"non-numeric value in {line!r}") from None
+    try:
+        rows = read_columns(path.read_text(errors="replace"), 2)
+    except TableError as exc:
+        raise _fail(path, exc.line, exc.what) from None
+    for number, (t, a) in rows:
         if not (np.isfinite(t) and np.isfinite(a)):
-            raise _fail(path, number, f"non-finite value in {line!r}")
+            raise _fail(path, number, f"non-finite value in {t}, {a}")
         if times and t <= times[-1]:
             raise _fail(path, number, f"non-increasing time {t} after {times[-1]}")
         times.append(t)
