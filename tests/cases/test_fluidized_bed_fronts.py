@@ -1,6 +1,5 @@
 """Step changes of a fluidized bed: front shapes (Kynch) and the two 1D elements (thesis fig. 4.2)."""
 import numpy as np
-import pytest
 
 from twofluid.casefile.builder import build
 from twofluid.casefile.loader import load_case

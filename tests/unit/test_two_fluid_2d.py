@@ -9,7 +9,7 @@ from twofluid.mesh.line import uniform_line
 from twofluid.mesh.quad import rectangle
 from twofluid.models.two_fluid_1d import Boundary, Closures, Materials, State, TwoFluid1D
 from twofluid.models.two_fluid_2d import Boundary2D, TwoFluid2D
-from twofluid.timestepping.backward_euler import integrate, picard_step
+from twofluid.timestepping.backward_euler import integrate
 
 SAND = Materials(rho_f=1000.0, mu_f=1e-3, rho_s=2650.0, d_p=0.5e-3)
 CLO = Closures(drag_params={"blend_width": 0.02}, A=0.015)
