@@ -36,10 +36,13 @@ would cost more than a new factorisation (:class:`LaggedSolver`).
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from ..closures.viscosity import solid_viscosity
 from ..fem.quad import FaceBasis, QuadBasis, SparsityPattern, element_dofs, nodal_dofs
@@ -135,15 +138,9 @@ class LaggedSolver:
         return A.data[self._keep]
 
     def _matrix(self, data):
-        import scipy.sparse as sp
-
         return sp.csr_matrix((data * self.scale[self._row], self._ind, self._ptr), shape=(self._nf, self._nf))
 
     def _factor(self, data):
-        import time
-
-        import scipy.sparse.linalg as spla
-
         big = np.zeros(self._nf)
         np.maximum.at(big, self._row, np.abs(data))
         self.scale = 1.0 / np.where(big > 0.0, big, 1.0)
@@ -172,10 +169,6 @@ class LaggedSolver:
         right-hand side (which M/Δt aᵗ dominates at small Δt: a 1e-10 relative solve
         of it left velocity noise above the Picard tolerance and stalled steps).
         """
-        import time
-
-        import scipy.sparse.linalg as spla
-
         x = np.zeros(self.size) if guess is None else np.array(guess, dtype=float)
         x[self.fixed] = values
         data = self._reduce(A)
