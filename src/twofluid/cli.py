@@ -28,7 +28,9 @@ def _cmd_run(args) -> int:
         first = s["first_liquefaction"]
         print(f"  first liquefaction (r_u > 0.95) at t = {first['time_s']:.3g} s, depth {first['depth_m']:.3g} m"
               if first else "  no liquefaction (r_u > 0.95 nowhere)")
-    print(f"  solids volume balance error = {s['solids_volume_balance_error']:.3g}")
+    balance = s.get("solids_volume_balance_error")
+    print(f"  solids volume balance error = {balance:.3g}" if balance is not None
+          else "  solids volume balance error: not computed")
     return 0
 
 
