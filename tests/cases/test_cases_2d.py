@@ -164,3 +164,21 @@ def test_pseudo_transient_without_solids_inflow_reports_the_history_balance(tmp_
     v = s["solids_volume_m3"]
     assert s["solids_volume_balance_error"] == pytest.approx((v["final"] - v["initial"]) / v["initial"])
     assert abs(s["solids_volume_balance_error"]) < 1e-12
+
+
+def test_pseudo_transient_stepping_refuses_a_time_dependent_inlet():
+    """Pseudo-transient steps run on a pseudo-time (Δt grows to 1e4 s): an inflow schedule has no
+    meaning there, so the case is refused before any computation, naming the key."""
+    doc = {"case": {"name": "x", "model": "two_fluid_2d"},
+           "materials": {"liquid_density": 1000.0, "liquid_viscosity": 1e-3, "particle_density": 2600.0,
+                         "particle_diameter": 1e-3},
+           "initial": {"porosity": 0.5}, "time": {"end": 10.0, "step": 0.1, "stepping": "pseudo_transient"},
+           "boundary": {"top": {"kind": "outlet"},
+                        "bottom": {"kind": "inlet", "times": [0.0, 5.0], "porosities": [0.6, 0.7]}}}
+    with pytest.raises(CaseError, match=r"\[boundary.bottom\] porosities.*one value"):
+        validate(doc, "c.toml")
+    doc["boundary"]["bottom"]["porosities"] = [0.6, 0.6]
+    validate(doc, "c.toml")
+    doc["time"]["stepping"] = "fixed"
+    doc["boundary"]["bottom"]["porosities"] = [0.6, 0.7]
+    validate(doc, "c.toml")

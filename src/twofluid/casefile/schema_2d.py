@@ -79,7 +79,7 @@ _TIME = [
     K("stepping", str, "fixed", "-", "fixed: Δt = step (shrinks where needed, lands on [output] times; "
       "the transient); pseudo_transient: Δt grows as the fields settle (switched evolution relaxation, "
       "up to max_step), for the steady state only: [output] times are written at the first step "
-      "reaching them", choices=("fixed", "pseudo_transient")),
+      "reaching them; inlets must then hold one value", choices=("fixed", "pseudo_transient")),
     K("max_step", float, 0.0, "s", "pseudo_transient: largest Δt (0: [time] end)", lo=0.0,
       used_when=("stepping", ("pseudo_transient",))),
     K("iterations_per_step", int, 1, "-", "pseudo_transient: Newton iterates per step (pseudo-transient "
@@ -137,6 +137,11 @@ def check_2d(case: dict, source: str) -> None:
                 raise CaseError(source, f"{where} times", f"needs one entry per value ({len(vel or por)})")
             if any(t2 < t1 for t1, t2 in zip(b["times"], b["times"][1:])):
                 raise CaseError(source, f"{where} times", "must be non-decreasing")
+            if case["time"]["stepping"] == "pseudo_transient" and len(set(vel or por)) > 1:
+                key = "velocities" if vel else "porosities"
+                raise CaseError(source, f"{where} {key}", "stepping = 'pseudo_transient' seeks the steady "
+                                "state of one inflow (its clock is a pseudo-time): give one value, or use "
+                                "stepping = 'fixed'")
         elif b["velocities"] or b["porosities"] or b["solids_velocity"]:
             raise CaseError(source, f"{where} velocities", f"only an inlet takes inflow (kind = {b['kind']!r})")
         if b["kind"] == "rotating_wall" and not m["swirl"]:
