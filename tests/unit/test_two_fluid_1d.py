@@ -116,3 +116,23 @@ def test_uniform_bed_at_the_richardson_zaki_velocity_stays_at_rest(n):
     us = b.model.element_fields(s)["Us_m_s"][bed]
     u_t = _rz_velocity(c, 1.0)
     assert np.abs(us).max() < 1e-6 * u_t
+
+
+def test_settled_start_warns_where_the_fluidized_bed_pressure_exceeds_the_weight():
+    """With the Foscolo–Gibilaro term (here 30× its coefficient) the top bed element carries less
+    weight than P_e alone: it cannot start at rest; n̄ = n there (exponential part at p_ref) and a
+    warning says so. The elements below are at their settled P_s exactly."""
+    from twofluid.casefile.schema import CaseWarning
+
+    c = settled_case()
+    c["closures.solids_pressure"].update(fluidized="foscolo_gibilaro", fluidized_coefficient=100.0)
+    with pytest.warns(CaseWarning, match="in 1 of 24 bed elements"):
+        b = build(c)
+    m, s = b.model, b.state
+    bed = np.nonzero(s.n < 1.0)[0]
+    top = bed[-1]
+    assert s.n_bar[top] == s.n[top]
+    ps = m.solids_pressure(s.n, s.n_bar)
+    want = m.settled_solids_pressure(s.n)
+    np.testing.assert_allclose(ps[bed[:-1]], want[bed[:-1]], rtol=1e-9)
+    assert ps[top] > want[top]
