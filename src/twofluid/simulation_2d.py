@@ -357,7 +357,14 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     if case["single_fluid"]["enabled"]:
         extra["single_fluid"] = single_fluid_check(case, build_mesh(case), out, case["output"]["plots"])
     wall0 = time.perf_counter()
-    b = build_2d(case)
+    try:
+        b = build_2d(case)
+    except StepFailure as exc:  # the initial flow field: nothing to step from, but say so in the summary
+        summary = {"case": name, "status": "failed", "stopped_at_s": 0.0, "reason": str(exc),
+                   "end_time_s": case["time"]["end"], "wall_time_s": time.perf_counter() - wall0,
+                   "steps": 0, **extra}
+        write_json(out / "summary.json", summary)
+        return RunResult("failed", out, summary, {}, {})
     model, state = b.model, b.state
     writer = FieldWriter(out, model.mesh)
     prof = _Profiles(out, model, case["profiles"]["heights"])

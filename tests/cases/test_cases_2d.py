@@ -182,3 +182,67 @@ def test_pseudo_transient_stepping_refuses_a_time_dependent_inlet():
     doc["time"]["stepping"] = "fixed"
     doc["boundary"]["bottom"]["porosities"] = [0.6, 0.7]
     validate(doc, "c.toml")
+
+
+SETTLED_VESSEL = """
+[case]
+name = "settled-vessel"
+model = "two_fluid_2d"
+[mesh]
+kind = "rectangle"
+axisymmetric = true
+x1 = 0.05
+y1 = 0.16
+nx = 6
+ny = 16
+[materials]
+liquid_density = 998.2
+liquid_viscosity = 1.002e-3
+particle_density = 2650.0
+particle_diameter = 0.25e-3
+[initial]
+porosity = 0.45
+state = "settled"
+bed_height = 0.12
+[boundary.bottom]
+kind = "wall"
+[boundary.axis]
+kind = "axis"
+[boundary.outer]
+kind = "wall"
+[boundary.top]
+kind = "outlet"
+[time]
+end = 1.0
+step = 0.2
+[output]
+times = []
+plots = false
+"""
+
+
+def test_settled_bed_in_a_closed_vessel_starts_and_stays_at_rest(tmp_path):
+    """The initial flow field of a bed at rest converges: its iterates change by GMRES round-off
+    (≈ 2e-13 m/s), which the Picard test compares against tol × velocity_floor."""
+    path = tmp_path / "settled.toml"
+    path.write_text(SETTLED_VESSEL)
+    res = run_case(load_case(path), tmp_path / "out")
+    assert res.status == "completed", res.summary["reason"]
+    m = meshio.read(sorted((tmp_path / "out").glob("fields_*.vtu"))[-1])
+    assert np.nanmax(np.abs(m.cell_data["U_s"][0])) < 1e-9  # NaN in the clear liquid above the bed
+    assert np.abs(m.cell_data["U_f"][0]).max() < 1e-9
+
+
+def test_a_failed_initial_flow_field_is_a_failed_run_not_a_traceback(tmp_path, monkeypatch, capsys):
+    """With the old 1e-6 m/s floor the settled vessel's initial field never converged and the run
+    ended in a traceback with no summary; a failure there is now a failed run (exit status 1)."""
+    from twofluid.cli import main
+    from twofluid.models.two_fluid_2d import TwoFluid2D
+
+    path = tmp_path / "settled.toml"
+    path.write_text(SETTLED_VESSEL)
+    monkeypatch.setattr(TwoFluid2D, "velocity_floor", 1e-12)
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 1
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["status"] == "failed" and "initial flow field" in s["reason"] and s["steps"] == 0
+    assert "initial flow field" in capsys.readouterr().err
