@@ -106,7 +106,7 @@ def build_column(case: dict) -> Built:
     sand = Sand(k2max=sa["k2max"], gamma_ref=sa["gamma_ref"], dr=sa["relative_density"],
                 law=sa["reference_porosity_law"], law_params=law_params,
                 reduction=None if table is None else tabulated_curve(*table),
-                gamma_law_max=sa["gamma_law_max"])
+                gamma_law_max=sa["gamma_law_max"], viscosity=sa["viscosity"])
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
     column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,

@@ -88,6 +88,7 @@ class Sand:
     law_params: dict = field(default_factory=dict)  # extra arguments of the law (e.g. ann weights)
     reduction: Callable | None = None  # G/G_max(γ) (e.g. a tabulated curve); None: hyperbolic with gamma_ref
     gamma_law_max: float = 0.01  # |γ| beyond this adds no densification [-] (module docstring)
+    viscosity: float = 0.0  # extra mixture viscosity η_s in the shear wave [Pa·s] (liquefied soil as a viscous fluid)
 
     def n_bar_law(self) -> Callable:
         func = registry.get("reference_porosity", self.law).func
@@ -282,7 +283,7 @@ class LiquefactionColumn:
         v, wave = self.v, self.wave
         n = s.vertical.n
         wave.rho = self.mixture_density(n)
-        wave.eta = mooney_pringle(n, v.mat.mu_f)
+        wave.eta = mooney_pringle(n, v.mat.mu_f) + self.sand.viscosity
         w, n_bar, hist = s.wave, s.vertical.n_bar, s.shear
         cap = self.sand.gamma_law_max
         span = t_new - s.t
