@@ -60,9 +60,17 @@ def _solve(model, S, t_new):
     return a
 
 
-def relative_change(model, new, old) -> tuple[float, float]:
-    """(max |Δn|, max(|ΔV|, |ΔW|)/velocity scale) between two states: the change the Picard test uses."""
-    dv = max(np.abs(new.V - old.V).max(), np.abs(new.W - old.W).max()) / model.velocity_scale(new)
+def relative_change(model, new, old, floor: float | None = None) -> tuple[float, float]:
+    """(max |Δn|, max(|ΔV|, |ΔW|)/velocity scale) between two states: the change the Picard test uses.
+
+    The scale is ``model.velocity_scale(new)`` (its floor is set for the Picard test, above the
+    linear solver's round-off); with ``floor`` [m/s] it is max(|V|, |W|, floor) instead — for
+    measures of how fast a slow flow still changes (steady-state tests), which a Picard floor
+    would understate.
+    """
+    scale = model.velocity_scale(new) if floor is None else \
+        max(float(np.abs(new.V).max()), float(np.abs(new.W).max()), floor)
+    dv = max(np.abs(new.V - old.V).max(), np.abs(new.W - old.W).max()) / scale
     return float(np.abs(new.n - old.n).max()), float(dv)
 
 
