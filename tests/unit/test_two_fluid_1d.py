@@ -120,8 +120,8 @@ def test_uniform_bed_at_the_richardson_zaki_velocity_stays_at_rest(n):
 
 def test_settled_start_warns_where_the_fluidized_bed_pressure_exceeds_the_weight():
     """With the Foscolo–Gibilaro term (here 30× its coefficient) the top bed element carries less
-    weight than P_e alone: it cannot start at rest; n̄ = n there (exponential part at p_ref) and a
-    warning says so. The elements below are at their settled P_s exactly."""
+    weight than P_e alone: it cannot start at rest; its exponential part gets 1e-6 p_ref (the
+    closest to rest) and a warning says so. The elements below are at their settled P_s exactly."""
     from twofluid.casefile.schema import CaseWarning
 
     c = settled_case()
@@ -131,8 +131,9 @@ def test_settled_start_warns_where_the_fluidized_bed_pressure_exceeds_the_weight
     m, s = b.model, b.state
     bed = np.nonzero(s.n < 1.0)[0]
     top = bed[-1]
-    assert s.n_bar[top] == s.n[top]
     ps = m.solids_pressure(s.n, s.n_bar)
     want = m.settled_solids_pressure(s.n)
     np.testing.assert_allclose(ps[bed[:-1]], want[bed[:-1]], rtol=1e-9)
-    assert ps[top] > want[top]
+    mat, clo = m.mat, m.clo
+    pe = clo.fluidized_pressure(s.n[top], mat.d, mat.rho_s, mat.rho_f, mat.g, **clo.fluidized_params)
+    assert pe > want[top] and ps[top] - pe == pytest.approx(1e-6 * clo.p_ref, rel=1e-6)

@@ -127,24 +127,26 @@ def settled_reference_porosity(n_bar: np.ndarray, n: np.ndarray, ps: np.ndarray,
     """Set ``n_bar`` in place where the solids carry ``ps`` [Pa] at porosity ``n`` (a deposit at rest).
 
     The exponential law carries ``ps`` minus the fluidized-bed term, if the case has one. Where
-    that term alone exceeds ``ps`` (elements near the bed surface, which carry little weight)
-    no n̄ puts the element at rest: n̄ = n there (the exponential part at its floor p_ref, the
-    closest to rest) and a :class:`~twofluid.casefile.schema.CaseWarning` says how many.
+    that term alone reaches ``ps`` (elements near the bed surface, which carry little weight) no
+    n̄ puts the element at rest: the exponential part is then given 1e-6 p_ref (n̄ continuous in
+    the remainder, P_s as close to rest as it can be) and a
+    :class:`~twofluid.casefile.schema.CaseWarning` says how many elements.
     """
     from .schema import CaseWarning
 
     bed = n < 1.0
+    rest = ps
     if clo.fluidized_pressure is not None:
-        ps = ps - clo.fluidized_pressure(n, mat.d, mat.rho_s, mat.rho_f, mat.g, **clo.fluidized_params)
-    solid = bed & (ps > 0.0)
-    n_bar[solid] = reference_porosity_for(n[solid], ps[solid], clo.A, clo.p_ref)
-    over = bed & ~solid
-    if clo.fluidized_pressure is not None and over.any():
-        n_bar[over] = n[over]
-        warnings.warn(CaseWarning(
-            f"[initial] state = 'settled': in {int(over.sum())} of {int(bed.sum())} bed elements the "
-            "fluidized-bed pressure P_e exceeds the weight they carry, so they cannot start at rest "
-            "(n̄ = n there); a finer mesh near the bed surface or fluidized = 'none' avoids it"), stacklevel=2)
+        rest = ps - clo.fluidized_pressure(n, mat.d, mat.rho_s, mat.rho_f, mat.g, **clo.fluidized_params)
+        over = bed & (rest <= 0.0) & (ps > 0.0)
+        if over.any():
+            warnings.warn(CaseWarning(
+                f"[initial] state = 'settled': in {int(over.sum())} of {int(bed.sum())} bed elements the "
+                "fluidized-bed pressure P_e reaches the weight they carry, so they cannot start at rest; "
+                "a finer mesh near the bed surface or fluidized = 'none' avoids it"), stacklevel=2)
+        rest = np.where(ps > 0.0, np.maximum(rest, 1e-6 * clo.p_ref), rest)
+    solid = bed & (rest > 0.0)
+    n_bar[solid] = reference_porosity_for(n[solid], rest[solid], clo.A, clo.p_ref)
 
 
 def initial_state(model: TwoFluid1D, case: dict) -> State:

@@ -55,7 +55,8 @@ _SAND = [
     K("viscosity", float, 0.0, "Pa·s", "extra viscosity η_s of the sand–water mixture in the shear wave, "
       "in parallel with the elastic backbone: τ = G γ + (μ_m + η_s) ∂γ/∂t, plus the Rayleigh damping. It "
       "matters once G has fallen: liquefied soil as a very viscous fluid (thesis chapter 1; the Bingham "
-      "viscosity of Uzuoka et al. 1998). 0: none (the bundled cases; docs/liquefaction.md measures 100–10⁴)", lo=0.0, hi=1e7),
+      "viscosity of Uzuoka et al. 1998). 0: none (the bundled cases; docs/liquefaction.md measures 100–10⁴)",
+      lo=0.0, hi=1e5),
     K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (SPEC 4.5)",
       choices=("byrne", "ann")),
     K("ann_weights", str, "", "-", "ann: weights JSON file, a path relative to the case file ('' = the "
