@@ -184,16 +184,16 @@ def test_pseudo_transient_stepping_refuses_a_time_dependent_inlet():
     validate(doc, "c.toml")
 
 
-SETTLED_VESSEL = """
+VESSEL = """
 [case]
-name = "settled-vessel"
+name = "vessel"
 model = "two_fluid_2d"
 [mesh]
 kind = "rectangle"
 axisymmetric = true
 x1 = 0.05
 y1 = 0.16
-nx = 6
+nx = {nx}
 ny = 16
 [materials]
 liquid_density = 998.2
@@ -201,24 +201,38 @@ liquid_viscosity = 1.002e-3
 particle_density = 2650.0
 particle_diameter = 0.25e-3
 [initial]
-porosity = 0.45
-state = "settled"
-bed_height = 0.12
+porosity = {porosity}
+state = "{state}"
+bed_height = {bed}
 [boundary.bottom]
-kind = "wall"
+{bottom}
 [boundary.axis]
 kind = "axis"
 [boundary.outer]
 kind = "wall"
+tangential = "{tangential}"
 [boundary.top]
 kind = "outlet"
 [time]
-end = 1.0
-step = 0.2
+stepping = "{stepping}"
+end = {end}
+step = {step}
 [output]
 times = []
 plots = false
+[profiles]
+steady_tolerance = {steady}
 """
+#: a settled bed in an axisymmetric vessel, walls at the bottom and side, outlet at the top
+SETTLED_VESSEL = VESSEL.format(nx=6, porosity=0.45, state="settled", bed=0.12, bottom='kind = "wall"',
+                               tangential="no_slip", stepping="fixed", end=1.0, step=0.2, steady=0.0)
+
+
+def percolation(porosity, state, bed, u0, u1, stepping, end, step, steady):
+    """The vessel fed through its bottom, the inflow ramping from u0 to u1 [m/s] over 200 s."""
+    bottom = f'kind = "inlet"\ntimes = [0.0, 200.0]\nvelocities = [{u0}, {u1}]'
+    return VESSEL.format(nx=4, porosity=porosity, state=state, bed=bed, bottom=bottom, tangential="free_slip",
+                         stepping=stepping, end=end, step=step, steady=steady)
 
 
 def test_settled_bed_in_a_closed_vessel_starts_and_stays_at_rest(tmp_path):
@@ -248,57 +262,14 @@ def test_a_failed_initial_flow_field_is_a_failed_run_not_a_traceback(tmp_path, m
     assert "initial flow field" in capsys.readouterr().err
 
 
-SLOW_PERCOLATION = """
-[case]
-name = "slow-percolation"
-model = "two_fluid_2d"
-[mesh]
-kind = "rectangle"
-axisymmetric = true
-x1 = 0.05
-y1 = 0.16
-nx = 4
-ny = 16
-[materials]
-liquid_density = 998.2
-liquid_viscosity = 1.002e-3
-particle_density = 2650.0
-particle_diameter = 0.25e-3
-[initial]
-porosity = {porosity}
-state = "{state}"
-bed_height = {bed}
-[boundary.bottom]
-kind = "inlet"
-times = [0.0, 200.0]
-velocities = [{u0}, {u1}]
-[boundary.axis]
-kind = "axis"
-[boundary.outer]
-kind = "wall"
-tangential = "free_slip"
-[boundary.top]
-kind = "outlet"
-[time]
-stepping = "{stepping}"
-end = {end}
-step = {step}
-[output]
-times = []
-plots = false
-[profiles]
-steady_tolerance = {steady}
-"""
-
-
 def test_a_slow_flow_that_still_changes_is_not_called_steady(tmp_path):
     """Seepage through a settled bed at 1–3 µm/s, the inflow ramping by 1 %/s: its velocity rate is
     ≈ 5e-3 1/s against the flow's own speed. With the Picard floor (1e-4 m/s) as the scale it
     looked like 3e-4 1/s and the run stopped as "steady" at t = 8 s; the steady measures now use
     the flow's own scale (down to 1e-9 m/s)."""
     path = tmp_path / "slow.toml"
-    path.write_text(SLOW_PERCOLATION.format(porosity=0.45, state="settled", bed=0.0, u0=1e-6, u1=3e-6,
-                                            stepping="fixed", end=20.0, step=1.0, steady=1e-3))
+    path.write_text(percolation(porosity=0.45, state="settled", bed=0.0, u0=1e-6, u1=3e-6,
+                                stepping="fixed", end=20.0, step=1.0, steady=1e-3))
     s = run_case(load_case(path), tmp_path / "out").summary
     assert s["status"] == "completed" and s["stopped_at_s"] == pytest.approx(20.0), s["reason"]
     assert s["final_rates_1_s"]["max_dV_dt_over_Vmax"] > 1e-3
@@ -311,8 +282,8 @@ def test_pseudo_transient_with_solids_leaving_does_not_claim_a_balance(tmp_path,
     from twofluid.cli import main
 
     path = tmp_path / "wash.toml"
-    path.write_text(SLOW_PERCOLATION.format(porosity=0.6, state="uniform", bed=0.06, u0=0.03, u1=0.03,
-                                            stepping="pseudo_transient", end=20.0, step=0.01, steady=0.0))
+    path.write_text(percolation(porosity=0.6, state="uniform", bed=0.06, u0=0.03, u1=0.03,
+                                stepping="pseudo_transient", end=20.0, step=0.01, steady=0.0))
     assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert s["solids_volume_m3"]["outflow"] > 0.0
