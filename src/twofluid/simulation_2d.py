@@ -26,7 +26,7 @@ from .casefile.schema_2d import BOUNDARY_NAMES
 from .io.fields import FieldWriter
 from .io.results import write_json, write_resolved_case
 from .mesh.quad import QuadMesh, rectangle, remove_block
-from .models.two_fluid_1d import Materials, State
+from .models.two_fluid_1d import State
 from .models.two_fluid_2d import Boundary2D, TwoFluid2D
 from .simulation import RunResult, run_guard
 from .timestepping.backward_euler import (PicardSettings, Step, StepFailure, integrate, picard_step,
@@ -60,11 +60,6 @@ def build_mesh(case: dict) -> QuadMesh:
     if m["cut"]:
         mesh = remove_block(mesh, *m["cut"], name="cut")
     return mesh
-
-
-def _inlet_velocities(b: dict, clo, mat: Materials) -> list[float]:
-    """Inlet schedule values [m/s]: given, or the velocities fluidizing a uniform bed at each porosity."""
-    return list(b["velocities"]) if b["velocities"] else list(inlet_velocities(b["porosities"], clo, mat))
 
 
 @dataclass
@@ -102,7 +97,7 @@ def build_2d(case: dict) -> Built2D:
                             f"groups: {', '.join(sorted(mesh.boundaries))}")
         vel = None
         if b["kind"] == "inlet":
-            vel = Schedule(tuple(b["times"]), tuple(_inlet_velocities(b, clo, mat)))
+            vel = Schedule(tuple(b["times"]), inlet_velocities(b, clo, mat))
         bcs.append(Boundary2D(group, b["kind"], velocity=vel, solids_velocity=b["solids_velocity"],
                               pressure=b["pressure"], omega=b["omega"],
                               free_slip=b["tangential"] == "free_slip"))
@@ -266,7 +261,7 @@ class _History:
         v = self.model.element_mean(s.V)
         w = self.model.element_mean(s.W)
         uf = [(v[e, 1] + w[e, 1]) / (2.0 * s.n[e]) if e >= 0 else np.nan for e in self.axis_el]
-        self.last = {"time_s": s.t, "uf": uf, "prev": self.last.get("uf"), "prev_t": self.last.get("time_s")}
+        self.last = {"uf": uf, "prev": self.last.get("uf")}
         self.w.writerow([k, f"{s.t:.10g}", f"{dt:.6g}", its, f"{rate[0]:.4g}", f"{rate[1]:.4g}", f"{change[0]:.4g}",
                          f"{change[1]:.4g}", st.get("factorisations", 0), st.get("solves", 0),
                          st.get("gmres_iterations", 0)] + [f"{u:.10g}" for u in uf])
@@ -298,13 +293,14 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
     from .verification.annular import annular_poiseuille, annular_poiseuille_gradient, couette_swirl
 
     sf, g = case["single_fluid"], case["materials"]["gravity"]
+    mat = materials(case)
+    clo = closures(case, mat)
     dirichlet, omega = {}, 0.0
     for name in BOUNDARY_NAMES:
         b = case[f"boundary.{name}"]
         grp = b["group"] or name
         if b["kind"] == "inlet":
-            mat = materials(case)
-            dirichlet[grp] = {"r": 0.0, "z": _inlet_velocities(b, closures(case, mat), mat)[0], "theta": 0.0}
+            dirichlet[grp] = {"r": 0.0, "z": inlet_velocities(b, clo, mat)[0], "theta": 0.0}
         elif b["kind"] == "wall":
             dirichlet[grp] = {"r": 0.0, "z": 0.0, "theta": 0.0}
         elif b["kind"] == "axis":

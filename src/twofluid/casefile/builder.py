@@ -68,11 +68,14 @@ def closures(case: dict, mat: Materials, pressure_section: str = "closures.solid
         **clo.drag_params))
 
 
-def inlet_velocities(porosities, clo: Closures, mat: Materials) -> tuple[float, ...]:
-    """Superficial velocities [m/s] that fluidize a uniform bed at each porosity with the model's law."""
+def inlet_velocities(b: dict, clo: Closures, mat: Materials) -> tuple[float, ...]:
+    """An inlet's schedule values [m/s]: its ``velocities``, or the superficial velocities that
+    fluidize a uniform bed at each of its ``porosities`` with the model's drag law."""
+    if not b["porosities"]:
+        return tuple(b["velocities"])
     return tuple(drag_laws.steady_fluidization_velocity(
         clo.saturated_drag, n, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **clo.drag_params)
-        for n in porosities)
+        for n in b["porosities"])
 
 
 def _closures(case: dict, pressure_section: str) -> Closures:
@@ -94,10 +97,7 @@ def _closures(case: dict, pressure_section: str) -> Closures:
 def _boundary(b: dict, clo: Closures, mat: Materials) -> tuple[Boundary, tuple]:
     if b["kind"] != "inlet":
         return Boundary(b["kind"], pressure=b["pressure"]), ()
-    if b["porosities"]:
-        vel = inlet_velocities(b["porosities"], clo, mat)
-    else:
-        vel = tuple(b["velocities"])
+    vel = inlet_velocities(b, clo, mat)
     return Boundary("inlet", velocity=Schedule(tuple(b["times"]), vel)), vel
 
 
