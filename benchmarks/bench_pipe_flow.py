@@ -22,8 +22,8 @@ import numpy as np
 import scipy
 
 from twofluid.casefile.loader import load_case
-from twofluid.simulation import run_case
-from twofluid.simulation_2d import build_2d
+from twofluid.runners import run_case
+from twofluid.runners.flow_2d import build_2d
 
 START, END = "<!-- bench:start -->", "<!-- bench:end -->"
 

@@ -15,7 +15,7 @@ import argparse
 import tempfile
 import tomllib
 
-import twofluid.liquefaction as liq
+import twofluid.runners.liquefaction as liq
 from twofluid.casefile.loader import load_case
 
 

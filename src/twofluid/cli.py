@@ -8,7 +8,7 @@ __all__ = ["main"]
 
 
 def _cmd_run(args) -> int:
-    from .simulation import run_case
+    from .runners import run_case
 
     res = run_case(args.case, args.out, progress=not args.quiet and sys.stderr.isatty())
     s = res.summary

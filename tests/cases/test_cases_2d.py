@@ -7,7 +7,7 @@ import pytest
 
 from twofluid.casefile.loader import load_case
 from twofluid.casefile.schema import CaseError, validate
-from twofluid.simulation import run_case
+from twofluid.runners import run_case
 
 COARSE = {"pipe-flow": {"mesh": {"nx": 10, "ny": 20},
                         "time": {"end": 0.02, "step": 0.01, "stepping": "fixed"},  # the transient balance
@@ -47,7 +47,7 @@ def test_pipe_flow_pseudo_transient_reaches_steady_state(tmp_path):
     stepper (fixed Δt, every step converged): it must stay put, and liquid and solids
     must leave as fast as they enter.
     """
-    from twofluid.simulation_2d import build_2d
+    from twofluid.runners.flow_2d import build_2d
     from twofluid.timestepping.backward_euler import picard_step
 
     case = load_case("pipe-flow")
@@ -101,7 +101,7 @@ def test_viscometer_circulation_is_buoyancy_of_horizontal_porosity_contrasts():
     faster than U_in, with the outer annulus sinking: the mixture (μ_m ≈ 10 mPa·s at
     n = 0.6) is far runnier than the bed is permeable.
     """
-    from twofluid.simulation_2d import build_2d, steady_flow
+    from twofluid.runners.flow_2d import build_2d, steady_flow
 
     case = load_case("viscometer")
     case["mesh"].update(nx=10, ny=32)

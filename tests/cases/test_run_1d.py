@@ -6,7 +6,7 @@ import sys
 import numpy as np
 import pytest
 
-from twofluid import simulation
+from twofluid.runners import column_1d, common
 from twofluid.casefile.loader import case_text, load_case
 from twofluid.cli import main
 from twofluid.timestepping.backward_euler import StepFailure
@@ -58,7 +58,7 @@ def _short(name, end):
 
 @pytest.mark.parametrize("name, end", [("fluidized-bed-step", 2.0), ("settling-illite", 10.0)])
 def test_short_bundled_run_writes_readable_results(tmp_path, name, end):
-    res = simulation.run_case(_short(name, end), tmp_path, progress=False)
+    res = common.run_case(_short(name, end), tmp_path, progress=False)
     assert res.status == "completed"
     for f in ("case.resolved.toml", "profiles.csv", "probes.csv", "summary.json", "porosity.png",
               "heights.png"):
@@ -74,7 +74,7 @@ def test_short_bundled_run_writes_readable_results(tmp_path, name, end):
 
 
 def _stopping_after(k, exc):
-    real = simulation.integrate
+    real = column_1d.integrate
 
     def integrate(*args, **kw):
         for i, step in enumerate(real(*args, **kw)):
@@ -89,10 +89,10 @@ def test_interrupted_or_failed_run_keeps_what_it_wrote(tmp_path, monkeypatch, ki
     exc = {"interrupted": lambda s: KeyboardInterrupt(),
            "failed": lambda s: StepFailure(s.t, 1e-9, "test failure", s),
            "singular": lambda s: RuntimeError("Factor is exactly singular")}[kind]
-    monkeypatch.setattr(simulation, "integrate", _stopping_after(30, exc))
+    monkeypatch.setattr(column_1d, "integrate", _stopping_after(30, exc))
     c = _short("settling-illite", 10.0)
     c["output"]["probe_interval"] = 0.1
-    res = simulation.run_case(c, tmp_path)
+    res = common.run_case(c, tmp_path)
     status = "failed" if kind == "singular" else kind
     assert res.status == status
     s = json.loads((tmp_path / "summary.json").read_text())

@@ -19,7 +19,7 @@ from twofluid.casefile.loader import load_case
 from twofluid.casefile.schema import CaseError, validate
 from twofluid.closures import drag
 from twofluid.closures.solids_pressure import reference_porosity_for
-from twofluid.liquefaction import run_liquefaction
+from twofluid.runners.liquefaction import run_liquefaction
 from twofluid.mesh.line import uniform_line
 from twofluid.models.liquefaction_1d import LiquefactionColumn, VerticalColumn
 from twofluid.models.two_fluid_1d import Boundary, Closures, Materials
@@ -302,7 +302,7 @@ def test_missing_record_is_a_case_error(tmp_path):
 def test_sand_viscosity_adds_to_the_mixture_viscosity_of_the_shear_wave():
     """`[sand] viscosity` η_s is in parallel with the backbone: the wave's η is μ_m(n) + η_s."""
     from twofluid.closures.viscosity import mooney_pringle
-    from twofluid.liquefaction import build_column
+    from twofluid.runners.liquefaction import build_column
 
     c = load_case("liquefaction-elcentro")
     c["deposit"]["elements"] = 8

@@ -17,7 +17,7 @@ from twofluid.casefile.loader import load_case
 from twofluid.casefile.schema import CaseError, CaseWarning
 from twofluid.cli import main
 from twofluid.closures import reference_porosity as rp
-from twofluid.liquefaction import build_column, run_liquefaction
+from twofluid.runners.liquefaction import build_column, run_liquefaction
 from twofluid.models import liquefaction_1d
 
 RECORD = "time_s,acceleration_g\n" + "".join(f"{0.01 * i:.2f},{0.1 * np.sin(2 * np.pi * 2 * 0.01 * i):.6f}\n"

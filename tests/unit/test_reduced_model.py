@@ -31,16 +31,25 @@ def test_case_file_selects_reduced_model():
 
 @pytest.mark.parametrize("name, dt", [("fluidized-bed-step", 0.02), ("settling-illite", 0.1)])
 def test_one_step_solves_the_full_models_equations(name, dt):
-    """Same initial state, one step: V, W, n and the recovered P agree to the Picard tolerance."""
+    """Same initial state, one step: V, W, n and the recovered P agree to the Picard tolerance.
+
+    Both Picard loops stop when an iterate changes by less than ``tol`` (velocities
+    relative to the model's velocity scale, porosity absolute), so the two converged
+    states may differ by about that much, never by the round-off of one machine's
+    solves. The full model's own round-off floor is far below it: on settling-illite
+    its iterates stall at a change of about 5e-9 of the scale when asked for more.
+    """
     out = {}
     for model in ("two_fluid_1d", "reduced_1d"):
         b = build(_case(name, model))
         new, it = picard_step(b.model, b.state, dt, b.settings)
         assert new is not None, it
-        out[model] = new
-    f, r = out["two_fluid_1d"], out["reduced_1d"]
-    assert np.abs(f.n - r.n).max() < 1e-8
-    assert np.abs(f.W - r.W).max() < 1e-8 * max(np.abs(f.W).max(), 1e-6)
+        out[model] = (new, b.model.velocity_scale(new))
+    (f, scale), (r, _) = out["two_fluid_1d"], out["reduced_1d"]
+    tol = b.settings.tol
+    assert np.abs(f.n - r.n).max() < tol
+    assert np.abs(f.W - r.W).max() < tol * scale
+    assert np.abs(f.V - r.V).max() < tol * scale
     assert np.abs(f.P - r.P).max() < 1e-6 * np.abs(f.P).max()
 
 

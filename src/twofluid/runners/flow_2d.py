@@ -20,16 +20,16 @@ from pathlib import Path
 
 import numpy as np
 
-from .casefile.builder import Schedule, closures, inlet_velocities, materials, settled_reference_porosity
-from .casefile.schema import CaseError
-from .casefile.schema_2d import BOUNDARY_NAMES
-from .io.fields import FieldWriter
-from .io.results import write_json, write_resolved_case
-from .mesh.quad import QuadMesh, rectangle, remove_block
-from .models.two_fluid_1d import State
-from .models.two_fluid_2d import Boundary2D, TwoFluid2D
-from .simulation import RunResult, run_guard
-from .timestepping.backward_euler import (PicardSettings, Step, StepFailure, integrate, picard_step,
+from ..casefile.builder import Schedule, closures, inlet_velocities, materials, settled_reference_porosity
+from ..casefile.schema import CaseError
+from ..casefile.schema_2d import BOUNDARY_NAMES
+from ..io.fields import FieldWriter
+from ..io.results import write_json, write_resolved_case
+from ..mesh.quad import QuadMesh, rectangle, remove_block
+from ..models.two_fluid_1d import State
+from ..models.two_fluid_2d import Boundary2D, TwoFluid2D
+from .common import RunResult, run_guard
+from ..timestepping.backward_euler import (PicardSettings, Step, StepFailure, integrate, picard_step,
                                           relative_change)
 
 __all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile", "pseudo_transient"]
@@ -44,7 +44,7 @@ def build_mesh(case: dict) -> QuadMesh:
     """The case's mesh with its named boundary groups (plus "axis" when r starts at 0)."""
     m, src = case["mesh"], case.get("_source", "<case>")
     if m["kind"] == "gmsh":
-        from .mesh.gmsh_io import MeshError, read_quad_mesh
+        from ..mesh.gmsh_io import MeshError, read_quad_mesh
 
         path = Path(m["file"])
         if not path.is_absolute() and Path(str(src)).is_file():
@@ -289,8 +289,8 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
     compared with annular Poiseuille flow of the same flow rate and Couette swirl
     (SPEC 6.6): relative L2 errors along the radius with the r weight.
     """
-    from .models.single_fluid import solve_stokes
-    from .verification.annular import annular_poiseuille, annular_poiseuille_gradient, couette_swirl
+    from ..models.single_fluid import solve_stokes
+    from ..verification.annular import annular_poiseuille, annular_poiseuille_gradient, couette_swirl
 
     sf, g = case["single_fluid"], case["materials"]["gravity"]
     mat = materials(case)
@@ -330,7 +330,7 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
              "definition": "relative L2 error of the nodal profile along r (weight r) against annular "
                            "Poiseuille flow of the same flow rate and Couette swirl"}
     if plots:
-        from .plots.fields import profile_plot
+        from ..plots.fields import profile_plot
 
         prof = {float(y): {"x_m": r, "porosity": np.ones_like(r), "Uf_y": uz, "Us_y": uz, "Uf_theta": ut}}
         profile_plot(prof, out / "single_fluid.png", "single fluid (ρ = %g, μ = %g) vs analytic annulus"
@@ -349,7 +349,7 @@ def _write_fields(writer, model, s):
 
 
 def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
-    """Run a resolved ``two_fluid_2d`` case; returns :class:`~twofluid.simulation.RunResult`."""
+    """Run a resolved ``two_fluid_2d`` case; returns :class:`~twofluid.runners.RunResult`."""
     name = case["case"]["name"]
     out = Path(out_dir or f"twofluid-out/{name}")
     out.mkdir(parents=True, exist_ok=True)
@@ -486,7 +486,7 @@ def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outfl
 
 
 def _plots(case, model, s, profiles, out, extra):
-    from .plots.fields import field_plot, profile_plot, velocity_plot
+    from ..plots.fields import field_plot, profile_plot, velocity_plot
 
     title = f"{case['case']['name']}, t = {s.t:.4g} s"
     f = model.element_fields(s)

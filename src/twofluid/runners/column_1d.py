@@ -1,83 +1,25 @@
-"""Run a case: build it, consume the time-step stream, write results and figures.
+"""The 1D column runner (``two_fluid_1d``, ``reduced_1d``): build, steps, consumers, summary.
 
-``run_case`` is what ``twofluid run`` calls. Output, probes, the progress bar
-and plots all consume the generator of :func:`twofluid.timestepping.integrate`
-from outside the solver.
+Output, probes, the progress bar and plots all consume the generator of
+:func:`twofluid.timestepping.integrate` from outside the solver.
 """
 from __future__ import annotations
 
 import time
-from contextlib import contextmanager
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
-from . import postprocess as pp
-from .casefile.builder import build
-from .casefile.loader import load_case
-from .io.results import ResultWriter, write_json, write_resolved_case
-from .timestepping.backward_euler import StepFailure, integrate, picard_step
+from .. import postprocess as pp
+from ..casefile.builder import build
+from ..io.results import ResultWriter, write_json, write_resolved_case
+from ..timestepping.backward_euler import integrate, picard_step
+from .common import RunResult, run_guard
 
-__all__ = ["RunResult", "RunGuard", "run_case", "run_guard"]
+__all__ = ["run_1d"]
 
 PROFILE_COLUMNS = ["y_m", "porosity", "reference_porosity", "P_Pa", "Ps_Pa", "V_m_s", "W_m_s",
                    "Uf_m_s", "Us_m_s"]
-
-
-@dataclass
-class RunResult:
-    status: str  # completed | interrupted | failed
-    out_dir: Path
-    summary: dict
-    profiles: dict = field(default_factory=dict)  # t -> element fields
-    history: dict = field(default_factory=dict)  # name -> array over steps
-
-
-@dataclass
-class RunGuard:
-    """What :func:`run_guard` found: status, reason and the progress bar to update."""
-
-    bar: tqdm
-    status: str = "completed"
-    reason: str = ""
-
-
-# Errors of the numerics (not of the program) that end a run as "failed" with a summary:
-# SuperLU's "Factor is exactly singular" is a RuntimeError; NotImplementedError and
-# RecursionError are RuntimeErrors of the program and propagate.
-_NUMERICAL_ERRORS = (FloatingPointError, OverflowError, np.linalg.LinAlgError, RuntimeError)
-_PROGRAM_ERRORS = (NotImplementedError, RecursionError)
-
-
-@contextmanager
-def run_guard(t_end: float, progress: bool, *closing):
-    """Context of a run's time loop: progress bar, Ctrl-C and failed steps.
-
-    A ``KeyboardInterrupt``, a :class:`StepFailure` or a numerical error
-    (floating-point overflow, ``LinAlgError``, a ``RuntimeError`` such as a singular
-    factorisation) inside the block ends the loop, not the program: the guard records status ``interrupted`` or ``failed``
-    with the reason, closes the bar and every object in ``closing`` (result
-    writers), and the runner goes on to write its summary from what it has.
-    """
-    run = RunGuard(tqdm(total=t_end, unit="s", disable=not progress, leave=False,
-                        bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated "
-                                   "[{elapsed}<{remaining}]"))
-    try:
-        yield run
-    except KeyboardInterrupt:
-        run.status, run.reason = "interrupted", "interrupted by the user (Ctrl-C)"
-    except StepFailure as exc:
-        run.status, run.reason = "failed", str(exc)
-    except _NUMERICAL_ERRORS as exc:  # e.g. SuperLU "Factor is exactly singular", overflow
-        if isinstance(exc, _PROGRAM_ERRORS):
-            raise
-        run.status, run.reason = "failed", f"{type(exc).__name__}: {exc}"
-    finally:
-        run.bar.close()
-        for c in closing:
-            c.close()
 
 
 class _HeldEnds:
@@ -148,24 +90,6 @@ def _probe_values(model, s, probes, heights):
         for name in ("porosity", "P_Pa", "Ps_Pa", "Us_m_s"):
             vals[f"{name}@{y:g}m"] = float(f[name][e])
     return vals
-
-
-# Runners of the models whose output is not a 1D column profile: "module:function".
-RUNNERS = {"two_fluid_2d": "twofluid.simulation_2d:run_2d",
-           "liquefaction_1d": "twofluid.liquefaction:run_liquefaction"}
-
-
-def run_case(case, out_dir=None, progress: bool = False) -> RunResult:
-    """Run ``case`` (resolved dict, bundled name or TOML path); write results to ``out_dir``."""
-    if not isinstance(case, dict):
-        case = load_case(case)
-    model = case["case"]["model"]
-    if model in RUNNERS:
-        import importlib
-
-        mod, func = RUNNERS[model].split(":")
-        return getattr(importlib.import_module(mod), func)(case, out_dir, progress=progress)
-    return run_1d(case, out_dir, progress)
 
 
 def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
@@ -262,7 +186,7 @@ def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, 
 
 
 def _plots(case, fig, profiles, out, summary):
-    from .plots.profiles import history_plot, profile_plots
+    from ..plots.profiles import history_plot, profile_plots
 
     title = case["case"]["name"]
     profile_plots(profiles, out, title)

@@ -1,7 +1,7 @@
 """Run a ``liquefaction_1d`` case: build the column, shake it, let it reconsolidate, write results.
 
 ``run_liquefaction`` is what ``twofluid run`` calls for this model (through
-:data:`twofluid.simulation.RUNNERS`). The run folder holds
+:data:`twofluid.runners.common.RUNNERS`). The run folder holds
 
 - ``case.resolved.toml`` — every key with the value used;
 - ``probes.csv`` — time series: base acceleration (absolute; on a compliant base the
@@ -33,19 +33,19 @@ from pathlib import Path
 
 import numpy as np
 
-from .casefile import schema_liquefaction
-from .casefile.builder import closures, materials
-from .casefile.loader import load_case
-from .casefile.schema import CaseError, revalidate
-from .closures import drag as drag_laws
-from .closures.shear_modulus import seed_idriss_gmax, tabulated_curve
-from .io import ground_motion as gm
-from .io.results import ResultWriter, write_json, write_resolved_case
-from .mesh.line import uniform_line
-from .models.liquefaction_1d import ColumnState, LiquefactionColumn, Sand, VerticalColumn
-from .models.two_fluid_1d import Boundary
-from .timestepping.backward_euler import PicardSettings
-from .verification.terzaghi import consolidation_coefficient
+from ..casefile import schema_liquefaction
+from ..casefile.builder import closures, materials
+from ..casefile.loader import load_case
+from ..casefile.schema import CaseError, revalidate
+from ..closures import drag as drag_laws
+from ..closures.shear_modulus import seed_idriss_gmax, tabulated_curve
+from ..io import ground_motion as gm
+from ..io.results import ResultWriter, write_json, write_resolved_case
+from ..mesh.line import uniform_line
+from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, Sand, VerticalColumn
+from ..models.two_fluid_1d import Boundary
+from ..timestepping.backward_euler import PicardSettings
+from ..verification.terzaghi import consolidation_coefficient
 
 __all__ = ["Built", "build_column", "run_liquefaction", "PROFILE_COLUMNS"]
 
@@ -203,7 +203,7 @@ def _zone(mask, mesh) -> list | None:
 
 def run_liquefaction(case, out_dir=None, progress: bool = False):
     """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path)."""
-    from .simulation import RunResult, run_guard
+    from .common import RunResult, run_guard
 
     case = load_case(case) if not isinstance(case, dict) else validated(case)
     b = build_column(case)  # reads the record and weights: a bad one stops here, nothing written
@@ -269,7 +269,7 @@ def run_liquefaction(case, out_dir=None, progress: bool = False):
                        settle_shaking)
     write_json(out / "summary.json", summary)
     if case["output"]["plots"]:
-        from .plots.liquefaction import liquefaction_plots
+        from ..plots.liquefaction import liquefaction_plots
 
         liquefaction_plots(rec, col, out, name, rep["ru_liquefied"])
     hist = {"t": np.array(rec.t), "r_u": np.array(rec.ru), "settlement_m": np.array(rec.settle),
