@@ -1,0 +1,16 @@
+"""Geotechnical engineering checks beside the two-fluid model.
+
+- :mod:`.simplified` — liquefaction triggering by the simplified procedure
+  (Idriss & Boulanger 2008, 2014): r_d, MSF, K_σ, CRR from (N1)60cs, CSR, FS;
+- :mod:`.settlement` — post-liquefaction volumetric strain (Ishihara & Yoshimine 1992,
+  as fitted by Idriss & Boulanger 2008);
+- :mod:`.profile` — both over a layered profile (:func:`simplified_procedure`);
+- :mod:`.spectra` — elastic response spectra (Nigam & Jennings 1969).
+
+All are pure NumPy functions; see ``docs/simplified.md``.
+"""
+from .profile import SimplifiedResult, simplified_procedure
+from .spectra import amplification, response_spectrum, sdof_history
+
+__all__ = ["SimplifiedResult", "simplified_procedure", "response_spectrum", "sdof_history",
+           "amplification"]

@@ -1,0 +1,205 @@
+"""The simplified procedure over a layered profile: triggering, then settlement.
+
+:func:`simplified_procedure` takes one row per layer (or per element) with its depth
+range, the vertical stresses at its mid-depth and its relative density, evaluates
+r_d, CSR, CRR_7.5, MSF, K_σ and FS (Idriss & Boulanger 2008, 2014; see
+:mod:`twofluid.geotech.simplified`) and the post-liquefaction volumetric strain
+(Ishihara & Yoshimine 1992 as fitted by Idriss & Boulanger 2008; see
+:mod:`twofluid.geotech.settlement`), and sums ε_v × thickness into the settlement.
+
+Rows that cannot liquefy — marked not liquefiable, or unsaturated (σ′_v ≥ σ_v, above
+the water table) — get FS = inf and ε_v = 0 (never NaN); their r_d and CSR are still
+reported, their CRR, MSF and K_σ too (for the row's density), so the table is full.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ..casefile.schema import CaseError
+from . import settlement, simplified as sp
+
+__all__ = ["SimplifiedResult", "simplified_procedure", "MAGNITUDE_RANGE", "A_MAX_RANGE_G"]
+
+MAGNITUDE_RANGE = (5.0, 9.0)  # the case histories behind r_d, MSF and CRR span M 5.5-9.0
+A_MAX_RANGE_G = (0.0, 3.0)
+SOURCE = "simplified_procedure"
+
+
+@dataclass(frozen=True)
+class SimplifiedResult:
+    """Per-row arrays (depths from the ground surface) and the total settlement.
+
+    ``FS`` is inf where ``can_liquefy`` is False (not liquefiable or unsaturated) or
+    CSR = 0; ``eps_v`` and ``settlement_m`` are 0 there.
+    """
+
+    z_top_m: np.ndarray
+    z_bottom_m: np.ndarray
+    depth_mid_m: np.ndarray
+    thickness_m: np.ndarray
+    sigma_v_Pa: np.ndarray
+    sigma_v_eff_Pa: np.ndarray
+    relative_density: np.ndarray
+    N1_60cs: np.ndarray
+    can_liquefy: np.ndarray
+    r_d: np.ndarray
+    CSR: np.ndarray
+    CRR_75: np.ndarray
+    MSF: np.ndarray
+    K_sigma: np.ndarray
+    FS: np.ndarray
+    eps_v: np.ndarray
+    settlement_m: np.ndarray
+    total_settlement_m: float
+    a_max_g: float
+    magnitude: float
+    msf_form: str
+
+    COLUMNS = (("depth_mid_m", "z_mid [m]", "{:.2f}"), ("thickness_m", "h [m]", "{:.2f}"),
+               ("sigma_v_Pa", "sigma_v [kPa]", None), ("sigma_v_eff_Pa", "sigma'_v [kPa]", None),
+               ("relative_density", "Dr [-]", "{:.2f}"), ("N1_60cs", "(N1)60cs [-]", "{:.1f}"),
+               ("r_d", "r_d [-]", "{:.3f}"), ("CSR", "CSR [-]", "{:.3f}"),
+               ("CRR_75", "CRR_7.5 [-]", "{:.3f}"), ("MSF", "MSF [-]", "{:.3f}"),
+               ("K_sigma", "K_sigma [-]", "{:.3f}"), ("FS", "FS [-]", "{:.2f}"),
+               ("eps_v", "eps_v [%]", None), ("settlement_m", "settlement [mm]", None))
+
+    def to_rows(self) -> list[dict[str, float]]:
+        """One dict per row, keyed by the column labels with units (SI; stresses in kPa,
+        ε_v in %, settlement in mm as labelled); FS = inf for rows that cannot liquefy."""
+        scale = {"sigma_v_Pa": 1e-3, "sigma_v_eff_Pa": 1e-3, "eps_v": 100.0, "settlement_m": 1e3}
+        return [{label: float(getattr(self, name)[i]) * scale.get(name, 1.0)
+                 for name, label, _ in self.COLUMNS} for i in range(self.depth_mid_m.size)]
+
+    def table(self) -> str:
+        """The rows as an aligned text table with a header and the total settlement."""
+        rows = self.to_rows()
+        labels = [label for _, label, _ in self.COLUMNS]
+        fmts = [f or "{:.1f}" for _, _, f in self.COLUMNS]
+        fmts[labels.index("eps_v [%]")] = "{:.2f}"
+        cells = [[("-" if np.isinf(r[lab]) else fmt.format(r[lab])) for lab, fmt in zip(labels, fmts)]
+                 for r in rows]
+        width = [max(len(lab), *(len(c[j]) for c in cells)) if cells else len(lab)
+                 for j, lab in enumerate(labels)]
+        lines = ["  ".join(lab.rjust(w) for lab, w in zip(labels, width))]
+        lines += ["  ".join(c.rjust(w) for c, w in zip(row, width)) for row in cells]
+        lines.append(f"a_max = {self.a_max_g:.3f} g, M = {self.magnitude:.2f}, MSF {self.msf_form}; "
+                     f"FS '-' = cannot liquefy (not liquefiable or above the water table); "
+                     f"total settlement {self.total_settlement_m * 1e3:.1f} mm")
+        return "\n".join(lines)
+
+    def as_dict(self) -> dict:
+        """Plain dict of every field (arrays stay arrays)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def _fail(key: str, message: str):
+    raise CaseError(SOURCE, key, message)
+
+
+def _rows(name, value, n, dtype=float):
+    a = np.asarray(value, dtype=dtype)
+    if a.ndim == 0:
+        a = np.full(n, a)
+    if a.shape != (n,):
+        _fail(name, f"must be a scalar or a 1-D array of {n} rows like z_top_m, got shape {a.shape}")
+    if dtype is float and not np.all(np.isfinite(a)):
+        _fail(name, "must be finite (no NaN or inf)")
+    return a
+
+
+def _scalar(name, value, lo, hi):
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        _fail(name, f"must be one number in [{lo:g}, {hi:g}], got {value!r}")
+    if not lo <= v <= hi:
+        _fail(name, f"must be in [{lo:g}, {hi:g}], got {v:g}")
+    return v
+
+
+def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relative_density,
+                         liquefiable, a_max_g, magnitude, *, msf_form: str = "ib2014"
+                         ) -> SimplifiedResult:
+    """Factor of safety and post-liquefaction settlement of each row of a profile.
+
+    Parameters
+    ----------
+    z_top_m, z_bottom_m : array (n,)
+        Depth range of each row [m] from the ground surface, 0 ≤ top < bottom.
+    sigma_v_Pa, sigma_v_eff_Pa : array (n,)
+        Total and effective vertical stress at the row's mid-depth [Pa], > 0.
+        σ′_v ≥ σ_v marks an unsaturated row (above the water table): it cannot liquefy.
+    relative_density : array (n,) or scalar
+        Dr [-] in [0, 1]; (N1)60cs = 46 Dr² (clean sand).
+    liquefiable : array (n,) of bool or scalar
+        False for rows that cannot liquefy (crust, clay, rock).
+    a_max_g : float
+        Peak horizontal ground-surface acceleration [g], in [0, 3].
+    magnitude : float
+        Moment magnitude M_w, in [5, 9].
+    msf_form : {"ib2014", "ib2008"}
+        Magnitude scaling factor: Boulanger & Idriss (2014), density-dependent
+        (default), or Idriss & Boulanger (2008).
+
+    Returns
+    -------
+    SimplifiedResult
+
+    Raises
+    ------
+    CaseError
+        One line naming the argument and its valid range.
+
+    Examples
+    --------
+    A dry crust over one saturated loose row (hand values in docs/simplified.md):
+
+    >>> r = simplified_procedure([0.0, 2.0], [2.0, 4.0], [19e3, 56e3], [19e3, 46.19e3],
+    ...                          [0.5, 0.5], [False, True], 0.3, 7.5)
+    >>> float(r.FS[0]), round(float(r.FS[1]), 3), round(r.total_settlement_m, 4)
+    (inf, 0.597, 0.0688)
+    """
+    z_top = np.atleast_1d(np.asarray(z_top_m, dtype=float))
+    if z_top.ndim != 1 or z_top.size == 0:
+        _fail("z_top_m", f"must be a non-empty 1-D array of depths [m], got shape {z_top.shape}")
+    n = z_top.size
+    z_top = _rows("z_top_m", z_top, n)
+    z_bot = _rows("z_bottom_m", z_bottom_m, n)
+    if np.any(z_top < 0.0):
+        _fail("z_top_m", "must be >= 0 m (depth from the ground surface)")
+    if np.any(z_bot <= z_top):
+        i = int(np.argmax(z_bot <= z_top))
+        _fail("z_bottom_m", f"must exceed z_top_m in every row (row {i}: {z_bot[i]:g} <= {z_top[i]:g} m)")
+    s_v = _rows("sigma_v_Pa", sigma_v_Pa, n)
+    s_e = _rows("sigma_v_eff_Pa", sigma_v_eff_Pa, n)
+    for name, s in (("sigma_v_Pa", s_v), ("sigma_v_eff_Pa", s_e)):
+        if np.any(s <= 0.0):
+            _fail(name, "must be > 0 Pa in every row (stress at the row's mid-depth)")
+    dr = _rows("relative_density", relative_density, n)
+    if np.any((dr < 0.0) | (dr > 1.0)):
+        _fail("relative_density", f"must be a fraction in [0, 1], got {dr.min():g}..{dr.max():g}")
+    liq = np.asarray(liquefiable)
+    if liq.dtype != bool:
+        _fail("liquefiable", f"must be bool (one per row or one for all), got dtype {liq.dtype}")
+    liq = _rows("liquefiable", liq, n, dtype=bool)
+    a_max = _scalar("a_max_g", a_max_g, *A_MAX_RANGE_G)
+    mag = _scalar("magnitude", magnitude, *MAGNITUDE_RANGE)
+    if msf_form not in ("ib2014", "ib2008"):
+        _fail("msf_form", f"must be 'ib2014' or 'ib2008', got {msf_form!r}")
+
+    z_mid = 0.5 * (z_top + z_bot)
+    h = z_bot - z_top
+    n160 = sp.n160_from_relative_density(dr)
+    rd = sp.stress_reduction(z_mid, mag)
+    csr = sp.cyclic_stress_ratio(s_v, s_e, a_max, rd)
+    crr = sp.crr_75(n160)
+    msf = sp.msf_ib2014(mag, n160) if msf_form == "ib2014" else sp.msf_ib2008(mag) * np.ones(n)
+    ks = sp.k_sigma(s_e, n160)
+    can = liq & (s_e < s_v)
+    fs = np.where(can, sp.factor_of_safety(crr, msf, ks, csr), np.inf)
+    eps = np.where(can, settlement.volumetric_strain(fs, dr), 0.0)
+    dz = eps * h
+    return SimplifiedResult(z_top, z_bot, z_mid, h, s_v, s_e, dr, n160, can, rd, csr, crr, msf, ks,
+                            fs, eps, dz, float(dz.sum()), a_max, mag, msf_form)
