@@ -154,7 +154,7 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
 
     Examples
     --------
-    A dry crust over one saturated loose row (hand values in docs/simplified.md):
+    A dry crust over one saturated loose row (the crust cannot liquefy: FS = inf):
 
     >>> r = simplified_procedure([0.0, 2.0], [2.0, 4.0], [19e3, 56e3], [19e3, 46.19e3],
     ...                          [0.5, 0.5], [False, True], 0.3, 7.5)
