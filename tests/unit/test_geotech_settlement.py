@@ -24,7 +24,7 @@ def test_hand_values():
 
 def test_upper_plateau_is_the_ishihara_yoshimine_maximum():
     """Well below F_α the loose sands reach γ_max ≥ 8 %, so ε_v = 0.12 exp(−2.5 Dr):
-    4.4 % at Dr = 0.4, 2.1 % at 0.6 (the maximum ε_v of the Ishihara–Yoshimine chart
+    4.4 % at Dr = 0.4, 2.7 % at 0.6 (the maximum ε_v of the Ishihara–Yoshimine chart
     curves); FS ≥ 2 gives none."""
     for dr in (0.3, 0.4, 0.5, 0.6):
         assert st.volumetric_strain(0.2, dr) == pytest.approx(0.12 * np.exp(-2.5 * dr), rel=1e-14)

@@ -10,7 +10,7 @@
 All are pure NumPy functions; see ``docs/simplified.md``.
 """
 from .profile import SimplifiedResult, simplified_procedure
-from .spectra import amplification, response_spectrum, sdof_history
+from .spectra import amplification, response_spectrum, sdof_history, standard_periods
 
 __all__ = ["SimplifiedResult", "simplified_procedure", "response_spectrum", "sdof_history",
-           "amplification"]
+           "amplification", "standard_periods"]

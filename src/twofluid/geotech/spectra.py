@@ -29,7 +29,7 @@ import numpy as np
 
 from ..casefile.schema import CaseError
 
-__all__ = ["sdof_history", "response_spectrum", "amplification", "MAX_PERIOD_STEPS"]
+__all__ = ["sdof_history", "response_spectrum", "amplification", "standard_periods", "MAX_PERIOD_STEPS"]
 
 # T/Δt above this loses more than ~1e-8 to cancellation in Γ1 (terms of order 1/ω²
 # cancel to order Δt²), so longer periods need a finer record.
@@ -88,6 +88,19 @@ def _march(a, dt, omega, z, keep):
         if keep:
             hist[0][:, n + 1], hist[1][:, n + 1] = u, v
     return peak, hist
+
+
+def standard_periods(n: int = 100, t_min: float = 0.01, t_max: float = 10.0) -> np.ndarray:
+    """Periods [s] for plotting a spectrum: 0 (the peak ground acceleration), then ``n``
+    log-spaced periods from ``t_min`` to ``t_max``.
+
+    >>> p = standard_periods(3, 0.1, 10.0)
+    >>> p.tolist()
+    [0.0, 0.1, 1.0, 10.0]
+    """
+    if not (int(n) >= 1 and 0.0 < t_min < t_max):
+        raise CaseError("standard_periods", "n, t_min, t_max", "need n >= 1 and 0 < t_min < t_max")
+    return np.concatenate(([0.0], np.logspace(np.log10(t_min), np.log10(t_max), int(n))))
 
 
 def sdof_history(accel, dt, periods, damping=0.05):
