@@ -104,3 +104,26 @@ def test_bad_arguments_name_the_argument(kw, key):
         run(**kw)
     msg = str(err.value)
     assert f": {key}:" in msg and "\n" not in msg
+
+
+def test_docs_worked_example_is_current():
+    """docs/simplified.md prints this profile's table; it must match the code to the
+    digits it shows (half a unit in the last printed place)."""
+    from pathlib import Path
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "simplified.md").read_text(encoding="utf-8")
+    block = doc[doc.index("### Worked example"):doc.index("Total settlement")]
+    rows = [line.strip("|").split("|") for line in block.splitlines()
+            if line.startswith("| ") and line[2].isdigit()]
+    assert len(rows) == 5
+    r = run()
+    cols = [r.depth_mid_m, r.sigma_v_Pa / 1e3, r.sigma_v_eff_Pa / 1e3, r.relative_density, r.N1_60cs,
+            r.r_d, r.CSR, r.CRR_75, r.MSF, r.K_sigma, r.FS, 100 * r.eps_v, 1e3 * r.settlement_m]
+    for i, row in enumerate(rows):
+        for cell, col in zip(row, cols):
+            cell = cell.strip()
+            if cell == "inf":
+                assert np.isinf(col[i])
+                continue
+            decimals = len(cell.split(".")[1]) if "." in cell else 0
+            assert abs(float(cell) - col[i]) <= 0.5 * 10.0 ** -decimals + 1e-12, (i, cell, col[i])
+    assert f"Total settlement {1e3 * r.total_settlement_m:.1f} mm" in doc
