@@ -92,6 +92,7 @@ def test_table_and_rows():
     (dict(sigma_v_Pa=-S_V), "sigma_v_Pa"),
     (dict(sigma_v_eff_Pa=np.where(LIQ, S_V - U, 0.0)), "sigma_v_eff_Pa"),
     (dict(sigma_v_eff_Pa=np.full(5, np.nan)), "sigma_v_eff_Pa"),
+    (dict(sigma_v_Pa=S_V * 100, sigma_v_eff_Pa=(S_V - U) * 100), "sigma_v_eff_Pa"),
     (dict(relative_density=DR * 100), "relative_density"),
     (dict(liquefiable=[1, 1, 1, 1, 1]), "liquefiable"),
     (dict(a_max_g=-0.1), "a_max_g"),

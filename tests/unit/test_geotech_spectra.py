@@ -108,6 +108,7 @@ def test_amplification():
     (dict(periods=[1e4]), "periods"),
     (dict(damping=1.0), "damping"),
     (dict(damping=-0.1), "damping"),
+    (dict(damping="five"), "damping"),
 ])
 def test_bad_arguments_name_the_argument(kwargs, key):
     args = dict(accel=np.sin(np.arange(100) * 0.1), dt=0.01, periods=[0.5], damping=0.05)

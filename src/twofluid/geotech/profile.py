@@ -24,6 +24,7 @@ __all__ = ["SimplifiedResult", "simplified_procedure", "MAGNITUDE_RANGE", "A_MAX
 
 MAGNITUDE_RANGE = (5.0, 9.0)  # the case histories behind r_d, MSF and CRR span M 5.5-9.0
 A_MAX_RANGE_G = (0.0, 3.0)
+SIGMA_EFF_MAX_PA = 20.0 * sp.PA
 SOURCE = "simplified_procedure"
 
 
@@ -129,7 +130,8 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
     z_top_m, z_bottom_m : array (n,)
         Depth range of each row [m] from the ground surface, 0 ≤ top < bottom.
     sigma_v_Pa, sigma_v_eff_Pa : array (n,)
-        Total and effective vertical stress at the row's mid-depth [Pa], > 0.
+        Total and effective vertical stress at the row's mid-depth [Pa], > 0;
+        σ′_v ≤ 20 atm (K_σ is calibrated to about 10 atm).
         σ′_v ≥ σ_v marks an unsaturated row (above the water table): it cannot liquefy.
     relative_density : array (n,) or scalar
         Dr [-] in [0, 1]; (N1)60cs = 46 Dr² (clean sand).
@@ -177,6 +179,10 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
     for name, s in (("sigma_v_Pa", s_v), ("sigma_v_eff_Pa", s_e)):
         if np.any(s <= 0.0):
             _fail(name, "must be > 0 Pa in every row (stress at the row's mid-depth)")
+    if np.any(s_e > SIGMA_EFF_MAX_PA):
+        # K_sigma is calibrated to ~10 atm and turns negative near 28 atm (C_sigma = 0.3)
+        _fail("sigma_v_eff_Pa", f"must be <= {SIGMA_EFF_MAX_PA:g} Pa (20 atm) for the K_sigma correlation, "
+              f"got {s_e.max():g} Pa")
     dr = _rows("relative_density", relative_density, n)
     if np.any((dr < 0.0) | (dr > 1.0)):
         _fail("relative_density", f"must be a fraction in [0, 1], got {dr.min():g}..{dr.max():g}")

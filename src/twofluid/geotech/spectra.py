@@ -52,7 +52,10 @@ def _check(accel, dt, periods, damping, source):
     if np.any(t > MAX_PERIOD_STEPS * dt):
         raise CaseError(source, "periods", f"must be <= {MAX_PERIOD_STEPS:g} dt = {MAX_PERIOD_STEPS * dt:g} s "
                         "(resample the record finer for longer periods)")
-    z = float(damping)
+    try:
+        z = float(damping)
+    except (TypeError, ValueError):
+        raise CaseError(source, "damping", f"must be a ratio in [0, 1), got {damping!r}") from None
     if not 0.0 <= z < 1.0:
         raise CaseError(source, "damping", f"must be a ratio in [0, 1), got {z:g}")
     return a, dt, t, z
