@@ -208,7 +208,8 @@ def saturated_slip(slip_abs, slip_max, p=4):
     s_eff = s / (1 + (s/s_max)^p)^(1/p): equal to s to within (s/s_max)^p / p for
     s ≪ s_max, increasing, and tending to s_max as s → ∞. It keeps the
     Reynolds-number dependence of β finite where 1 − n → 0 makes the slip
-    (V − W)/(2(1 − n)) of a nearly empty element unbounded (docs/model.md, "Numerical hygiene"); the
+    (V − W)/(2(1 − n)) of a nearly empty element unbounded (docs/model.md,
+    "Numerical hygiene"); the
     project's models use s_max = 3 U_t (three terminal velocities).
 
     >>> round(float(saturated_slip(0.01, 1.0)), 9)

@@ -2,9 +2,10 @@
 
 The thesis fits rotating-viscometer data for Barnes sand in water with a
 modified Mooney law. The fit is valid for solids fractions 0.2 ≲ ε_s ≤ 0.5 and
-tends to e (not 1) at ε_s = 0 (correction 6 of docs/model.md), so below ``eps_blend`` it is replaced
-by the cubic 1 + 2.5 ε_s + b ε_s² + c ε_s³ (Einstein's slope at zero
-concentration) matched in value and slope to the fit at ``eps_blend``. Above
+tends to e (not 1) at ε_s = 0 (correction 6 of docs/model.md), so below
+``eps_blend`` it is replaced by the cubic 1 + 2.5 ε_s + b ε_s² + c ε_s³
+(Einstein's slope at zero concentration) matched in value and slope to the fit
+at ``eps_blend``. Above
 the Newtonian region (ε_s > 1 − n_c) the mixture viscosity is held at its
 value at n_c: denser states are the elastic skeleton of the dense region.
 """
