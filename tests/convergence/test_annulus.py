@@ -1,4 +1,4 @@
-"""Single-fluid verification of the 2D / axisymmetric Q1–P0 discretisation (SPEC 6.6, 7).
+"""Single-fluid verification of the 2D / axisymmetric Q1–P0 discretisation (thesis 4.7.3, appendix 4.3).
 
 Viscometer annulus (thesis 4.7.3): r_i = 20 mm, r_o = 50 mm, height 60 mm,
 ρ = 1600 kg/m³, μ = 1 Pa·s, ω = 10 rad/s, mean axial velocity 0.1 m/s, gravity
@@ -55,7 +55,7 @@ def test_annulus_jump_stabilisations_also_converge(kind):
 
 
 def test_rest_state_is_hydrostatic():
-    """No inflow, no rotation: the fluid stays at rest with p = ρ g (H − z) (SPEC 3, property 1)."""
+    """No inflow, no rotation: the fluid stays at rest with p = ρ g (H − z) (hydrostatic consistency)."""
     c = Viscometer()
     m = c.mesh(8)
     wall = {"r": 0.0, "z": 0.0, "theta": 0.0}

@@ -30,7 +30,7 @@ def test_stokes_wen_yu_gives_richardson_zaki_exactly():
 
 
 def test_ergun_inertial_term_matches_hand_value():
-    # 1.75 (1 − n) ρ_f |s| / d with n = 0.5, s = 0.02, d = 1 mm: SPEC 8.3 (no extra 1/n)
+    # 1.75 (1 − n) ρ_f |s| / d with n = 0.5, s = 0.02, d = 1 mm: no extra 1/n (correction 3, docs/model.md)
     b = drag.ergun(0.5, 0.02, 1e-3, 1000.0, 1e-3) - drag.ergun(0.5, 0.02, 1e-3, 1000.0, 1e-3, stokes=True)
     assert b == pytest.approx(1.75 * 0.5 * 1000 * 0.02 / 1e-3, rel=1e-12)
 

@@ -1,4 +1,4 @@
-"""Cyclic simple-shear element test (SPEC 4.5, 6.4)."""
+"""Cyclic simple-shear element test (Byrne 1991 densification; the calibration of docs/liquefaction.md)."""
 from __future__ import annotations
 
 import json

@@ -1,4 +1,4 @@
-"""Compliant base of the shear column (Lysmer–Kuhlemeyer dashpot, outcrop motion; SPEC 5.4).
+"""Compliant base of the shear column (Lysmer–Kuhlemeyer dashpot, outcrop motion; docs/liquefaction.md).
 
 Exact solution: a uniform linear layer (H = 10 m, ρ = 2000 kg/m³, G = 50 MPa, V_s = 158.1 m/s,
 f1 = V_s/(4H) = 3.953 Hz) on an elastic half-space with impedance ratio α = ρ V_s/(ρ_r V_r),

@@ -21,8 +21,9 @@ def test_element_test_prints_cycles_and_writes_plot(tmp_path, capsys):
 
 
 def test_element_test_default_is_the_calibration_point(capsys):
-    """SPEC 6.4: the default sand "reaches r_u >= 0.95 in about 15 uniform cycles at a CSR of about
-    0.12" -- asserted as 13 <= N <= 17 (measured 15.94), not as the digits of one build."""
+    """Calibration target (docs/liquefaction.md): the default sand reaches r_u >= 0.95 in about 15
+    uniform cycles at a CSR of about 0.12 -- asserted as 13 <= N <= 17 (measured 15.94), not as
+    the digits of one build."""
     assert main(["element-test", "--max-cycles", "40"]) == 0
     out = capsys.readouterr().out
     m = re.search(r"CSR = 0\.12, sigma'_v0 = 100 kPa: liquefied \(r_u >= 0\.95\) after ([0-9.]+) cycles", out)

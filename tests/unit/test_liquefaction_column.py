@@ -4,7 +4,7 @@ Tolerances:
 - geostatic state: P hydrostatic and P_s = (1 − n)(ρ_s − ρ_f) g z to 1e-9 relative
   (both exact in the discrete model); at rest without shaking |r_u| < 1e-6 after 2 s;
 - Terzaghi: average degree of consolidation within 2 % of U(T_v) at
-  T_v = 0.05 … 1 (SPEC 7), with c_v = n² M/β at the mid-load state;
+  T_v = 0.05 … 1 (Terzaghi 1943), with c_v = n² M/β at the mid-load state;
 - solids volume balance to 1e-12 (round-off; measured ≤ 3.2e-16 over 726 steps).
 """
 from __future__ import annotations
@@ -149,8 +149,8 @@ def bundled_runs(tmp_path_factory):
 
 
 def test_liquefied_zone_grows_as_the_sand_gets_finer(bundled_runs):
-    """SPEC 6.4 "a wider zone for the fine sand, none in the gravel", compared at the end of the
-    shaking (6 s), as the thesis's figs 5.13–5.15.
+    """Thesis 5.4: a more extensive liquefied zone for the fine sand, none in the gravel, compared
+    at the end of the shaking (6 s), as the thesis's figs 5.13–5.15.
 
     Not on the zone liquefied *ever*: for the medium sand that is not a determinate output of
     the model — after its first liquefaction (5.74 s) a 1e-5 relative change of the drag moves
@@ -198,7 +198,7 @@ def test_fine_sand_liquefies_first_at_intermediate_depth(bundled_runs):
 
 
 def test_reconsolidation_after_shaking(bundled_runs):
-    """SPEC 6.5: the base pore pressure of the fine sand peaks shortly after the shaking, then
+    """Thesis 5.5: the base pore pressure of the fine sand peaks shortly after the shaking, then
     dissipates; the deposit keeps settling after the shaking.
 
     Measured (docs/liquefaction.md): fine sand, base peak at 6.08 s for shaking that ends at
@@ -235,7 +235,7 @@ def test_run_writes_readable_results(bundled_runs):
 
 
 def test_ann_law_liquefies_the_column_like_byrne(tmp_path):
-    """SPEC 4.5: both n̄ laws make the deposit liquefy (the shipped network is trained on byrne)."""
+    """Both n̄ laws (byrne, ann) make the deposit liquefy (the shipped network is trained on byrne)."""
     first = {}
     for law in ("ann", "byrne"):
         c = load_case("liquefaction-fine")

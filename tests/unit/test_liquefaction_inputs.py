@@ -95,7 +95,7 @@ BAD = [  # (case sections, extra files, words in the message)
      ["[materials] particle_density", "must exceed [materials] liquid_density = 1000"]),
     (dict(materials={"gravity": 0.0}), (), ["[materials] gravity", "(0, inf)"]),
     (dict(sand={"compressibility": 0.5}), (), ["[sand] compressibility", "valid: A <"]),
-    # tabulated G/G_max (SPEC 4.3): inline lists or a CSV file next to the case file
+    # tabulated G/G_max (docs/model.md, "Shear modulus"): inline lists or a CSV file next to the case file
     (dict(sand={"modulus_reduction": "tabulated"}), (), ["[sand] modulus_reduction", "needs a table"]),
     (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-4, 1e-5],
                 "reduction_ratios": [1.0, 0.5]}), (),
@@ -127,7 +127,7 @@ BAD = [  # (case sections, extra files, words in the message)
     (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv", "reduction_strains": [1e-5, 1e-4],
                 "reduction_ratios": [1.0, 0.5]}), [("g.csv", "1e-5,1\n1e-4,0.5\n")],
      ["[sand] reduction_file", "not both"]),
-    # compliant base (SPEC 5.4)
+    # compliant base (Lysmer & Kuhlemeyer 1969 dashpot)
     (dict(shear_wave={"base": "elastic"}), (), ["[shear_wave] base", "'rigid', 'compliant'"]),
     (dict(shear_wave={"base": "compliant", "bedrock_shear_velocity": 0.0}), (),
      ["[shear_wave] bedrock_shear_velocity", "(0, 10000]", "m/s"]),

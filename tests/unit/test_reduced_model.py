@@ -1,4 +1,4 @@
-"""The reduced-variable 1D model (SPEC 5.3) against the full model."""
+"""The reduced-variable 1D model (Pringle 2001 sec. 4.6.2) against the full model."""
 import numpy as np
 import pytest
 

@@ -1,4 +1,4 @@
-"""Reference-porosity laws (SPEC 4.5): byrne against the per-cycle law, ann against byrne."""
+"""Reference-porosity laws (Byrne 1991; thesis ANN): byrne against the per-cycle law, ann against byrne."""
 from __future__ import annotations
 
 import json

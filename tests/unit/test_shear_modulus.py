@@ -1,4 +1,4 @@
-"""Shear modulus closures against hand-computed values (SPEC 4.3)."""
+"""Shear modulus closures against hand-computed values (Seed & Idriss 1970; Hardin & Drnevich 1972)."""
 from __future__ import annotations
 
 import numpy as np

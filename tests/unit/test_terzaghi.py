@@ -72,7 +72,7 @@ def test_time_factor():
     assert tz.time_factor(3600.0, 2e-6, 0.5) == pytest.approx(2e-6 * 3600 / 0.25, rel=1e-12)
 
 
-def _p_s(n, n_bar, A):  # SPEC 4.4, p_ref = 1 Pa, written out independently
+def _p_s(n, n_bar, A):  # Pringle (2001) eq. 3.54, p_ref = 1 Pa, written out independently
     return np.exp((1 - (1 - n_bar) / (1 - n)) / A)
 
 
@@ -87,6 +87,6 @@ def test_constrained_modulus_is_derivative_wrt_volumetric_strain():
 def test_two_fluid_cv_equals_soil_mechanics_form():
     n, n_bar, A, beta, rho_f, g = 0.42, 0.45, 0.015, 2.5e6, 1000.0, 9.81
     P_s = _p_s(n, n_bar, A)
-    k = rho_f * g * n**2 / beta  # SPEC 4.1 hydraulic conductivity [m/s]
+    k = rho_f * g * n**2 / beta  # hydraulic conductivity [m/s] (docs/model.md, Drag)
     M = tz.constrained_modulus(P_s, n, n_bar, A)
     assert tz.consolidation_coefficient(n, n_bar, P_s, A, beta) == pytest.approx(k * M / (rho_f * g), rel=1e-12)

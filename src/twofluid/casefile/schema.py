@@ -87,7 +87,7 @@ SCHEMA: dict[str, list[Key]] = {
         K("gravity", float, 9.81, "m/s²", "|g|", lo=0.0, lo_open=True),
     ],
     "closures.drag": [
-        K("law", str, "gidaspow", "-", "drag law (SPEC 4.1)", choices=("gidaspow", "ergun", "wen_yu")),
+        K("law", str, "gidaspow", "-", "drag law (docs/model.md, Drag)", choices=("gidaspow", "ergun", "wen_yu")),
         K("stokes", bool, False, "-", "drop the inertial part of the drag (Stokes limits)"),
         K("n_switch", float, 0.6, "-", "gidaspow: Ergun below, Wen–Yu above", lo=0.0, hi=1.0,
           used_when=("law", ("gidaspow",))),
@@ -111,7 +111,7 @@ SCHEMA: dict[str, list[Key]] = {
           lo=0.0, lo_open=True, used_when=("fluidized", ("foscolo_gibilaro",))),
     ],
     "closures.viscosity": [
-        K("law", str, "mooney_pringle", "-", "mixture viscosity (SPEC 4.3)", choices=("mooney_pringle", "none")),
+        K("law", str, "mooney_pringle", "-", "mixture viscosity (Pringle 2001 eq. 3.36)", choices=("mooney_pringle", "none")),
     ],
     "initial": [
         K("porosity", float, REQUIRED, "-", "porosity of the bed", lo=0.0, hi=1.0, lo_open=True),

@@ -89,7 +89,7 @@ _TIME = [
 
 _SINGLE = [
     K("enabled", bool, False, "-", "before the mixture: solve steady single-fluid Stokes flow on the same "
-      "mesh and boundary conditions and compare with the analytic annulus (SPEC 6.6)"),
+      "mesh and boundary conditions and compare with the analytic annulus (thesis appendix 4.3)"),
     K("density", float, 1600.0, "kg/m³", "single fluid density", lo=0.0, lo_open=True),
     K("viscosity", float, 1.0, "Pa·s", "single fluid viscosity", lo=0.0, lo_open=True),
     K("height", float, 0.0, "m", "height of the fully developed section where profiles are compared"),

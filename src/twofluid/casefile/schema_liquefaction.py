@@ -1,4 +1,4 @@
-"""Case-file sections of model ``liquefaction_1d`` (SPEC 5.4, 6.4–6.5).
+"""Case-file sections of model ``liquefaction_1d`` (thesis 5.4–5.5; docs/model.md, "Liquefaction column").
 
 A level deposit of loose saturated sand on an impervious base (rigid, or compliant for the
 shear wave), water table at the surface (drained top), shaken by an acceleration record,
@@ -41,7 +41,7 @@ _SAND = [
       lo=0.0, lo_open=True, hi=200.0),
     K("gamma_ref", float, 1e-3, "-", "reference strain of the hyperbolic G/G_max = 1/(1 + |γ|/γ_ref)",
       lo=0.0, lo_open=True, hi=1.0, used_when=("modulus_reduction", ("hyperbolic",))),
-    K("modulus_reduction", str, "hyperbolic", "-", "G/G_max(γ) curve (SPEC 4.3): hyperbolic "
+    K("modulus_reduction", str, "hyperbolic", "-", "G/G_max(γ) curve (docs/model.md, Shear modulus): hyperbolic "
       "1/(1 + |γ|/γ_ref), or tabulated (reduction_strains + reduction_ratios, or reduction_file), "
       "interpolated linearly in log γ with the end values held outside the table",
       choices=("hyperbolic", "tabulated")),
@@ -57,7 +57,7 @@ _SAND = [
       "matters once G has fallen: liquefied soil as a very viscous fluid (thesis chapter 1; the Bingham "
       "viscosity of Uzuoka et al. 1998). 0: none (the bundled cases; docs/liquefaction.md measures 100–10⁴)",
       lo=0.0, hi=1e5),
-    K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (SPEC 4.5)",
+    K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (Byrne 1991 or the thesis's ANN)",
       choices=("byrne", "ann")),
     K("ann_weights", str, "", "-", "ann: weights JSON file, a path relative to the case file ('' = the "
       "shipped default, trained on byrne)"),

@@ -1,4 +1,4 @@
-"""Interphase drag coefficient β [N·s/m⁴] (SPEC 4.1).
+"""Interphase drag coefficient β [N·s/m⁴] (docs/model.md, "Drag").
 
 Every law has the signature ``law(n, slip, d, rho_f, mu_f, *, stokes=False,
 per_solids=False, **params)``:
@@ -7,7 +7,7 @@ per_solids=False, **params)``:
 - ``d`` = ψ d_p the drag diameter [m]; ``rho_f`` [kg/m³]; ``mu_f`` [Pa·s];
 - ``stokes=True`` drops the inertial part (β independent of slip);
 - ``per_solids=True`` returns β/(1 − n), which stays finite in clear liquid
-  (n = 1), where β itself vanishes (SPEC 5.2a).
+  (n = 1), where β itself vanishes (docs/model.md, "Numerical hygiene").
 
 The drag force on the liquid per unit mixture volume is −β (U_f − U_s).
 """
@@ -41,7 +41,7 @@ def schiller_naumann_cd(re):
 
 
 @register("drag", "ergun", porosity_range=(0.0, 0.8),
-          reference="Ergun (1952), in Gidaspow (1994) form; SPEC 4.1, 8.3")
+          reference="Ergun (1952), in Gidaspow (1994) form; inertial term without the thesis's 1/n")
 def ergun(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False):
     """Ergun (dense) drag: β = 150 (1−n)² μ_f/(n d²) + 1.75 (1−n) ρ_f |U_f−U_s|/d.
 
@@ -63,7 +63,7 @@ def ergun(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False):
 
 
 @register("drag", "wen_yu", porosity_range=(0.2, 1.0),
-          reference="Wen & Yu (1966); SPEC 4.1, 8.4")
+          reference="Wen & Yu (1966); Schiller & Naumann (1933) C_D")
 def wen_yu(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False):
     """Wen–Yu (dilute) drag: β = (3/4) C_D ρ_f n (1−n) |U_f−U_s| n^−2.65 / d.
 
@@ -89,7 +89,7 @@ def wen_yu(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False):
 
 
 @register("drag", "gidaspow", params={"n_switch": 0.6, "blend_width": 0.0},
-          porosity_range=(0.0, 1.0), reference="Gidaspow (1994); SPEC 4.1")
+          porosity_range=(0.0, 1.0), reference="Gidaspow (1994)")
 def gidaspow(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False,
              n_switch=0.6, blend_width=0.0):
     """Gidaspow's switched drag: Ergun below ``n_switch``, Wen–Yu above.
@@ -123,7 +123,7 @@ def gidaspow(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False,
 
 
 def hydraulic_conductivity(beta, n, rho_f, g=G):
-    """Equivalent hydraulic conductivity k = ρ_f g n² / β [m/s] (SPEC 4.1).
+    """Equivalent hydraulic conductivity k = ρ_f g n² / β [m/s] (Kozeny–Carman with the Stokes Ergun law).
 
     >>> round(float(hydraulic_conductivity(1e6, 0.4, 1000.0)), 5)
     0.00157
@@ -208,7 +208,8 @@ def saturated_slip(slip_abs, slip_max, p=4):
     s_eff = s / (1 + (s/s_max)^p)^(1/p): equal to s to within (s/s_max)^p / p for
     s ≪ s_max, increasing, and tending to s_max as s → ∞. It keeps the
     Reynolds-number dependence of β finite where 1 − n → 0 makes the slip
-    (V − W)/(2(1 − n)) of a nearly empty element unbounded (SPEC 5.2a); the
+    (V − W)/(2(1 − n)) of a nearly empty element unbounded (docs/model.md,
+    "Numerical hygiene"); the
     project's models use s_max = 3 U_t (three terminal velocities).
 
     >>> round(float(saturated_slip(0.01, 1.0)), 9)

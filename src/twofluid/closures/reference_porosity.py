@@ -1,4 +1,4 @@
-"""Reference porosity n̄ under cyclic shear: the liquefaction trigger (SPEC 4.5).
+"""Reference porosity n̄ under cyclic shear: the liquefaction trigger (docs/model.md).
 
 Every law has the interface ``n_bar_new, state_new = law(dgamma, gamma, n_bar, state, **params)``
 with ``dgamma`` the shear-strain increment of the step, ``gamma`` the strain at its
@@ -87,7 +87,7 @@ def byrne_constants(dr: float) -> tuple[float, float]:
 
 
 @register("reference_porosity", "byrne", params={"dr": DR_DEFAULT}, porosity_range=(0.0, 0.5),
-          reference="Byrne (1991); Martin, Finn & Seed (1975); SPEC 4.5")
+          reference="Byrne (1991); Martin, Finn & Seed (1975)")
 def byrne(dgamma: ArrayLike, gamma: ArrayLike, n_bar: ArrayLike, state: ShearState,
           dr: float = DR_DEFAULT, c1: float | None = None,
           c2: float | None = None) -> tuple[np.ndarray, ShearState]:

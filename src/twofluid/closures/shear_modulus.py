@@ -1,4 +1,4 @@
-"""Shear modulus of the dense granular skeleton (SPEC 4.3, dense region n < n_c).
+"""Shear modulus of the dense granular skeleton (n < n_c; Seed & Idriss 1970 in SI units).
 
 G = (G/G_max)(γ) · G_max(P_s): a small-strain modulus from the granular pressure
 and a modulus-reduction curve of the shear strain. G → 0 as P_s → 0
@@ -26,7 +26,7 @@ GAMMA_REF_DEFAULT = 1e-3
 
 
 @register("shear_modulus", "seed_idriss", params={"k2max": 30.0}, porosity_range=(0.0, 0.5),
-          reference="Seed & Idriss (1970), EERC 70-10; SPEC 4.3")
+          reference="Seed & Idriss (1970), EERC 70-10, SI form")
 def seed_idriss_gmax(p_s: ArrayLike, k2max: float = 30.0) -> np.ndarray:
     """Seed–Idriss small-strain modulus G_max = 218.8 K2max √(P_s / 1 kPa) kPa [Pa].
 

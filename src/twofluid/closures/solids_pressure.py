@@ -1,4 +1,4 @@
-"""Granular (effective) pressure P_s(n, n̄) [Pa] (SPEC 4.4)."""
+"""Granular (effective) pressure P_s(n, n̄) [Pa] (Pringle 2001 eqs. 3.41–3.54)."""
 from __future__ import annotations
 
 import numpy as np
@@ -11,7 +11,7 @@ _MAX_EXPONENT = 700.0  # exp(700) ~ 1e304: beyond it the state is meaningless an
 
 
 @register("solids_pressure", "exponential", params={"A": 0.015, "p_ref": 1.0},
-          porosity_range=(0.0, 1.0), reference="Pringle (2001) eq. 3.4x, 4.30; SPEC 4.4")
+          porosity_range=(0.0, 1.0), reference="Pringle (2001) eq. 3.54; linearised as eqs. 4.31-4.32")
 def exponential(n, n_bar, A, p_ref=1.0, derivative=False):
     """P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))] [Pa], and ∂P_s/∂n if asked.
 
@@ -71,7 +71,7 @@ def foscolo_gibilaro(n, d, rho_s, rho_f, g, coefficient=3.2, derivative=False):
 
 
 def reference_porosity_for(n, p_s, A, p_ref=1.0):
-    """n̄ such that P_s(n, n̄) = p_s: n̄ = 1 − (1 − n)(1 − A ln(p_s/p_ref)) (SPEC 5.4).
+    """n̄ such that P_s(n, n̄) = p_s: n̄ = 1 − (1 − n)(1 − A ln(p_s/p_ref)) (eq. 3.54 solved for n̄).
 
     >>> round(float(reference_porosity_for(0.45, 1e5, 0.015)), 6)
     0.544982

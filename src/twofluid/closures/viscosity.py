@@ -1,10 +1,11 @@
-"""Mixture and solid-phase shear viscosity, Newtonian region (SPEC 4.3).
+"""Mixture and solid-phase shear viscosity, Newtonian region (Pringle 2001 sec. 3.3.1).
 
 The thesis fits rotating-viscometer data for Barnes sand in water with a
 modified Mooney law. The fit is valid for solids fractions 0.2 ≲ ε_s ≤ 0.5 and
-tends to e (not 1) at ε_s = 0 (SPEC 8.6), so below ``eps_blend`` it is replaced
-by the cubic 1 + 2.5 ε_s + b ε_s² + c ε_s³ (Einstein's slope at zero
-concentration) matched in value and slope to the fit at ``eps_blend``. Above
+tends to e (not 1) at ε_s = 0 (correction 6 of docs/model.md), so below
+``eps_blend`` it is replaced by the cubic 1 + 2.5 ε_s + b ε_s² + c ε_s³
+(Einstein's slope at zero concentration) matched in value and slope to the fit
+at ``eps_blend``. Above
 the Newtonian region (ε_s > 1 − n_c) the mixture viscosity is held at its
 value at n_c: denser states are the elastic skeleton of the dense region.
 """
@@ -41,7 +42,7 @@ def _blend_coefficients(eps_b: float, k1: float, k2: float) -> tuple[float, floa
 
 @register("viscosity", "mooney_pringle",
           params={"k1": K1, "k2": K2, "eps_blend": 0.2, "n_c": 0.5},
-          porosity_range=(0.5, 1.0), reference="Pringle (2001) eq. 3.4x; SPEC 4.3")
+          porosity_range=(0.5, 1.0), reference="Mooney (1951) as modified by Pringle (2001) eq. 3.36")
 def mooney_pringle(n, mu_f, *, k1=K1, k2=K2, eps_blend=0.2, n_c=0.5):
     """Modified Mooney mixture viscosity μ_m = μ_f exp(exp(ε_s/(k1 + k2 ε_s))) [Pa·s].
 

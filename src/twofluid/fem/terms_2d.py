@@ -183,7 +183,7 @@ def pressure_face_gradient(
     With p constant per element, ∇p is a surface measure on the edges:
     ∫ c ∇p · δu = Σ_F ∫_F c_F [[p]] ν · δu dΓ, [[p]] = p₊ − p₋, ν outward from the
     minus element. ``coef`` c_F per face (n_f,) (e.g. the average porosity of the
-    two elements, SPEC §3) or scalar. Boundary edges (prescribed pressure) are the
+    two elements, for the n∇P term of docs/model.md) or scalar. Boundary edges (prescribed pressure) are the
     model's business.
 
     Returns
@@ -209,7 +209,7 @@ def pressure_jump_load(
 
     A body force f [N/m³] balanced by pressure (hydrostatics, p = f·x + const) has
     element pressures jumping by f·(x₊ − x₋) between centroids; penalising
-    [[p]] − f·Δx instead of [[p]] keeps a fluid at rest at rest (SPEC §3, property 1).
+    [[p]] − f·Δx instead of [[p]] keeps a fluid at rest at rest (hydrostatic consistency, docs/model.md).
     Returns (n_f, 2) loads for the continuity rows of (element₋, element₊) of a
     system whose pressure block is ``−C``: with p_f the jumps f·Δx the rows read
     −C p = −C p_f, i.e. loads ``c_F f·Δx · [+1, −1]``.

@@ -1,9 +1,9 @@
 """Cyclic simple shear of one soil element: the liquefaction element test.
 
-The element is a point of the 1D liquefaction column (SPEC 5.4) without flow:
+The element is a point of the 1D liquefaction column (docs/model.md, "Liquefaction column") without flow:
 
 * **undrained** — the porosity n is constant; as the reference porosity n̄ falls
-  (SPEC 4.5) the granular pressure P_s(n, n̄) = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]
+  (Byrne 1991) the granular pressure P_s(n, n̄) = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]
   falls and the excess pore pressure ratio r_u = 1 − P_s/σ′_v0 rises;
 * **drained** — the liquid leaves freely: P_s stays at σ′_v0 and n follows n̄
   (1 − n = (1 − n̄)/(1 − A ln(σ′_v0/p_ref))), so r_u stays 0.
@@ -43,7 +43,7 @@ __all__ = ["LooseSand", "DEFAULT_SAND", "ElementTestResult", "cyclic_simple_shea
 
 @dataclass(frozen=True)
 class LooseSand:
-    """Calibrated default loose clean sand ((N1)60 ≈ 10, SPEC 6.4).
+    """Calibrated default loose clean sand ((N1)60 ≈ 10; docs/liquefaction.md, "Parameters and calibration").
 
     Calibration target: an undrained cyclic simple-shear element at σ′_v0 = 100 kPa
     and CSR = 0.12 reaches r_u ≥ 0.95 in about 15 uniform cycles (Idriss &

@@ -1,6 +1,7 @@
 """1D earthquake liquefaction column: vertical two-component flow + horizontal shear wave.
 
-SPEC 5.4. The vertical motion is the full 1D two-component model
+Thesis sections 5.4–5.5; docs/model.md, "Liquefaction column". The vertical motion is the
+full 1D two-component model
 (:class:`~twofluid.models.two_fluid_1d.TwoFluid1D`, unknowns V, W, P, n, with the
 reference porosity n̄ per element); the horizontal motion is the shear wave of
 :class:`~twofluid.models.shear_column.ShearColumn`, driven by the
@@ -10,10 +11,10 @@ c = ρ_r V_r — where a_g is the outcrop motion of the bedrock). They are
 coupled through two state variables of each element:
 
 * the granular pressure P_s(n, n̄) sets the small-strain shear modulus
-  G_max = 218.8 K2max √(P_s/1 kPa) kPa (SPEC 4.3), so G → 0 as the element
+  G_max = 218.8 K2max √(P_s/1 kPa) kPa (Seed & Idriss 1970 in SI), so G → 0 as the element
   liquefies;
 * the shear-strain path densifies the skeleton: the reference-porosity law
-  (``byrne`` or ``ann``, SPEC 4.5) lowers n̄, which lowers P_s at fixed n; the
+  (``byrne``, Byrne 1991, or ``ann``, Pringle 2001 app. 3.1) lowers n̄, which lowers P_s at fixed n; the
   vertical equations then move the weight onto the liquid pressure (undrained
   response), drive the liquid to the drained top and let the column settle.
 
@@ -224,7 +225,7 @@ class LiquefactionColumn:
 
     # ------------------------------------------------------------ state
     def initial_state(self, porosity, excess_ratio: float = 0.0) -> ColumnState:
-        """Geostatic state at rest (SPEC 5.4).
+        """Geostatic state at rest (docs/model.md, "Liquefaction column").
 
         σ′_v0 is the discrete buoyant weight above each element (plus the surcharge);
         n̄ follows from P_s = (1 − r_u0) σ′_v0, i.e. n̄ = 1 − (1 − n)(1 − A ln(P_s/p_ref)),

@@ -1,4 +1,4 @@
-"""The reduced-variable 1D model (SPEC 5.3): W and n are the only unknowns of the linear solves.
+"""The reduced-variable 1D model (Pringle 2001 sec. 4.6.2): W and n are the only unknowns of the linear solves.
 
 It solves the same discrete equations as :class:`~twofluid.models.two_fluid_1d.TwoFluid1D`
 with the ``1VW/0P/0n`` element, reorganised so that each Newton–Picard iterate is one
@@ -13,8 +13,8 @@ pentadiagonal (banded) system in the vertex W and element n, interleaved
   model — each n-row couples W_e, W_{e+1}, n_{e−1}, n_e, n_{e+1};
 - momentum: at every vertex i with a free W the mixture row carries A_i [[P]]_i, and
   so does the liquid row, which the full model writes per unit liquid volume
-  (tested with δW/n), so mixture − liquid is free of P (SPEC 5.3: solid − (1 − n)/n
-  liquid); it couples W_{i−1}, W_i, W_{i+1}, n_{i−1}, n_i.
+  (tested with δW/n), so mixture − liquid is free of P (the thesis's reduced model:
+  solid − (1 − n)/n liquid); it couples W_{i−1}, W_i, W_{i+1}, n_{i−1}, n_i.
 
 In the interleaved ordering both row kinds reach two unknowns either side of the
 diagonal: a band of half-width 2, solved by LAPACK ``dgbsv``. The system is

@@ -1,4 +1,4 @@
-"""Horizontal shear wave in a level soil column, Newmark average acceleration (SPEC 5.4).
+"""Horizontal shear wave in a level soil column, Newmark average acceleration (docs/model.md).
 
 Relative formulation: u(y, t) is the horizontal displacement of the column
 relative to a rigid reference motion with acceleration a_g(t), ρ̄ the mixture

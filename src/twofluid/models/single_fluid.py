@@ -9,7 +9,7 @@ pressure p [Pa]::
 τ = μ(∇u + ∇uᵀ − (2/3)(∇·u)I), C the pressure stabilisation
 (by default the macroelement checkerboard penalty, parameter δ). The optional third
 velocity component is the swirl u_θ (axisymmetric) or the out-of-plane velocity
-(planar); with the convective terms dropped (SPEC §3) it does not interact with the
+(planar); with the convective terms dropped (slow flow, as in the thesis) it does not interact with the
 in-plane flow, but it shares the matrix so the two-component model can add
 couplings.
 

@@ -1,6 +1,6 @@
 """The 1D two-component model: unknowns V, W (nodal), P, n (per element).
 
-Equations (SPEC 3), y along the line, g_y = −g cos θ the gravity along it:
+Equations (docs/model.md, "Governing equations"), y along the line, g_y = −g cos θ the gravity along it:
 
 - mixture, tested with δV:  ∂t(ρ̂V − ΔρW) = −∂y(P + P_s) + ∂y τ + ρ̄ g_y
 - liquid, tested with δW/n: (ρ_f/2n) ∂t(V + W) = −∂yP + (1/n) ∂y(n τ_f) + ρ_f g_y − β s/n
@@ -10,14 +10,14 @@ Equations (SPEC 3), y along the line, g_y = −g cos θ the gravity along it:
 with the slip s = U_f − U_s = [(1 − 2n)V + W] / (2n(1 − n)). ``assemble`` builds the
 backward-Euler system [M/Δt + K(aᵏ)] aᵏ⁺¹ = f + M aᵗ/Δt of one iterate: the drag
 (in V, W and n) and the upwind ratio are Newton-linearised about iterate k, P_s is
-Taylor-linearised about it (SPEC 4.4), μ_s and the 1/n weights are frozen at k,
+Taylor-linearised about it (Pringle 2001 eqs. 4.31–4.32), μ_s and the 1/n weights are frozen at k,
 ρ̄ is implicit in n.
 
 Pressure gradients (P constant per element): the mixture term is integrated by
 parts, −∫ ∇·δV (P + P_s), plus the traction of the prescribed pressure on an
 outlet. The liquid equation is tested per unit liquid volume (δW/n, n constant
 per element), so its pressure term is the plain jump A [[P]] at each vertex and
-its other terms carry 1/n. This is SPEC 3's n∇P with the porosity moved to the
+its other terms carry 1/n. This is the n∇P of docs/model.md with the porosity moved to the
 other side: it is gauge invariant (only jumps of P appear), a settled bed with a
 porosity gradient is an exact discrete equilibrium (hydrostatic P), and — which
 the ``n_f A [[P]]`` form with averaged vertex porosity is not — so is a uniform
@@ -32,8 +32,8 @@ Solids flux (``solids_flux = "upwind"``, default): the porosity equation uses th
 vertex solids flux F = (V − W)/2 scaled by (1 − n_up)/(1 − n_f), n_up the porosity
 of the element the solids come from (clear liquid outside an outlet), n_f the
 volume-weighted vertex average. It equals the Galerkin form where the porosity
-is uniform and keeps an element from giving away solids it does not hold (SPEC
-5.2a), e.g. at a descending bed surface. ``"galerkin"`` is the thesis's form.
+is uniform and keeps an element from giving away solids it does not hold
+(docs/model.md, "Numerical hygiene"), e.g. at a descending bed surface. ``"galerkin"`` is the thesis's form.
 
 The model inherits the two-fluid model's instability of uniform fluidization
 (Jackson 1963): without granular-pressure elasticity (P_s ≈ 0 in a fluidized

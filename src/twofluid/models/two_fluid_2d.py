@@ -3,7 +3,7 @@
 The 1D model's discrete formulation (:mod:`twofluid.models.two_fluid_1d`) carried to
 quadrilaterals, planar (x, y) or axisymmetric (r, z) with an optional swirl
 component; gravity along −y (−z). Rows, each of one Picard/Newton iterate of
-backward Euler (SPEC 3, 5.2):
+backward Euler (docs/model.md, "Governing equations" and "Time integration"):
 
 - mixture (δV): ∂t(ρ̂V − ΔρW) − ∇·τ_m + ∇(P + P_s) = ρ̄ g, pressures integrated by
   parts, −∫∇·δV (P + P_s) plus the traction of the prescribed pressure on outlets;

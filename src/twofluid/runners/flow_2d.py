@@ -287,7 +287,7 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
     wall u_θ = ω r; axis; outlet traction free). At ``[single_fluid] height`` (in the
     annulus r_inner < r < r_outer, assumed fully developed) the nodal u_z and u_θ are
     compared with annular Poiseuille flow of the same flow rate and Couette swirl
-    (SPEC 6.6): relative L2 errors along the radius with the r weight.
+    (thesis appendix 4.3): relative L2 errors along the radius with the r weight.
     """
     from ..models.single_fluid import solve_stokes
     from ..verification.annular import annular_poiseuille, annular_poiseuille_gradient, couette_swirl

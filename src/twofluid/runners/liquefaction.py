@@ -125,7 +125,7 @@ def build_column(case: dict) -> Built:
 
 
 def hydraulic_conductivity(col: LiquefactionColumn, n) -> np.ndarray:
-    """k = ρ_f g n²/β [m/s] with β at zero slip (SPEC 4.1), per element."""
+    """k = ρ_f g n²/β [m/s] with β at zero slip (docs/model.md, "Drag"), per element."""
     v = col.v
     beta = v.clo.drag(n, 0.0, v.mat.d, v.mat.rho_f, v.mat.mu_f, **v.clo.drag_params)
     return drag_laws.hydraulic_conductivity(beta, n, v.mat.rho_f, v.mat.g)
@@ -315,7 +315,7 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                     "porosity": float(n0.mean()), "particle_diameter_m": col.v.mat.d_p,
                     "sigma_v0_Pa": [float(col.sigma_v0.min()), float(col.sigma_v0.max())]},
         "hydraulic_conductivity_m_s": float(k.mean()),
-        "hydraulic_conductivity_definition": "k = rho_f g n^2 / beta at zero slip, initial porosity (SPEC 4.1)",
+        "hydraulic_conductivity_definition": "k = rho_f g n^2 / beta at zero slip, initial porosity",
         "consolidation_coefficient_m2_s": {"surface": float(c_v[-1]), "mid_depth": float(np.interp(
             H / 2, col.depth[::-1], c_v[::-1])), "base": float(c_v[0])},
         "shaking": {"record": m["file"], "pga_g": m["pga_g"],

@@ -1,7 +1,7 @@
 """Exact annular flows and the 2D Q1–P0 verification study built on them.
 
 Fully developed flow in the annulus r_i < r < r_o between a rotating inner
-cylinder (angular speed ω) and a fixed outer wall (thesis appendix 4.3, SPEC §6.6):
+cylinder (angular speed ω) and a fixed outer wall (thesis appendix 4.3):
 
 - axial Poiseuille flow under a uniform axial pressure gradient G = dp/dz [Pa/m]
   (the part of it not balancing gravity), μ (1/r) d/dr(r du_z/dr) = G::
@@ -14,7 +14,7 @@ cylinder (angular speed ω) and a fixed outer wall (thesis appendix 4.3, SPEC §
 
       u_θ(r) = ω/(r_i² − r_o²) (r r_i² − r_i² r_o² / r)
 
-  exactly SPEC's form: u_θ(r_i) = ω r_i, u_θ(r_o) = 0 (checked in the doctest), so
+  the form written here: u_θ(r_i) = ω r_i, u_θ(r_o) = 0 (checked in the doctest), so
   the OCR dropped nothing here.
 
 Both are exact solutions of the full Navier–Stokes equations too (convection only

@@ -16,7 +16,7 @@ dF/dn = −(j − U_t n^k) − k U_t (1 − n) n^(k−1), so
 
     c(n; j) = j − U_t n^k + k U_t (1 − n) n^(k−1)                 [m/s],
 
-which is SPEC §7's formula and the thesis's eq. 5.8 expanded
+which is Kynch's (1952) wave speed and the thesis's eq. 5.8 expanded
 (w = [k n^(k−1) − (k+1) n^k] U_t + j). c is positive = upward.
 dc/dn = k U_t n^(k−2) [(k − 1) − (k + 1) n] < 0 for n > n_i = (k − 1)/(k + 1),
 the inflection porosity: above it F is convex in φ, denser states travel
@@ -34,7 +34,7 @@ the state just below it; all characteristics reach it from below, none reflect.
 * Expansion (n1 > n0): c(n1) < c(n0), a centred rarefaction fan y = c(n) t.
   The slowest characteristic c(n1) = k U_t (1 − n1) n1^(k−1) (j = U_t n1^k) ends
   the transient when it meets the surface, which is then at rest at H1:
-  t1 = H1 / (k U_t (1 − n1) n1^(k−1)) (SPEC §7, confirmed). Fan front speeds:
+  t1 = H1 / (k U_t (1 − n1) n1^(k−1)). Fan front speeds:
   c(n0) (fastest, leading) and c(n1) (slowest, trailing); surface U1 − U0 until
   the leading characteristic arrives at t* = H0/(k U_t (1 − n0) n0^(k−1)).
   Afterwards, solids conservation over the fan (φ dc − dF = d(φ c − F) and
@@ -42,8 +42,7 @@ the state just below it; all characteristics reach it from below, none reflect.
   n_h: t = H0 (1 − n0) / (k U_t (1 − n_h)² n_h^(k−1)), h = c(n_h) t.
 * Contraction (n1 < n0): a shock from the inlet at s = (1 − n0)(U0 − U1)/(n0 − n1)
   (F(n1) = 0); the surface falls at U0 − U1. They meet when s t = H0 − (U0 − U1) t,
-  i.e. t1 = H0 (n0 − n1)/((1 − n1)(U0 − U1)) = (H0 − H1)/(U0 − U1)
-  (SPEC §7, confirmed).
+  i.e. t1 = H0 (n0 − n1)/((1 − n1)(U0 − U1)) = (H0 − H1)/(U0 − U1).
 
 Batch settling (j = 0): the top interface is the shock n0 | 1, speed
 F(n0)/(1 − n0) = −U_t n0^k (falls at U_t n0^k). A deposit at rest (n_d, solids

@@ -1,7 +1,7 @@
 """Kynch checks: step expansion, step contraction and batch settling against kinematic-wave theory.
 
 Physics: 0.1 mm spheres (ρ_s = 2500 kg/m³) in water with the Stokes Wen–Yu drag,
-so a uniform bed obeys Richardson–Zaki U = U_t n^4.65 exactly (SPEC 4.1), particle
+so a uniform bed obeys Richardson–Zaki U = U_t n^4.65 exactly (Richardson & Zaki 1954), particle
 inertia is negligible (relaxation time 1.4 ms against front times of minutes) and
 P_s is negligible (n̄ = 0.3, A = 0.015: P_s < 1e-30 Pa at n ≥ 0.6); no viscous
 stress. Porosities lie in the convex range n > (k − 1)/(k + 1) = 0.646.

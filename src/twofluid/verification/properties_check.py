@@ -1,4 +1,4 @@
-"""Discrete properties (SPEC 3, 7): conservation, hydrostatic consistency, gauge invariance,
+"""Discrete properties (docs/model.md): conservation, hydrostatic consistency, gauge invariance,
 and agreement of the reduced model with the full one.
 
 - conservation: (solids volume now − initial + solids that left) / initial after a

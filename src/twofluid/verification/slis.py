@@ -10,7 +10,7 @@ For each row :func:`kynch_t1_table` gives the kinematic-wave (Kynch) t1 from
 * water at 20 °C: ρ_f = 998.2 kg/m³, μ_f = 1.002e-3 Pa·s (standard tables,
   e.g. CRC Handbook); "tap water" temperature is not reported;
 * U_t from the Schiller–Naumann single-sphere drag (C_D = 0.44 above Re = 1000,
-  as in SPEC §4.1), solved for the force balance with ``scipy.optimize.brentq``;
+  as in the Wen & Yu (1966) drag law), solved for the force balance with ``scipy.optimize.brentq``;
 * k from Rowe (1987), (4.7 − k)/(k − 2.35) = 0.175 Re_t^(3/4), Re_t = ρ_f U_t d/μ_f;
   Khan & Richardson (1989), (4.8 − k)/(k − 2.4) = 0.043 Ar^0.57, is offered for a
   sensitivity check (wall factor omitted: the column diameter is not known);

@@ -13,7 +13,7 @@ also gives t1_reach, the first time the surface enters that band (equal to t1 wh
 the surface approaches its final height monotonically and then stays put).
 
 Numerics: 90 elements of 1 cm, Δt = 0.1 s, Picard tolerance 1e-6, the case's
-drag law with the model's own slip saturation (3 U_t, SPEC 5.2a; no cap of its
+drag law with the model's own slip saturation (3 U_t, docs/model.md "Numerical hygiene"; no cap of its
 own here). The rows run in up to two processes; each row gets at most
 ``WALL_LIMIT`` s of wall time, and a row stopped by the limit is reported as not
 finished (no t1), never as a number.

@@ -51,7 +51,7 @@ def _checks(quick: bool) -> list[tuple[str, Callable[[], list[dict]]]]:
 
 
 def _annulus_rows(quick: bool) -> list[dict]:
-    """Fully developed annulus profiles (SPEC 7): error < 2 % on the finest mesh, order ≥ 1.8 (Q1: 2)."""
+    """Fully developed annulus profiles (thesis 4.7.3): error < 2 % on the finest mesh, order ≥ 1.8 (Q1: 2)."""
     from .annular import annulus_study
 
     s = annulus_study(levels=(4, 8, 16) if quick else (4, 8, 16, 32))

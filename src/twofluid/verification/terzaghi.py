@@ -29,7 +29,7 @@ impervious base; P = P_hyd + u with ∂P_hyd/∂y = −ρ_f g):
 
 1. Liquid: 0 = −n ∂P/∂y − n ρ_f g − β (U_f − U_s) ⇒ −n ∂u/∂y = β (U_f − U_s), so
    the Darcy flux relative to the solids is q = n (U_f − U_s) = −(n²/β) ∂u/∂y
-   = −(k/(ρ_f g)) ∂u/∂y with k = ρ_f g n²/β (SPEC §4.1): one n from the n∇P
+   = −(k/(ρ_f g)) ∂u/∂y with k = ρ_f g n²/β (docs/model.md, "Drag"): one n from the n∇P
    buoyancy form, one from turning the interstitial slip into a flux.
 2. Mixture: ∂(P + P_s)/∂y = −ρ̄ g: total stress is fixed in time (small strain),
    so ∂u/∂t = −∂P_s/∂t.
