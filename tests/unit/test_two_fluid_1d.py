@@ -59,6 +59,14 @@ def test_settled_bed_with_porosity_gradient_stays_at_rest_with_hydrostatic_press
 
 
 def test_adding_a_constant_to_the_outlet_pressure_changes_no_velocity_or_porosity():
+    """Gauge invariance, to the Picard tolerance.
+
+    The two runs solve the same equations; each step stops its Picard loop at an
+    iterate within ``tol`` of the fixed point (velocities relative to the velocity
+    scale, porosity absolute), and the two runs may stop one iterate apart, so they
+    agree to a few ``tol``, not to one machine's round-off. The thesis's ∇(nP) form
+    changes n at the 1e-2 level here.
+    """
     res = []
     for p_out in (0.0, 1.0e5):
         c = load_case("fluidized-bed-step")
@@ -67,10 +75,11 @@ def test_adding_a_constant_to_the_outlet_pressure_changes_no_velocity_or_porosit
         b = build(c)
         res.append(run(b, b.state, 2.0, 0.05))
     a, b2 = res
-    assert np.abs(a.V - b2.V).max() < 1e-9 * np.abs(a.V).max()
-    assert np.abs(a.W - b2.W).max() < 1e-9 * np.abs(a.W).max()
-    assert np.abs(a.n - b2.n).max() < 1e-10
-    np.testing.assert_allclose(b2.P - a.P, 1.0e5, rtol=1e-9)
+    tol, scale = b.settings.tol, b.model.velocity_scale(a)
+    assert np.abs(a.V - b2.V).max() < 10 * tol * scale
+    assert np.abs(a.W - b2.W).max() < 10 * tol * scale
+    assert np.abs(a.n - b2.n).max() < 10 * tol
+    np.testing.assert_allclose(b2.P - a.P, 1.0e5, rtol=0, atol=10 * tol * np.abs(a.P).max())
 
 
 @pytest.mark.parametrize("name", ["settling-illite", "fluidized-bed-step"])
