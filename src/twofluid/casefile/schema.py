@@ -148,11 +148,19 @@ SCHEMA: dict[str, list[Key]] = {
 COMMON = ("case", "materials", "time", "output")
 SCHEMAS: dict[str, dict[str, list[Key]]] = {}
 MODEL_CHECKS: dict[str, object] = {}
+# Arrays of tables (TOML ``[[name]]``) of a model: name -> keys of each entry.
+ARRAYS: dict[str, dict[str, list[Key]]] = {}
 
 
-def register_model(model: str, sections: dict[str, list[Key]], check=None) -> None:
-    """Declare the sections (besides COMMON) of ``model``; ``check(case, source)`` runs after."""
+def register_model(model: str, sections: dict[str, list[Key]], check=None,
+                   arrays: dict[str, list[Key]] | None = None) -> None:
+    """Declare the sections (besides COMMON) of ``model``; ``check(case, source)`` runs after.
+
+    ``arrays`` declares arrays of tables (``[[layers]]``): each entry is checked against the
+    keys and resolved like a section; an entry's ``name`` key, if any, labels its messages.
+    """
     SCHEMAS[model] = {**{k: SCHEMA[k] for k in COMMON}, **sections}
+    ARRAYS[model] = dict(arrays or {})
     if check is not None:
         MODEL_CHECKS[model] = check
 
@@ -218,16 +226,25 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
 
 def validate(doc: dict, source: str = "<case>") -> dict:
     """Check ``doc`` against the schema; return the resolved case (all keys, defaults filled)."""
-    flat = _flatten_sections(doc, source)
+    tables = {k: v for k, v in doc.items() if _is_table_array(v)}
+    flat = _flatten_sections({k: v for k, v in doc.items() if k not in tables}, source)
     case = _resolve_section(source, "case", SCHEMA["case"], flat.get("case", {}))
     schema = _model_schema(case["model"])
     for where in flat:
         if where not in schema:
             raise CaseError(source, f"[{where}]", f"unknown section for model {case['model']!r}; "
                             f"valid sections: {', '.join(schema)}")
+    arrays = ARRAYS.get(case["model"], {})
+    for name in tables:
+        if name not in arrays:
+            raise CaseError(source, f"[[{name}]]", f"unknown array of tables for model {case['model']!r}"
+                            + (f"; valid: {', '.join(f'[[{a}]]' for a in arrays)}" if arrays else ""))
     unused: list[str] = []
     resolved = {where: _resolve_section(source, where, keys, flat.get(where, {}), unused)
                 for where, keys in schema.items()}
+    for name, keys in arrays.items():
+        resolved[name] = [_resolve_section(source, _entry_label(name, i, item), keys, item, unused)
+                          for i, item in enumerate(tables.get(name, []))]
     check = MODEL_CHECKS.get(case["model"])
     if check is not None:
         check(resolved, source)
@@ -285,6 +302,16 @@ def _resolve_section(source: str, where: str, keys: list[Key], given: dict,
     return out
 
 
+def _is_table_array(value) -> bool:
+    return isinstance(value, list) and bool(value) and all(isinstance(x, dict) for x in value)
+
+
+def _entry_label(name: str, i: int, item: dict) -> str:
+    """``layers 2 "loose sand"``: the array, the entry's 1-based index and its name (if a string)."""
+    label = item.get("name")
+    return f"{name} {i + 1}" + (f" {label!r}" if isinstance(label, str) else "")
+
+
 def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
     """{"closures": {"drag": {...}}} -> {"closures.drag": {...}}."""
     flat: dict[str, dict] = {}
@@ -325,6 +352,15 @@ def markdown() -> str:
             seen.add(ident)
             owners = [m for m, sc in SCHEMAS.items() if sc.get(where) is keys]
             lines += [f"### [{where}] ({', '.join(owners)})", "",
+                      "| key | type | default | unit | valid | meaning |", "|---|---|---|---|---|---|"]
+            for k in keys:
+                t = "list of numbers" if k.type == FLOATS else k.type.__name__
+                d = "required" if k.default is REQUIRED else repr(k.default)
+                lines.append(f"| `{k.name}` | {t} | {d} | {k.unit} | {k.range_text()} | {k.doc} |")
+            lines.append("")
+    for model, arrays in ARRAYS.items():
+        for name, keys in arrays.items():
+            lines += [f"### [[{name}]] ({model}; one table per entry)", "",
                       "| key | type | default | unit | valid | meaning |", "|---|---|---|---|---|---|"]
             for k in keys:
                 t = "list of numbers" if k.type == FLOATS else k.type.__name__

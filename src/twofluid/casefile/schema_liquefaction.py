@@ -1,14 +1,17 @@
-"""Case-file sections of model ``liquefaction_1d`` (thesis 5.4–5.5; docs/model.md, "Liquefaction column").
+"""Case-file sections of model ``liquefaction_1d``: a layered level site shaken at its base.
 
-A level deposit of loose saturated sand on an impervious base (rigid, or compliant for the
-shear wave), water table at the surface (drained top), shaken by an acceleration record,
-then left to reconsolidate. Sections: ``[deposit]`` (geometry, initial state), ``[sand]``
-(skeleton: compressibility, shear modulus and its reduction curve, densification law),
-``[ground_motion]`` (record and scaling), ``[shear_wave]`` (horizontal
-equation: sub-step, damping, base), ``[reconsolidation]`` (vertical step after the
-shaking) and ``[report]`` (depths of the time series). ``[closures.drag]`` and
-``[closures.viscosity]`` are those of the 1D model; ``[time] step`` is the
-vertical step while the column shakes.
+A site is a stack of ``[[layers]]`` from the ground surface down, on an impervious base (rigid,
+or compliant for the shear wave), with the water table at ``[site] water_table_depth``: the
+layers above it are a dry or moist crust (unit weight, stiffness; no pore pressure), those
+below it are saturated soil (particle size or hydraulic conductivity, porosity or void ratio,
+skeleton compressibility, shear modulus and its reduction curve, densification law,
+liquefied-soil viscosity, liquefiable or not). Sections: ``[site]`` (water table, surcharge,
+initial state), ``[[layers]]``, ``[ground_motion]`` (record, scaling, magnitude),
+``[shear_wave]`` (horizontal equation: sub-step, damping, base), ``[reconsolidation]`` (vertical
+step after the shaking, dissipation criterion) and ``[report]``. ``[closures.drag]`` and
+``[closures.viscosity]`` are those of the 1D model; ``[time] step`` is the vertical step while
+the column shakes and ``[time] end`` the latest end (the run ends earlier once the excess pore
+pressure has dissipated).
 """
 from __future__ import annotations
 
@@ -17,34 +20,60 @@ import warnings
 from pathlib import Path
 
 from ..io.tables import TableError, read_columns
-from .schema import FLOATS, SCHEMA, CaseError, CaseWarning, K, register_model
+from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, register_model
 
-__all__ = ["SECTIONS_LIQUEFACTION", "check_liquefaction", "case_relative_path", "load_motion",
-           "load_ann_weights", "load_reduction_table", "base_impedance"]
+__all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "case_relative_path", "load_motion",
+           "load_ann_weights", "load_reduction_table", "base_impedance", "layer_label", "saturated",
+           "layer_elements", "layer_porosity", "effective_stress_bounds", "VISCOSITY_MAX", "VISCOSITY_DEFAULT"]
 
-_DEPOSIT = [
-    K("depth", float, 10.0, "m", "deposit thickness H (base to surface)", lo=0.0, lo_open=True, hi=1000.0),
-    K("elements", int, 40, "-", "number of elements over the depth", lo=2, hi=5000),
-    K("porosity", float, 0.44, "-", "initial porosity n (uniform)", lo=0.2, hi=0.7),
-    K("surcharge", float, 0.0, "Pa", "load on the skeleton at the surface (fill, foundation)", lo=0.0),
-    K("initial_excess_ratio", float, 0.0, "-", "imposed initial excess pore-pressure ratio r_u0 "
-      "(n̄ lowered at constant n so that P_s = (1 − r_u0) σ′_v0)", lo=0.0, hi=1.0, hi_open=True),
-    K("surface_pressure", float, 0.0, "Pa", "liquid pressure at the drained surface (datum)"),
+#: Default liquefied-soil viscosity [Pa·s]: Chen et al. (2019), falling-ball tests in liquefied
+#: silty sand, 0.8–1.7 kPa·s; "a very viscous fluid" (Pringle 2001, ch. 1).
+VISCOSITY_DEFAULT = 1000.0
+#: Largest viscosity [Pa·s] the shear wave takes (average-acceleration Newmark is not L-stable:
+#: at 1e7 Pa·s the stress zig-zags from step to step with 0.25 m elements and 5 ms steps).
+VISCOSITY_MAX = 1e5
+
+_MATERIALS = [k for k in SCHEMA["materials"] if k.name != "particle_diameter"]
+
+_SITE = [
+    K("water_table_depth", float, 0.0, "m", "depth of the water table below the ground surface; the "
+      "layers above it are a crust (no pore pressure; it must fall on a layer boundary)", lo=0.0, hi=1000.0),
+    K("surcharge", float, 0.0, "Pa", "load on the ground surface (fill, foundation)", lo=0.0),
+    K("initial_excess_ratio", float, 0.0, "-", "imposed initial excess pore-pressure ratio r_u0 of the "
+      "saturated layers (n̄ lowered at constant n so that P_s = (1 − r_u0) σ′_v0)", lo=0.0, hi=1.0,
+      hi_open=True),
+    K("water_table_pressure", float, 0.0, "Pa", "liquid pressure at the water table (datum of P)"),
 ]
 
-_SAND = [
-    K("compressibility", float, 6e-4, "-", "A of P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]; "
-      "6e-4 calibrates the loose sand (docs/liquefaction.md)", lo=0.0, lo_open=True, hi=1.0),
-    K("p_ref", float, 1.0, "Pa", "reference pressure of P_s", lo=0.0, lo_open=True),
-    K("relative_density", float, 47.0, "%", "Dr: Byrne's C1 = 7600 Dr^−2.5", lo=0.0, lo_open=True, hi=100.0),
-    K("k2max", float, 30.0, "-", "Seed–Idriss modulus number: G_max = 218.8 K2max √(P_s/1 kPa) kPa",
-      lo=0.0, lo_open=True, hi=200.0),
+LAYER_KEYS = [
+    K("name", str, REQUIRED, "-", "layer name used in messages and outputs"),
+    K("thickness", float, REQUIRED, "m", "layer thickness", lo=0.0, lo_open=True, hi=1000.0),
+    K("elements", int, 0, "-", "elements in the layer (0: from element_size)", lo=0, hi=5000),
+    K("element_size", float, 0.25, "m", "largest element size; the layer gets ceil(thickness/size) "
+      "equal elements (used when elements = 0)", lo=0.0, lo_open=True, hi=1000.0),
+    K("unit_weight", float, 0.0, "N/m³", "crust (above the water table): total unit weight γ; it adds "
+      "σ′_v = γ z, mass γ/g and stiffness to the column. Required there, not used below", lo=0.0, hi=3e4),
+    K("particle_diameter", float, 0.0, "m", "saturated layer: grain size d_p of the drag law; give it or "
+      "hydraulic_conductivity (0: not given)", lo=0.0, hi=0.1),
+    K("hydraulic_conductivity", float, 0.0, "m/s", "saturated layer, instead of particle_diameter: k at "
+      "the layer's porosity; sets the drag through the equivalent diameter of the drag law at zero slip "
+      "(Kozeny–Carman for Ergun, k = ρ_f g n³ d² / (150 μ_f (1 − n)²)); reported back (0: not given)",
+      lo=0.0, hi=10.0),
+    K("porosity", float, 0.0, "-", "saturated layer: porosity n, valid [0.2, 0.7]; or void_ratio "
+      "(0: not given)", lo=0.0, hi=0.7),
+    K("void_ratio", float, 0.0, "-", "saturated layer, instead of porosity: e = n/(1 − n), valid "
+      "[0.25, 2.33] (0: not given)", lo=0.0, hi=2.34),
+    K("relative_density", float, 47.0, "%", "Dr: Byrne's C1 = 7600 Dr^−2.5; the simplified procedure's "
+      "(N1)60 = 46 (Dr/100)²", lo=0.0, lo_open=True, hi=100.0),
+    K("k2max", float, 30.0, "-", "Seed–Idriss modulus number: G_max = 218.8 K2max √(σ′/1 kPa) kPa "
+      "(ignored when shear_wave_velocity > 0)", lo=0.0, lo_open=True, hi=200.0),
+    K("shear_wave_velocity", float, 0.0, "m/s", "small-strain V_s instead of k2max: G_max = ρ V_s² at the "
+      "initial state (then ∝ √P_s as the skeleton softens); 0: use k2max", lo=0.0, hi=3000.0),
     K("gamma_ref", float, 1e-3, "-", "reference strain of the hyperbolic G/G_max = 1/(1 + |γ|/γ_ref)",
       lo=0.0, lo_open=True, hi=1.0, used_when=("modulus_reduction", ("hyperbolic",))),
-    K("modulus_reduction", str, "hyperbolic", "-", "G/G_max(γ) curve (docs/model.md, Shear modulus): hyperbolic "
-      "1/(1 + |γ|/γ_ref), or tabulated (reduction_strains + reduction_ratios, or reduction_file), "
-      "interpolated linearly in log γ with the end values held outside the table",
-      choices=("hyperbolic", "tabulated")),
+    K("modulus_reduction", str, "hyperbolic", "-", "G/G_max(γ) curve: hyperbolic 1/(1 + |γ|/γ_ref), or "
+      "tabulated (reduction_strains + reduction_ratios, or reduction_file), interpolated linearly in "
+      "log γ with the end values held outside the table", choices=("hyperbolic", "tabulated")),
     K("reduction_strains", FLOATS, [], "-", "tabulated: shear strains γ of the table (a fraction, not %): "
       "> 0, strictly increasing, at least 2", used_when=("modulus_reduction", ("tabulated",))),
     K("reduction_ratios", FLOATS, [], "-", "tabulated: G/G_max at reduction_strains: in (0, 1], "
@@ -52,18 +81,31 @@ _SAND = [
     K("reduction_file", str, "", "-", "tabulated, instead of the two lists: CSV file of rows \"shear "
       "strain, G/G_max\" (strain a fraction; a header line and # comments allowed), a path relative to "
       "the case file", used_when=("modulus_reduction", ("tabulated",))),
-    K("viscosity", float, 0.0, "Pa·s", "extra viscosity η_s of the sand–water mixture in the shear wave, "
-      "in parallel with the elastic backbone: τ = G γ + (μ_m + η_s) ∂γ/∂t, plus the Rayleigh damping. It "
-      "matters once G has fallen: liquefied soil as a very viscous fluid (thesis chapter 1; the Bingham "
-      "viscosity of Uzuoka et al. 1998). 0: none (the bundled cases; docs/liquefaction.md measures 100–10⁴)",
-      lo=0.0, hi=1e5),
-    K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (Byrne 1991 or the thesis's ANN)",
-      choices=("byrne", "ann")),
+    K("compressibility", float, 6e-4, "-", "saturated layer: A of P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]; "
+      "6e-4 calibrates the loose sand (docs/liquefaction.md)", lo=0.0, lo_open=True, hi=1.0),
+    K("p_ref", float, 1.0, "Pa", "saturated layer: reference pressure of P_s", lo=0.0, lo_open=True),
+    K("viscosity", float, VISCOSITY_DEFAULT, "Pa·s", "saturated layer: viscosity η_s of liquefied soil in "
+      "the shear wave, in parallel with the elastic backbone, τ = G γ + (μ_m + η_s) ∂γ/∂t (plus the "
+      "Rayleigh damping); it acts once G has fallen. Default 1000: Chen et al. (2019), falling-ball tests "
+      "in liquefied soil, 0.8–1.7 kPa·s; power_law: its value at viscosity_reference_rate",
+      lo=0.0, hi=VISCOSITY_MAX),
+    K("viscosity_law", str, "newtonian", "-", "newtonian: η_s constant; power_law: shear thinning "
+      "η_s = viscosity (|∂γ/∂t|/viscosity_reference_rate)^(viscosity_exponent − 1), at most 1e5 Pa·s "
+      "(Lirer & Mele 2019 measured shear thinning in cyclic triaxial tests)",
+      choices=("newtonian", "power_law")),
+    K("viscosity_exponent", float, 0.5, "-", "power_law: flow index m (1: Newtonian)", lo=0.0, lo_open=True,
+      hi=1.0, used_when=("viscosity_law", ("power_law",))),
+    K("viscosity_reference_rate", float, 1.0, "1/s", "power_law: shear-strain rate at which η_s = viscosity",
+      lo=0.0, lo_open=True, hi=1e3, used_when=("viscosity_law", ("power_law",))),
+    K("reference_porosity_law", str, "byrne", "-", "densification law lowering n̄ under shear (Byrne 1991, "
+      "or the thesis's network)", choices=("byrne", "ann")),
     K("ann_weights", str, "", "-", "ann: weights JSON file, a path relative to the case file ('' = the "
       "shipped default, trained on byrne)"),
     K("gamma_law_max", float, 0.01, "-", "|γ| beyond which the strain path adds no densification "
       "(the range of Byrne's law; strains in a liquefied layer are not bounded by this model)",
       lo=0.0, lo_open=True, hi=1.0),
+    K("liquefiable", bool, True, "-", "saturated layer: false keeps n̄ fixed under shear (no pore-pressure "
+      "generation; the layer still consolidates and drains)"),
 ]
 
 _MOTION = [
@@ -76,6 +118,8 @@ _MOTION = [
     K("duration", float, -1.0, "s", "shake for this long (the record is cut); -1: the whole record"),
     K("baseline_order", int, 1, "-", "polynomial order of the velocity baseline removed before scaling "
       "(0: none)", lo=0, hi=3),
+    K("magnitude", float, 6.95, "-", "moment magnitude M_w of the earthquake (the simplified procedure's "
+      "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record", lo=4.0, hi=9.5),
 ]
 
 _SHEAR = [
@@ -99,21 +143,28 @@ _SHEAR = [
 _RECON = [
     K("step", float, 1.0, "s", "largest vertical step after the shear wave stops (reached by ×1.5 growth)",
       lo=0.0, lo_open=True),
+    K("dissipated_r_u", float, 0.01, "-", "the run ends once the shear wave has stopped and max r_u of the "
+      "saturated elements is below this ([time] end is the latest end); 0: run to [time] end",
+      lo=0.0, hi=0.5),
 ]
 
 _REPORT = [
     K("depths", FLOATS, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], "m",
-      "depths below the surface of the r_u and σ′_v time series ([output] probes, heights above the "
-      "base, are added)"),
+      "depths below the ground surface of the r_u and σ′_v time series (in the saturated layers; "
+      "[output] probes, heights above the base, are added)"),
     K("ru_liquefied", float, 0.95, "-", "r_u above which an element counts as liquefied", lo=0.0, hi=1.0,
       lo_open=True),
     K("field_interval", float, 0.1, "s", "time between rows of the r_u depth–time field (0: every step)",
       lo=0.0),
+    K("spectrum_periods", FLOATS, [], "s", "periods of the 5 %-damped response spectra (empty: 60 "
+      "log-spaced periods from 0.02 to 5 s)"),
+    K("spectrum_damping", float, 0.05, "-", "damping ratio of the response spectra", lo=0.0, hi=0.5,
+      hi_open=True),
 ]
 
 SECTIONS_LIQUEFACTION = {
-    "deposit": _DEPOSIT,
-    "sand": _SAND,
+    "materials": _MATERIALS,
+    "site": _SITE,
     "closures.drag": SCHEMA["closures.drag"],
     "closures.viscosity": SCHEMA["closures.viscosity"],
     "ground_motion": _MOTION,
@@ -123,10 +174,38 @@ SECTIONS_LIQUEFACTION = {
 }
 
 
+def layer_label(case_or_layers, i: int) -> str:
+    """``[layers 2 'loose sand']``: how messages name layer ``i`` (0-based) of a case."""
+    layers = case_or_layers["layers"] if isinstance(case_or_layers, dict) else case_or_layers
+    return f"[layers {i + 1} {layers[i]['name']!r}]"
+
+
+def saturated(case: dict) -> list[bool]:
+    """Per layer: below the water table (True) or in the crust above it (False)."""
+    zw, top, out = case["site"]["water_table_depth"], 0.0, []
+    for la in case["layers"]:
+        out.append(top >= zw - 1e-9 * max(1.0, zw))
+        top += la["thickness"]
+    return out
+
+
+def layer_elements(layer: dict) -> int:
+    """Elements of a layer: ``elements``, or ceil(thickness/element_size)."""
+    if layer["elements"] > 0:
+        return layer["elements"]
+    return max(1, math.ceil(layer["thickness"] / layer["element_size"] - 1e-9))
+
+
+def layer_porosity(layer: dict) -> float:
+    """n of a saturated layer from ``porosity`` or ``void_ratio`` (checked)."""
+    return layer["porosity"] if layer["porosity"] > 0.0 else layer["void_ratio"] / (1.0 + layer["void_ratio"])
+
+
 def check_liquefaction(case: dict, source: str) -> None:
     """Cross-key checks of a ``liquefaction_1d`` case (one-line CaseError naming file and key)."""
-    d, t, out = case["deposit"], case["time"], case["output"]
-    H = d["depth"]
+    t, out = case["time"], case["output"]
+    _check_layers(case, source)
+    H = sum(la["thickness"] for la in case["layers"])
     if t["step"] > t["end"]:
         raise CaseError(source, "[time] step", f"must not exceed [time] end = {t['end']:g} s")
     if case["shear_wave"]["step"] > t["step"]:
@@ -143,23 +222,87 @@ def check_liquefaction(case: dict, source: str) -> None:
         raise CaseError(source, "[ground_motion] duration", "must be > 0 s, or -1 for the whole record")
     if not g["file"] and g["pga_g"] > 0.0:
         raise CaseError(source, "[ground_motion] file", "a record is needed when pga_g > 0")
-    if case["sand"]["ann_weights"] and case["sand"]["reference_porosity_law"] != "ann":
-        raise CaseError(source, "[sand] ann_weights", "only used with reference_porosity_law = \"ann\"")
+    zw = case["site"]["water_table_depth"]
     for z in case["report"]["depths"]:
-        if not 0.0 <= z <= H:
-            raise CaseError(source, "[report] depths", f"{z:g} lies outside [0, {H:g}] m (the deposit)")
+        if not zw <= z <= H:
+            raise CaseError(source, "[report] depths", f"{z:g} lies outside [{zw:g}, {H:g}] m (the saturated "
+                            "layers, depths below the ground surface)")
     for y in out["probes"]:
-        if not 0.0 <= y <= H:
-            raise CaseError(source, "[output] probes", f"{y:g} lies outside [0, {H:g}] m (heights above "
-                            "the base)")
+        if not 0.0 <= y <= H - zw:
+            raise CaseError(source, "[output] probes", f"{y:g} lies outside [0, {H - zw:g}] m (heights above "
+                            "the base, in the saturated layers)")
     for tt in out["times"]:
         if not 0.0 <= tt <= t["end"]:
             raise CaseError(source, "[output] times", f"{tt:g} lies outside [0, {t['end']:g}] s")
+    periods = case["report"]["spectrum_periods"]
+    if any(not 0.0 < T <= 100.0 for T in periods) or any(b <= a for a, b in zip(periods, periods[1:])):
+        raise CaseError(source, "[report] spectrum_periods", f"{periods} must be increasing periods in "
+                        "(0, 100] s (or empty for the default)")
     _check_physics(case, source)
     # the files the case names, read and checked now: a bad one must not start a run
-    load_ann_weights(case, source)
+    tables = []
+    for i in range(len(case["layers"])):
+        load_ann_weights(case, source, i)
+        tables.append(load_reduction_table(case, source, i))
     load_motion(case, source)
-    _warn_softening(case, source, load_reduction_table(case, source))  # last: a warning only for a valid case
+    for i, table in enumerate(tables):  # last: a warning only for a valid case
+        _warn_softening(case, source, i, table)
+
+
+def _check_layers(case: dict, source: str) -> None:
+    """The profile: at least one layer, elements within their layers, the water table on a layer
+    boundary above the base, each layer's soil given once (particle size or k, porosity or e)."""
+    layers = case["layers"]
+    if not layers:
+        raise CaseError(source, "[[layers]]", "missing: a site needs at least one layer (a [[layers]] table "
+                        "with name and thickness, from the ground surface down)")
+    names = [la["name"] for la in layers]
+    H = sum(la["thickness"] for la in layers)
+    zw = case["site"]["water_table_depth"]
+    if zw >= H:
+        raise CaseError(source, "[site] water_table_depth", f"{zw:g} m is at or below the base of the "
+                        f"layers ({H:g} m); valid: [0, {H:g})")
+    bounds, top = [], 0.0
+    for la in layers:
+        bounds.append(top)
+        top += la["thickness"]
+    if not any(abs(zw - b) <= 1e-9 * max(1.0, H) for b in bounds):
+        i = max(j for j, b in enumerate(bounds) if b < zw)
+        raise CaseError(source, "[site] water_table_depth", f"{zw:g} m falls inside {layer_label(case, i)} "
+                        f"({bounds[i]:g}–{bounds[i] + layers[i]['thickness']:g} m); the water table must lie "
+                        "on a layer boundary: split the layer there")
+    sat = saturated(case)
+    for i, la in enumerate(layers):
+        lab = layer_label(case, i)
+        if names.count(la["name"]) > 1:
+            raise CaseError(source, f"{lab} name", "is used by more than one layer; layer names must differ")
+        if la["elements"] == 0 and la["element_size"] > la["thickness"] * (1.0 + 1e-9):
+            raise CaseError(source, f"{lab} element_size", f"{la['element_size']:g} m is larger than the "
+                            f"layer ({la['thickness']:g} m); valid: (0, {la['thickness']:g}]")
+        if not sat[i]:
+            if not la["unit_weight"] > 0.0:
+                raise CaseError(source, f"{lab} unit_weight", "missing: a layer above the water table (crust) "
+                                "needs its total unit weight, valid (0, 30000] N/m³")
+            continue
+        if la["unit_weight"] > 0.0:
+            raise CaseError(source, f"{lab} unit_weight", "is for layers above the water table; a saturated "
+                            "layer's weight follows from its porosity and [materials] particle_density")
+        given = [k for k in ("particle_diameter", "hydraulic_conductivity") if la[k] > 0.0]
+        if len(given) != 1:
+            raise CaseError(source, f"{lab} particle_diameter", "give exactly one of particle_diameter "
+                            "(0, 0.1] m and hydraulic_conductivity (0, 10] m/s for a saturated layer"
+                            + (" (both given)" if given else ""))
+        given = [k for k in ("porosity", "void_ratio") if la[k] > 0.0]
+        if len(given) != 1:
+            raise CaseError(source, f"{lab} porosity", "give exactly one of porosity [0.2, 0.7] and void_ratio "
+                            "[0.25, 2.33] for a saturated layer" + (" (both given)" if given else ""))
+        n = layer_porosity(la)
+        if not 0.2 <= n <= 0.7:
+            key = given[0]
+            rng = "[0.2, 0.7]" if key == "porosity" else "[0.25, 2.33]"
+            raise CaseError(source, f"{lab} {key}", f"{la[key]:g} is outside the valid range {rng} [-]")
+        if la["ann_weights"] and la["reference_porosity_law"] != "ann":
+            raise CaseError(source, f"{lab} ann_weights", "only used with reference_porosity_law = \"ann\"")
 
 
 def base_impedance(case: dict) -> float | None:
@@ -168,34 +311,34 @@ def base_impedance(case: dict) -> float | None:
     return None if sw["base"] == "rigid" else sw["bedrock_density"] * sw["bedrock_shear_velocity"]
 
 
-def load_reduction_table(case: dict, source: str):
-    """(strains, ratios) of a tabulated ``[sand] modulus_reduction`` (None: hyperbolic), from the
-    inline lists or the CSV file, checked; every problem is a CaseError naming file and key."""
+def load_reduction_table(case: dict, source: str, i: int):
+    """(strains, ratios) of layer ``i``'s tabulated ``modulus_reduction`` (None: hyperbolic), from
+    the inline lists or the CSV file, checked; every problem is a CaseError naming file, layer and key."""
     from ..closures.shear_modulus import table_problem
 
-    sa = case["sand"]
-    if sa["modulus_reduction"] != "tabulated":
+    la, lab = case["layers"][i], layer_label(case, i)
+    if la["modulus_reduction"] != "tabulated":
         return None
-    lists = bool(sa["reduction_strains"] or sa["reduction_ratios"])
-    if sa["reduction_file"] and lists:
-        raise CaseError(source, "[sand] reduction_file", "give the table either as reduction_file or as "
+    lists = bool(la["reduction_strains"] or la["reduction_ratios"])
+    if la["reduction_file"] and lists:
+        raise CaseError(source, f"{lab} reduction_file", "give the table either as reduction_file or as "
                         "reduction_strains + reduction_ratios, not both")
-    if not sa["reduction_file"] and not lists:
-        raise CaseError(source, "[sand] modulus_reduction", "\"tabulated\" needs a table: reduction_strains "
+    if not la["reduction_file"] and not lists:
+        raise CaseError(source, f"{lab} modulus_reduction", "\"tabulated\" needs a table: reduction_strains "
                         "and reduction_ratios, or reduction_file")
-    if sa["reduction_file"]:
-        key = "[sand] reduction_file"
-        path = case_relative_path(case, source, sa["reduction_file"])
+    if la["reduction_file"]:
+        key = f"{lab} reduction_file"
+        path = case_relative_path(case, source, la["reduction_file"])
         strains, ratios = _read_table(path, source, key)
         problem = table_problem(strains, ratios)
         if problem is not None:
             raise CaseError(source, key, f"{path.name}: {problem[1]}")
         return strains, ratios
-    strains, ratios = sa["reduction_strains"], sa["reduction_ratios"]
+    strains, ratios = la["reduction_strains"], la["reduction_ratios"]
     problem = table_problem(strains, ratios)
     if problem is not None:
         what = "strains" if problem[0] == "strains" or len(strains) < 2 else "ratios"
-        raise CaseError(source, f"[sand] reduction_{what}", problem[1])
+        raise CaseError(source, f"{lab} reduction_{what}", problem[1])
     return list(strains), list(ratios)
 
 
@@ -218,7 +361,7 @@ def _read_table(path: Path, source: str, key: str):
     return strains, ratios
 
 
-def _warn_softening(case: dict, source: str, table) -> None:
+def _warn_softening(case: dict, source: str, i: int, table) -> None:
     """A valid table whose log interpolation makes the stress–strain backbone decrease somewhere."""
     if table is None:
         return
@@ -227,16 +370,37 @@ def _warn_softening(case: dict, source: str, table) -> None:
     g, r = table
     dips = backbone_dips(g, r)
     if dips:
-        key = "reduction_file" if case["sand"]["reduction_file"] else "reduction_ratios"
-        pairs = ", ".join(f"{g[i]:g}–{g[i + 1]:g}" for i in dips)
-        warnings.warn(CaseWarning(f"{source}: [sand] {key}: the stress G_max (G/G_max) γ falls by more than "
-                                  f"1 % with growing strain between the points at γ = {pairs} under log "
-                                  "interpolation (a softening backbone; add points between them)"), stacklevel=3)
+        key = "reduction_file" if case["layers"][i]["reduction_file"] else "reduction_ratios"
+        pairs = ", ".join(f"{g[j]:g}–{g[j + 1]:g}" for j in dips)
+        warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} {key}: the stress G_max (G/G_max) γ "
+                                  f"falls by more than 1 % with growing strain between the points at γ = {pairs} "
+                                  "under log interpolation (a softening backbone; add points between them)"),
+                      stacklevel=3)
+
+
+def effective_stress_bounds(case: dict) -> list[tuple[float, float] | None]:
+    """Per layer, (σ′_v at its top element's centre, σ′_v at its base) [Pa] at rest (None: crust).
+
+    σ′_v = surcharge + crust weight + buoyant weight (1 − n)(ρ_s − ρ_f) g of the saturated soil above.
+    """
+    ma = case["materials"]
+    sig, out = case["site"]["surcharge"], []
+    sat = saturated(case)
+    for la, wet in zip(case["layers"], sat):
+        if not wet:
+            sig += la["unit_weight"] * la["thickness"]
+            out.append(None)
+            continue
+        unit = (1.0 - layer_porosity(la)) * (ma["particle_density"] - ma["liquid_density"]) * ma["gravity"]
+        h = la["thickness"] / layer_elements(la)
+        out.append((sig + 0.5 * unit * h, sig + unit * la["thickness"]))
+        sig += unit * la["thickness"]
+    return out
 
 
 def _check_physics(case: dict, source: str) -> None:
     """Inputs each valid alone whose combination has no deposit at rest to start from."""
-    ma, d, sa = case["materials"], case["deposit"], case["sand"]
+    ma = case["materials"]
     if not ma["gravity"] > 0.0:
         raise CaseError(source, "[materials] gravity", f"{ma['gravity']:g} is outside the valid range "
                         "(0, inf) [m/s²]: the deposit's weight drives the model")
@@ -245,19 +409,22 @@ def _check_physics(case: dict, source: str) -> None:
                         f"[materials] liquid_density = {ma['liquid_density']:g} kg/m³ (grains without "
                         "buoyant weight carry no effective stress)")
     # initial reference porosity n̄0 = 1 − (1 − n)(1 − A ln(σ′/p_ref)) must lie in (0, 1) over the
-    # range of σ′_v0 (1 − r_u0): top element centre .. base (bounds of the discrete values)
-    n, A, p_ref = d["porosity"], sa["compressibility"], sa["p_ref"]
-    unit = (1.0 - n) * (ma["particle_density"] - ma["liquid_density"]) * ma["gravity"]
-    keep = 1.0 - d["initial_excess_ratio"]
-    hi = keep * (unit * d["depth"] + d["surcharge"])
-    lo = keep * (unit * 0.5 * d["depth"] / d["elements"] + d["surcharge"])
-    if A * math.log(hi / p_ref) >= 1.0:
-        raise CaseError(source, "[sand] compressibility", f"{A:g} gives a reference porosity n̄ >= 1 at the "
-                        f"base (σ′ = {hi:.4g} Pa); valid: A < 1/ln(σ′/p_ref) = {1.0 / math.log(hi / p_ref):.4g}")
-    if (1.0 - n) * (1.0 - A * math.log(lo / p_ref)) >= 1.0:
-        limit = lo * math.exp(n / ((1.0 - n) * A))
-        raise CaseError(source, "[sand] p_ref", f"{p_ref:g} Pa gives a reference porosity n̄ <= 0 at the "
-                        f"top element (σ′ = {lo:.4g} Pa); valid: p_ref < {limit:.4g} Pa")
+    # range of σ′_v0 (1 − r_u0) of each layer: top element centre .. base (bounds of the discrete values)
+    keep = 1.0 - case["site"]["initial_excess_ratio"]
+    for i, bounds in enumerate(effective_stress_bounds(case)):
+        if bounds is None:
+            continue
+        la, lab = case["layers"][i], layer_label(case, i)
+        n, A, p_ref = layer_porosity(la), la["compressibility"], la["p_ref"]
+        lo, hi = keep * bounds[0], keep * bounds[1]
+        if A * math.log(hi / p_ref) >= 1.0:
+            raise CaseError(source, f"{lab} compressibility", f"{A:g} gives a reference porosity n̄ >= 1 at the "
+                            f"layer's base (σ′ = {hi:.4g} Pa); valid: A < 1/ln(σ′/p_ref) = "
+                            f"{1.0 / math.log(hi / p_ref):.4g}")
+        if (1.0 - n) * (1.0 - A * math.log(lo / p_ref)) >= 1.0:
+            limit = lo * math.exp(n / ((1.0 - n) * A))
+            raise CaseError(source, f"{lab} p_ref", f"{p_ref:g} Pa gives a reference porosity n̄ <= 0 at the "
+                            f"layer's top element (σ′ = {lo:.4g} Pa); valid: p_ref < {limit:.4g} Pa")
 
 
 def case_relative_path(case: dict, source: str, name: str) -> Path:
@@ -269,10 +436,11 @@ def case_relative_path(case: dict, source: str, name: str) -> Path:
     return Path(source).parent / p
 
 
-def load_ann_weights(case: dict, source: str):
-    """The ``[sand] ann_weights`` network (None: the law's shipped default or not ann)."""
-    name = case["sand"]["ann_weights"]
-    if not name or case["sand"]["reference_porosity_law"] != "ann":
+def load_ann_weights(case: dict, source: str, i: int):
+    """Layer ``i``'s ``ann_weights`` network (None: the law's shipped default or not ann)."""
+    la = case["layers"][i]
+    name = la["ann_weights"]
+    if not name or la["reference_porosity_law"] != "ann":
         return None
     from ..closures.reference_porosity import AnnWeightsError, load_weights
 
@@ -280,8 +448,8 @@ def load_ann_weights(case: dict, source: str):
     try:
         return load_weights(path)
     except AnnWeightsError as exc:
-        raise CaseError(source, "[sand] ann_weights", f"{exc} (valid: a twofluid-ann-1 JSON file; a "
-                        "relative path is taken from the case file's folder)") from None
+        raise CaseError(source, f"{layer_label(case, i)} ann_weights", f"{exc} (valid: a twofluid-ann-1 JSON "
+                        "file; a relative path is taken from the case file's folder)") from None
 
 
 def _record_path(case: dict, source: str) -> Path:
@@ -341,4 +509,4 @@ def load_motion(case: dict, source: str):
     return gm.scale_to_pga(m, g["pga_g"])
 
 
-register_model("liquefaction_1d", SECTIONS_LIQUEFACTION, check_liquefaction)
+register_model("liquefaction_1d", SECTIONS_LIQUEFACTION, check_liquefaction, {"layers": LAYER_KEYS})

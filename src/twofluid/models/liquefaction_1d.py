@@ -58,7 +58,7 @@ P_hydrostatic = p_top + ρ_f g (H − y) and σ′_v0 the initial granular press
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Callable, Iterator
 
 import numpy as np
@@ -71,31 +71,92 @@ from ..closures.shear_modulus import seed_idriss_gmax
 from ..closures.solids_pressure import reference_porosity_for
 from ..closures.viscosity import mooney_pringle
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
-from .shear_column import NewmarkFailure, ShearColumn, WaveState
+from ..closures.shear_modulus import hyperbolic
+from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
 from .two_fluid_1d import State, TwoFluid1D
 
-__all__ = ["Sand", "VerticalColumn", "ColumnState", "LiquefactionColumn", "ColumnStep"]
+__all__ = ["Sand", "Crust", "VerticalColumn", "ColumnState", "LiquefactionColumn", "ColumnStep",
+           "VISCOSITY_MAX"]
+
+#: Largest liquefied-soil viscosity the shear wave takes [Pa·s] (the power law is capped here).
+VISCOSITY_MAX = 1e5
 
 
 @dataclass(frozen=True)
 class Sand:
-    """Skeleton parameters of the liquefiable sand (defaults: the calibrated loose sand
-    of :class:`twofluid.models.element_test.LooseSand`)."""
+    """Skeleton parameters of the saturated soil, scalars or arrays per saturated element (defaults:
+    the calibrated loose sand of :class:`twofluid.models.element_test.LooseSand`)."""
 
-    k2max: float = 30.0  # Seed–Idriss modulus number [-]
-    gamma_ref: float = 1e-3  # hyperbolic reference strain [-]
-    dr: float = 47.0  # relative density [%] (byrne)
-    law: str = "byrne"  # reference-porosity law
+    k2max: float | np.ndarray = 30.0  # Seed–Idriss modulus number [-]
+    gamma_ref: float | np.ndarray = 1e-3  # hyperbolic reference strain [-]
+    dr: float | np.ndarray = 47.0  # relative density [%] (byrne)
+    law: str = "byrne"  # reference-porosity law (of every element unless law_groups)
     law_params: dict = field(default_factory=dict)  # extra arguments of the law (e.g. ann weights)
     reduction: Callable | None = None  # G/G_max(γ) (e.g. a tabulated curve); None: hyperbolic with gamma_ref
-    gamma_law_max: float = 0.01  # |γ| beyond this adds no densification [-] (module docstring)
-    viscosity: float = 0.0  # extra mixture viscosity η_s in the shear wave [Pa·s] (liquefied soil as a viscous fluid)
+    gamma_law_max: float | np.ndarray = 0.01  # |γ| beyond this adds no densification [-] (module docstring)
+    viscosity: float | np.ndarray = 1000.0  # liquefied-soil viscosity η_s in the shear wave [Pa·s]
+    viscosity_exponent: float | np.ndarray = 1.0  # power-law flow index m (1: Newtonian) [-]
+    viscosity_reference_rate: float | np.ndarray = 1.0  # rate at which η_s = viscosity [1/s]
+    liquefiable: bool | np.ndarray = True  # False: n̄ held (no pore-pressure generation)
+    law_groups: tuple = ()  # ((element mask, law name, params), ...) for layers with different laws
 
     def n_bar_law(self) -> Callable:
-        func = registry.get("reference_porosity", self.law).func
-        params = {"dr": self.dr} if self.law == "byrne" else {}
-        params.update(self.law_params)
-        return lambda dg, g, nb, st: func(dg, g, nb, st, **params)
+        """The densification law of every element: (dγ, γ, n̄, history) -> (n̄, history).
+
+        Byrne's constants follow each element's Dr (C1 = 7600 Dr^−2.5); with ``law_groups`` each
+        group's law is evaluated and its elements take its result; elements that are not
+        ``liquefiable`` keep their n̄.
+        """
+        groups = self.law_groups or ((None, self.law, self.law_params),)
+        funcs = []
+        for mask, name, params in groups:
+            func = registry.get("reference_porosity", name).func
+            p = dict(params)
+            if name == "byrne":
+                p.setdefault("c1", 7600.0 * np.asarray(self.dr, dtype=float) ** -2.5)
+            funcs.append((mask, func, p))
+        liq = np.asarray(self.liquefiable, dtype=bool)
+
+        def law(dg, g, nb, st):
+            out_nb, out_st = None, None
+            for mask, func, p in funcs:
+                nb_k, st_k = func(dg, g, nb, st, **p)
+                if mask is None:
+                    out_nb, out_st = nb_k, st_k
+                else:
+                    out_nb = np.where(mask, nb_k, nb if out_nb is None else out_nb)
+                    out_st = st_k if out_st is None else _select_history(mask, st_k, out_st)
+            return np.where(liq, out_nb, nb), out_st
+        return law
+
+    def shear_viscosity(self, rate) -> np.ndarray:
+        """η_s [Pa·s] at shear-strain rate ``rate`` [1/s]: constant (m = 1) or the power law
+        η_s (|γ̇|/γ̇_ref)^(m − 1), at most :data:`VISCOSITY_MAX`."""
+        m = np.asarray(self.viscosity_exponent, dtype=float)
+        eta = np.broadcast_to(np.asarray(self.viscosity, dtype=float), np.shape(rate))
+        if np.all(m == 1.0):
+            return np.array(eta, dtype=float)
+        x = np.maximum(np.abs(rate), 1e-12) / self.viscosity_reference_rate
+        return np.minimum(eta * x ** (m - 1.0), VISCOSITY_MAX)
+
+
+def _select_history(mask, a: ShearState, b: ShearState) -> ShearState:
+    """History with ``a`` where ``mask``, ``b`` elsewhere."""
+    return ShearState(*(np.where(mask, getattr(a, f.name), getattr(b, f.name)) for f in fields(ShearState)))
+
+
+@dataclass(frozen=True)
+class Crust:
+    """Layers above the water table, bottom element first: thickness h [m], density ρ = γ/g
+    [kg/m³] and small-strain modulus G_max [Pa] per element (fixed: no pore pressure), the
+    G/G_max curve (``reduction`` callable over the crust elements, or hyperbolic with
+    ``gamma_ref``). Its weight is carried by the vertical model as a surcharge."""
+
+    h: np.ndarray
+    rho: np.ndarray
+    g_max: np.ndarray
+    gamma_ref: float | np.ndarray = 1e-3
+    reduction: Callable | None = None
 
 
 class VerticalColumn(TwoFluid1D):
@@ -204,21 +265,38 @@ class LiquefactionColumn:
                  shaking_end: float = 0.0, shear_step: float = 0.005,
                  damping_ratio: float = 0.05, damping_frequencies=(1.0, 10.0),
                  free_vibration: float = 5.0, settings: PicardSettings = PicardSettings(),
-                 base_impedance: float | None = None):
+                 base_impedance: float | None = None, crust: Crust | None = None):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
-        self.v, self.sand = vertical, sand
+        self.v, self.sand, self.crust = vertical, sand, crust
         self.a_g = base_acceleration or (lambda t: 0.0)
         self.shaking_end = shaking_end if base_acceleration is not None else 0.0
         self.shear_end = self.shaking_end + (free_vibration if self.shaking_end > 0.0 else 0.0)
         self.shear_step, self.settings = shear_step, settings
         self.law = sand.n_bar_law()
         mat, mesh = vertical.mat, vertical.mesh
-        self.wave = ShearColumn(mesh.y, rho=np.full(mesh.n_elements, mat.rho_s),
-                                gamma_ref=sand.gamma_ref, reduction=sand.reduction,
+        ns = mesh.n_elements
+        self.n_sat = ns
+        y = mesh.y if crust is None else np.concatenate([mesh.y, mesh.y[-1] + np.cumsum(crust.h)])
+        nt = y.size - 1
+        self.y_all = y
+        rho = np.full(nt, mat.rho_s)
+        gamma_ref = np.broadcast_to(np.asarray(sand.gamma_ref, dtype=float), (ns,))
+        reduction = sand.reduction
+        if crust is not None:
+            rho[ns:] = crust.rho
+            g_crust = np.broadcast_to(np.asarray(crust.gamma_ref, dtype=float), (nt - ns,))
+            if reduction is not None or crust.reduction is not None:
+                reduction = piecewise_reduction(
+                    [(slice(0, ns), reduction or (lambda g, r=gamma_ref: hyperbolic(g, r))),
+                     (slice(ns, nt), crust.reduction or (lambda g, r=g_crust: hyperbolic(g, r)))], nt)
+            gamma_ref = np.concatenate([gamma_ref, g_crust])
+        self.wave = ShearColumn(y, rho=rho, gamma_ref=gamma_ref, reduction=reduction,
                                 damping_ratio=damping_ratio, damping_frequencies=damping_frequencies,
                                 base_impedance=base_impedance)
-        self.depth = mesh.y[-1] - mesh.centres  # element centres below the surface [m]
+        self.ground_surface = float(y[-1])
+        self.depth = self.ground_surface - mesh.centres  # saturated element centres below the ground surface [m]
+        self.depth_all = self.ground_surface - 0.5 * (y[1:] + y[:-1])  # every element of the shear column [m]
         self.p_hydro = vertical.top.pressure - mat.rho_f * vertical.g_y * (mesh.y[-1] - mesh.centres)
         self.sigma_v0 = None  # set by initial_state
         self.n0 = None
@@ -261,6 +339,18 @@ class LiquefactionColumn:
         n = s.vertical.n
         return float(np.sum(self.v.mesh.lengths * (self.n0 - n) / (1.0 - n)))
 
+    def surface_acceleration(self, s: ColumnState) -> float:
+        """Absolute horizontal acceleration of the ground surface [m/s²] while the shear wave runs
+        (else 0): the reference motion (record) plus the surface's acceleration relative to it."""
+        if s.t > self.shear_end + 1e-12:
+            return 0.0
+        a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
+        return a_in + float(s.wave.a[-1])
+
+    def shear_strain(self, s: ColumnState) -> np.ndarray:
+        """Shear strain γ of every element of the shear column (crust included) [-]."""
+        return s.wave.gamma
+
     def surface_displacement(self, s: ColumnState) -> float:
         """Horizontal displacement of the surface relative to the base [m]."""
         return float(s.wave.u[-1] - s.wave.u[0])
@@ -280,22 +370,34 @@ class LiquefactionColumn:
 
     # ---------------------------------------------------------- stepping
     def _shear(self, s: ColumnState, t_new: float) -> tuple[WaveState, np.ndarray, ShearState, int]:
-        """Shear sub-steps over [s.t, t_new]; returns wave, n̄, shear history, sub-steps."""
-        v, wave = self.v, self.wave
+        """Shear sub-steps over [s.t, t_new]; returns wave, n̄, shear history, sub-steps.
+
+        The saturated elements (the first ``n_sat``) take G_max from P_s and densify under the
+        law; the crust's G_max, density and (zero) liquefied-soil viscosity are fixed.
+        """
+        v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
         n = s.vertical.n
-        wave.rho = self.mixture_density(n)
-        wave.eta = mooney_pringle(n, v.mat.mu_f) + self.sand.viscosity
+        wave.rho[:ns] = self.mixture_density(n)
+        mu_m = mooney_pringle(n, v.mat.mu_f)
+        h = wave.h[:ns]
         w, n_bar, hist = s.wave, s.vertical.n_bar, s.shear
-        cap = self.sand.gamma_law_max
+        wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / h)
+        power = np.any(np.asarray(sand.viscosity_exponent) != 1.0)
+        cap = sand.gamma_law_max
+        g_crust = None if self.crust is None else self.crust.g_max
         span = t_new - s.t
         m = max(1, int(np.ceil(span / self.shear_step - 1e-9)))
-        h = span / m
+        dt = span / m
         for i in range(1, m + 1):
-            t = s.t + i * h
-            g_max = seed_idriss_gmax(v.solids_pressure(n, n_bar), self.sand.k2max)
-            w = self._wave_step(w, h, self.a_g(t), g_max)
-            g_law = np.clip(w.gamma, -cap, cap)
+            t = s.t + i * dt
+            g_max = seed_idriss_gmax(v.solids_pressure(n, n_bar), sand.k2max)
+            if g_crust is not None:
+                g_max = np.concatenate([g_max, g_crust])
+            w = self._wave_step(w, dt, self.a_g(t), g_max)
+            g_law = np.clip(w.gamma[:ns], -cap, cap)
             n_bar, hist = self.law(g_law - hist.gamma, g_law, n_bar, hist)
+            if power:  # shear thinning: η_s from the rate of the last sub-step
+                wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / h)
         return w, n_bar, hist, m
 
     def _wave_step(self, w, h, a_g, g_max, depth=0):
@@ -330,9 +432,12 @@ class LiquefactionColumn:
         return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow)
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
-            stops=()) -> Iterator[ColumnStep]:
+            stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:
         """Advance to ``t_end`` with step ``dt`` while the shear wave runs, then growing
-        (×1.5 per step) to ``dt_after``; lands exactly on ``shear_end`` and ``stops``."""
+        (×1.5 per step) to ``dt_after``; lands exactly on ``shear_end`` and ``stops``.
+
+        ``stop(state)``, checked after every step once the shear wave has stopped, ends the run
+        early (e.g. once the excess pore pressure has dissipated)."""
         dt_after = dt_after or dt
         marks = sorted({x for x in (*stops, self.shaking_end, self.shear_end, t_end)
                         if s.t < x <= t_end})
@@ -349,3 +454,5 @@ class LiquefactionColumn:
                 step = self.step(s, h_try)
                 s = step.state
                 yield step
+                if stop is not None and s.t >= self.shear_end - eps and stop(s):
+                    return

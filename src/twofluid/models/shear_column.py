@@ -59,7 +59,7 @@ import numpy as np
 from scipy.linalg import LinAlgError, solve_banded
 
 __all__ = ["WaveState", "ShearColumn", "rayleigh_coefficients", "NewmarkFailure",
-           "layer_amplification"]
+           "layer_amplification", "piecewise_reduction"]
 
 BETA, GAMMA = 0.25, 0.5  # average acceleration
 
@@ -123,6 +123,26 @@ def layer_amplification(frequency, H: float, rho: float, g: float, base_impedanc
     k = w * np.sqrt(rho / g_star)
     alpha = 0.0 if base_impedance is None else np.sqrt(rho * g_star) / base_impedance
     return 1.0 / np.abs(np.cos(k * H) + 1j * alpha * np.sin(k * H))
+
+
+def piecewise_reduction(parts, n_elements: int) -> Callable[[np.ndarray], np.ndarray]:
+    """One G/G_max(γ) over a column whose layers have their own curves.
+
+    ``parts`` is a list of (element slice or index array, curve); each curve maps the strains of
+    its elements to G/G_max. The result takes the (n_elements,) strains of the whole column.
+
+    >>> f = piecewise_reduction([(slice(0, 2), lambda g: 1 / (1 + abs(g) / 1e-3)),
+    ...                          (slice(2, 3), lambda g: np.ones_like(g))], 3)
+    >>> f(np.array([1e-3, 0.0, 5.0])).tolist()
+    [0.5, 1.0, 1.0]
+    """
+    def curve(gamma):
+        gamma = np.asarray(gamma, dtype=float)
+        out = np.empty(n_elements)
+        for idx, f in parts:
+            out[idx] = f(gamma[idx])
+        return out
+    return curve
 
 
 def _hyperbolic_backbone(gamma_ref: float):

@@ -34,18 +34,17 @@ from pathlib import Path
 import numpy as np
 
 from ..casefile import schema_liquefaction
-from ..casefile.builder import closures, materials
 from ..casefile.loader import load_case
 from ..casefile.schema import CaseError, revalidate
 from ..closures import drag as drag_laws
-from ..closures.shear_modulus import seed_idriss_gmax, tabulated_curve
+from ..closures.shear_modulus import seed_idriss_gmax
 from ..io import ground_motion as gm
 from ..io.results import ResultWriter, write_json, write_resolved_case
-from ..mesh.line import uniform_line
-from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, Sand, VerticalColumn
+from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings
 from ..verification.terzaghi import consolidation_coefficient
+from .liquefaction_site import Site, crust_for, sand_for, site_arrays
 
 __all__ = ["Built", "build_column", "run_liquefaction", "PROFILE_COLUMNS"]
 
@@ -62,6 +61,7 @@ class Built:
     t_end: float
     dt: float
     dt_after: float
+    site: Site
 
 
 def _source(case: dict) -> str:
@@ -86,42 +86,39 @@ def validated(case: dict) -> dict:
 def build_column(case: dict) -> Built:
     """Column, geostatic initial state and stepping of a resolved ``liquefaction_1d`` case.
 
-    Reads the record, the ANN weights and the G/G_max table (CaseError if they cannot be used);
+    Reads the record, the ANN weights and the G/G_max tables (CaseError if they cannot be used);
     writes nothing.
     """
-    d, sa, sw = case["deposit"], case["sand"], case["shear_wave"]
+    sw, st = case["shear_wave"], case["site"]
     source = _source(case)
-    mesh = uniform_line(d["depth"], d["elements"])
-    mat = materials(case)
-    clo = closures(case, mat, pressure_section="sand")
+    site = site_arrays(case)
     tm = case["time"]
     settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
                               dt_min=min(1e-7, tm["step"] * 1e-4))
-    vertical = VerticalColumn(mesh, mat, clo, Boundary("wall"),
-                              Boundary("outlet", pressure=d["surface_pressure"]),
-                              surcharge=d["surcharge"])
-    weights = schema_liquefaction.load_ann_weights(case, source)  # parsed once, not per sub-step
-    law_params = {"weights": weights} if weights is not None else {}
-    table = schema_liquefaction.load_reduction_table(case, source)  # None: hyperbolic
-    sand = Sand(k2max=sa["k2max"], gamma_ref=sa["gamma_ref"], dr=sa["relative_density"],
-                law=sa["reference_porosity_law"], law_params=law_params,
-                reduction=None if table is None else tabulated_curve(*table),
-                gamma_law_max=sa["gamma_law_max"], viscosity=sa["viscosity"])
+    vertical = VerticalColumn(site.mesh, site.mat, site.clo, Boundary("wall"),
+                              Boundary("outlet", pressure=st["water_table_pressure"]),
+                              surcharge=st["surcharge"] + site.crust_weight)
+    sigma_v0 = vertical.settled_solids_pressure(site.porosity) + vertical.surcharge
+    sand = sand_for(case, source, site, sigma_v0)
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
     column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,
                                 shear_step=sw["step"], damping_ratio=sw["damping_ratio"],
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
                                 free_vibration=sw["free_vibration"], settings=settings,
-                                base_impedance=schema_liquefaction.base_impedance(case))
-    state = column.initial_state(d["porosity"], d["initial_excess_ratio"])
+                                base_impedance=schema_liquefaction.base_impedance(case),
+                                crust=crust_for(case, source, site))
+    state = column.initial_state(site.porosity, st["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
             and np.all(np.isfinite(column.sigma_v0)) and np.all(column.sigma_v0 > 0.0)):
-        raise CaseError(source, "[sand] compressibility", f"{sa['compressibility']:g} with p_ref = "
-                        f"{sa['p_ref']:g} Pa gives an initial reference porosity outside (0, 1) "
-                        f"({nb.min():.4g} .. {nb.max():.4g}); lower A or p_ref")
-    return Built(column, state, motion, tm["end"], tm["step"], case["reconsolidation"]["step"])
+        bad = int(np.flatnonzero(~((nb > 0.0) & (nb < 1.0)) | ~(column.sigma_v0 > 0.0))[0])
+        i = int(site.layer_of[bad])
+        la = case["layers"][i]
+        raise CaseError(source, f"{schema_liquefaction.layer_label(case, i)} compressibility",
+                        f"{la['compressibility']:g} with p_ref = {la['p_ref']:g} Pa gives an initial reference "
+                        f"porosity outside (0, 1) ({nb[bad]:.4g}); lower A or p_ref")
+    return Built(column, state, motion, tm["end"], tm["step"], case["reconsolidation"]["step"], site)
 
 
 def hydraulic_conductivity(col: LiquefactionColumn, n) -> np.ndarray:
