@@ -18,8 +18,8 @@ def _cmd_run(args) -> int:
     if s["status"] != "completed":
         print(f"  {s['reason']}; everything written so far is in {res.out_dir}", file=sys.stderr)
         return 130 if s["status"] == "interrupted" else 1
-    if str(s.get("reason", "")).startswith("steady"):  # a 2D run that stopped at its steady state
-        print(f"  {s['reason']}")
+    if str(s.get("reason", "")).startswith(("steady", "dissipated", "stopped at the end time")):
+        print(f"  {s['reason']}")  # why a completed run ended: steady state, dissipation, or its end time
     for key in ("t1_s", "bed_height_initial_m", "bed_height_final_m", "liquefied_thickness_m",
                 "peak_r_u_top_element", "settlement_end_of_shaking_m", "settlement_end_m"):
         if s.get(key) is not None:
@@ -31,6 +31,13 @@ def _cmd_run(args) -> int:
     balance = s.get("solids_volume_balance_error")
     print(f"  solids volume balance error = {balance:.3g}" if balance is not None
           else "  solids volume balance error: not computed")
+    return 0
+
+
+def _cmd_simplified(args) -> int:
+    from .runners.liquefaction import simplified_table
+
+    print(simplified_table(args.case, args.a_max).table())
     return 0
 
 
@@ -119,6 +126,12 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("--out", help="output folder (default: twofluid-out/<case name>)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     r.set_defaults(func=_cmd_run)
+    sp = sub.add_parser("simplified", help="the simplified liquefaction procedure (Idriss & Boulanger) on a "
+                        "liquefaction_1d case's profile, per element, without running the column")
+    sp.add_argument("case", help="bundled case name or TOML file (model liquefaction_1d)")
+    sp.add_argument("--a-max", type=float, help="peak ground-surface acceleration [g] of the CSR "
+                    "(default: the case's [ground_motion] pga_g)")
+    sp.set_defaults(func=_cmd_simplified)
     c = sub.add_parser("cases", help="list the bundled cases")
     c.set_defaults(func=_cmd_cases)
     s = sub.add_parser("show", help="print a case's TOML (copy it to edit)")

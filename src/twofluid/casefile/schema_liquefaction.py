@@ -119,7 +119,7 @@ _MOTION = [
     K("baseline_order", int, 1, "-", "polynomial order of the velocity baseline removed before scaling "
       "(0: none)", lo=0, hi=3),
     K("magnitude", float, 6.95, "-", "moment magnitude M_w of the earthquake (the simplified procedure's "
-      "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record", lo=4.0, hi=9.5),
+      "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record", lo=5.0, hi=9.0),
 ]
 
 _SHEAR = [

@@ -239,6 +239,7 @@ class ColumnStep:
     substeps: int  # shear sub-steps in it
     iterations: int  # Picard iterations of the vertical step (last sub-step)
     solids_inflow: float  # solids volume that entered through the ends during the step [m³]
+    surface: tuple = ()  # (t [s], absolute surface acceleration [m/s²]) after each shear sub-step
 
 
 class LiquefactionColumn:
@@ -336,8 +337,20 @@ class LiquefactionColumn:
 
     def settlement(self, s: ColumnState) -> float:
         """Surface settlement [m] (positive down): Σ h (n0 − n)/(1 − n)."""
+        return float(np.sum(self.settlement_contributions(s)))
+
+    def settlement_contributions(self, s: ColumnState) -> np.ndarray:
+        """Compression h (n0 − n)/(1 − n) of each saturated element [m] (the crust is rigid)."""
         n = s.vertical.n
-        return float(np.sum(self.v.mesh.lengths * (self.n0 - n) / (1.0 - n)))
+        return self.v.mesh.lengths * (self.n0 - n) / (1.0 - n)
+
+    def surface_seepage(self, s: ColumnState) -> float:
+        """Upward Darcy flux of the liquid relative to the grains at the water table,
+        n (U_f − U_s) [m/s], from the top node's V, W and the top element's n."""
+        v = s.vertical
+        n = v.n[-1]
+        V, W = v.V[-1], v.W[-1]
+        return float(0.5 * (V + W) - n * 0.5 * (V - W) / (1.0 - n))
 
     def surface_acceleration(self, s: ColumnState) -> float:
         """Absolute horizontal acceleration of the ground surface [m/s²] while the shear wave runs
@@ -369,8 +382,9 @@ class LiquefactionColumn:
         return n * mat.rho_f + (1.0 - n) * mat.rho_s
 
     # ---------------------------------------------------------- stepping
-    def _shear(self, s: ColumnState, t_new: float) -> tuple[WaveState, np.ndarray, ShearState, int]:
-        """Shear sub-steps over [s.t, t_new]; returns wave, n̄, shear history, sub-steps.
+    def _shear(self, s: ColumnState, t_new: float) -> tuple[WaveState, np.ndarray, ShearState, int, list]:
+        """Shear sub-steps over [s.t, t_new]; returns wave, n̄, shear history, sub-steps and the
+        (t, absolute surface acceleration) of each sub-step.
 
         The saturated elements (the first ``n_sat``) take G_max from P_s and densify under the
         law; the crust's G_max, density and (zero) liquefied-soil viscosity are fixed.
@@ -388,17 +402,20 @@ class LiquefactionColumn:
         span = t_new - s.t
         m = max(1, int(np.ceil(span / self.shear_step - 1e-9)))
         dt = span / m
+        surface = []
         for i in range(1, m + 1):
             t = s.t + i * dt
             g_max = seed_idriss_gmax(v.solids_pressure(n, n_bar), sand.k2max)
             if g_crust is not None:
                 g_max = np.concatenate([g_max, g_crust])
-            w = self._wave_step(w, dt, self.a_g(t), g_max)
+            a_in = self.a_g(t)
+            w = self._wave_step(w, dt, a_in, g_max)
+            surface.append((t, (a_in if t <= self.shaking_end + 1e-12 else 0.0) + float(w.a[-1])))
             g_law = np.clip(w.gamma[:ns], -cap, cap)
             n_bar, hist = self.law(g_law - hist.gamma, g_law, n_bar, hist)
             if power:  # shear thinning: η_s from the rate of the last sub-step
                 wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / h)
-        return w, n_bar, hist, m
+        return w, n_bar, hist, m, surface
 
     def _wave_step(self, w, h, a_g, g_max, depth=0):
         if not (np.all(np.isfinite(g_max)) and np.isfinite(a_g)):  # halving cannot help
@@ -415,10 +432,10 @@ class LiquefactionColumn:
     def step(self, s: ColumnState, dt: float) -> ColumnStep:
         """One split step of length ``dt`` [s] (module docstring); raises StepFailure."""
         t_new = s.t + dt
-        wave, n_bar, hist, m = s.wave, s.vertical.n_bar, s.shear, 0
+        wave, n_bar, hist, m, surface = s.wave, s.vertical.n_bar, s.shear, 0, ()
         if s.t < self.shear_end - 1e-12:
             try:
-                wave, n_bar, hist, m = self._shear(s, t_new)
+                wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(s.t, dt, str(exc), s) from None
             if not (np.all(np.isfinite(n_bar)) and np.all(np.isfinite(wave.u))):
@@ -429,7 +446,7 @@ class LiquefactionColumn:
         for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
             vert, its = st.state, st.iterations
             inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
-        return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow)
+        return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface))
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:

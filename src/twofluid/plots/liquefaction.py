@@ -1,4 +1,5 @@
-"""Figures of a liquefaction run: r_u histories, depth–time map of r_u, settlement."""
+"""Figures of a liquefaction run: r_u histories, depth–time map of r_u, settlement, the profile
+(layers, water table, peak r_u, peak strain, simplified-procedure FS) and response spectra."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -17,8 +18,10 @@ def _shade(ax, col):
         ax.axvspan(0.0, col.shaking_end, color="0.92", zorder=0, label="shaking")
 
 
-def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95) -> list[Path]:
-    """Write ru_histories.png, ru_map.png and settlement.png into ``out``; return the paths."""
+def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, case=None, summary=None,
+                       extra=None) -> list[Path]:
+    """Write ru_histories.png, ru_map.png, settlement.png and, given the run's ``case``,
+    ``summary`` and ``extra`` tables, profile.png and spectra.png into ``out``; return the paths."""
     out = Path(out)
     t = np.array(rec.t)
     ru = np.array(rec.ru)
@@ -52,12 +55,21 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95) ->
                            vmin=0.0, vmax=max(1.0, float(np.nanmax(field))))
         if np.nanmax(field) > ru_liq:
             ax.contour(ft, depth, field.T, levels=[ru_liq], colors="r", linewidths=1.0)
-        ax.invert_yaxis()
+        ax.set_ylim(col.ground_surface, 0.0)
         ax.set_xlabel("time [s]")
-        ax.set_ylabel("depth [m]")
+        ax.set_ylabel("depth below the ground surface [m]")
         ax.set_title(f"{title}: r_u (red: r_u = {ru_liq:g})")
         if col.shaking_end > 0.0:
             ax.axvline(col.shaking_end, color="w", ls="--", lw=0.8)
+            ax.annotate("shaking", xy=(0.5 * min(col.shaking_end, ft[-1]), 0.0), xytext=(0, -2),
+                        textcoords="offset points", ha="center", va="top", color="w", fontsize=8)
+            ax.axvspan(0.0, col.shaking_end, ymin=0.97, ymax=1.0, color="w", alpha=0.6)
+        zw = col.ground_surface - col.v.mesh.y[-1]
+        if zw > 0.0:
+            ax.axhline(zw, color="c", lw=0.8)
+            ax.annotate("water table", xy=(ft[-1], zw), ha="right", va="bottom", color="c", fontsize=8)
+        if len(ft) > 1 and ft[-1] / max(ft[1] - ft[0], 1e-12) > 200:
+            ax.set_xscale("symlog", linthresh=max(col.shear_end, 1.0))
         fig.colorbar(pc, ax=ax, label="r_u [-]")
         fig.tight_layout()
         paths.append(out / "ru_map.png")
@@ -78,4 +90,71 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95) ->
     paths.append(out / "settlement.png")
     fig.savefig(paths[-1], dpi=110)
     plt.close(fig)
+    if case is not None and summary is not None and extra is not None:
+        paths.append(_profile_plot(rec, col, out, title, ru_liq, summary, extra))
+        if extra.get("spectra") is not None:
+            paths.append(_spectra_plot(out, title, extra["spectra"]))
     return paths
+
+
+def _profile_plot(rec, col, out: Path, title: str, ru_liq: float, summary: dict, extra: dict) -> Path:
+    """Peak r_u, peak shear strain and FS against depth, layers and water table drawn."""
+    ns = col.n_sat
+    fig, axes = plt.subplots(1, 3, figsize=(11, 6), sharey=True)
+    z = col.depth_all
+    run, inp = extra["simplified_run"], extra["simplified_input"]
+    axes[0].plot(np.clip(rec.peak, 0.0, None), z[:ns], "k.-", lw=1.0, ms=3, label="two-fluid peak r_u")
+    axes[0].axvline(ru_liq, color="r", ls=":", lw=0.8)
+    axes[0].set_xlabel("peak r_u [-]")
+    axes[0].set_xlim(0.0, 1.1)
+    axes[1].semilogx(np.maximum(rec.peak_strain, 1e-7), z, "b.-", lw=1.0, ms=3)
+    axes[1].set_xlabel("peak |shear strain| [-]")
+    fs_run = np.where(np.isfinite(run.FS), run.FS, np.nan)
+    fs_in = np.where(np.isfinite(inp.FS), inp.FS, np.nan)
+    axes[2].plot(fs_run, run.depth_mid_m, "m.-", lw=1.0, ms=3,
+                 label=f"a_max = run surface {run.a_max_g:.2f} g")
+    axes[2].plot(fs_in, inp.depth_mid_m, "g.--", lw=1.0, ms=3, label=f"a_max = input {inp.a_max_g:.2f} g")
+    axes[2].axvline(1.0, color="r", ls=":", lw=0.8)
+    axes[2].set_xlim(0.0, 3.0)
+    axes[2].set_xlabel("FS, simplified procedure [-]")
+    axes[2].legend(fontsize=7, loc="lower right")
+    zw = summary["site"]["water_table_depth_m"]
+    for ax in axes:
+        for la in summary["layers"]:
+            ax.axhline(la["depth_bottom_m"], color="0.6", lw=0.6)
+        ax.axhline(zw, color="c", lw=1.0)
+        ax.grid(alpha=0.3)
+    for la in summary["layers"]:
+        axes[0].annotate(la["name"], xy=(1.08, 0.5 * (la["depth_top_m"] + la["depth_bottom_m"])),
+                         ha="right", va="center", fontsize=7, color="0.3")
+    axes[0].annotate("water table", xy=(0.02, zw), va="bottom", color="c", fontsize=7)
+    axes[0].set_ylim(col.ground_surface, 0.0)
+    axes[0].set_ylabel("depth below the ground surface [m]")
+    fig.suptitle(f"{title}: profile (settlement {100 * summary['settlement_end_m']:.2f} cm two-fluid, "
+                 f"{100 * run.total_settlement_m:.2f} cm simplified)", fontsize=10)
+    fig.tight_layout()
+    path = out / "profile.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _spectra_plot(out: Path, title: str, spec: dict) -> Path:
+    fig, axes = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    T = spec["period_s"]
+    axes[0].loglog(T, spec["Sa_input_g"], "k", lw=1.2, label="input")
+    axes[0].loglog(T, spec["Sa_surface_g"], "r", lw=1.2, label="surface")
+    axes[0].set_ylabel(f"S_a, {100 * spec['damping']:g} % damped [g]")
+    axes[0].legend()
+    axes[0].set_title(f"{title}: response spectra")
+    axes[1].semilogx(T, spec["amplification"], "b", lw=1.2)
+    axes[1].axhline(1.0, color="k", lw=0.6)
+    axes[1].set_ylabel("amplification S_a,surface / S_a,input [-]")
+    axes[1].set_xlabel("period [s]")
+    for ax in axes:
+        ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    path = out / "spectra.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

@@ -44,9 +44,10 @@ from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalCo
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings
 from ..verification.terzaghi import consolidation_coefficient
+from . import liquefaction_report as report
 from .liquefaction_site import Site, crust_for, sand_for, site_arrays
 
-__all__ = ["Built", "build_column", "run_liquefaction", "PROFILE_COLUMNS"]
+__all__ = ["Built", "build_column", "run_liquefaction", "simplified_table", "PROFILE_COLUMNS"]
 
 PROFILE_COLUMNS = ["depth_m", "y_m", "porosity", "reference_porosity", "P_Pa", "excess_P_Pa",
                    "sigma_v_eff_Pa", "sigma_v0_Pa", "r_u", "peak_r_u", "shear_strain",
@@ -121,6 +122,24 @@ def build_column(case: dict) -> Built:
     return Built(column, state, motion, tm["end"], tm["step"], case["reconsolidation"]["step"], site)
 
 
+def simplified_table(case, a_max_g: float | None = None):
+    """The simplified procedure on the case's profile, per element, without running the column.
+
+    ``a_max_g`` [g] is the peak ground-surface acceleration of the CSR; None: the input's
+    (``[ground_motion] pga_g``). Returns a :class:`twofluid.geotech.SimplifiedResult`;
+    CaseError for a bad case or ``a_max_g`` outside [0, 3] g.
+    """
+    case = load_case(case) if not isinstance(case, dict) else validated(case)
+    if case["case"]["model"] != "liquefaction_1d":
+        raise CaseError(_source(case), "[case] model", f"{case['case']['model']!r}: the simplified procedure "
+                        "needs a liquefaction_1d case (a layered site)")
+    if a_max_g is not None and not 0.0 <= a_max_g <= 3.0:
+        raise CaseError(_source(case), "--a-max", f"{a_max_g:g} is outside the valid range [0, 3] [g]")
+    b = build_column(case)
+    a = case["ground_motion"]["pga_g"] if a_max_g is None else a_max_g
+    return report.simplified_rows(b.column, b.site, case, a)
+
+
 def hydraulic_conductivity(col: LiquefactionColumn, n) -> np.ndarray:
     """k = ρ_f g n²/β [m/s] with β at zero slip (docs/model.md, "Drag"), per element."""
     v = col.v
@@ -135,17 +154,21 @@ class _Recorder:
         self.col, self.ru_liq = col, ru_liq
         ne = col.v.mesh.n_elements
         ys = col.v.mesh.y
-        H = ys[-1]
         self.depths = list(depths)
-        self.elem = [int(np.clip(np.searchsorted(ys, H - z, side="right") - 1, 0, ne - 1)) for z in depths]
+        self.elem = [int(np.clip(np.searchsorted(ys, col.ground_surface - z, side="right") - 1, 0, ne - 1))
+                     for z in depths]
         self.peak = np.full(ne, -np.inf)
         self.t_peak = np.zeros(ne)
         self.first = np.full(ne, np.nan)
+        self.peak_strain = np.zeros(col.y_all.size - 1)
+        self.max_contribution = np.zeros(ne)
         self.t, self.ru, self.sig, self.settle, self.pbase = [], [], [], [], []
+        self.ru_top, self.flux_top = [], []
+        self.surface_t, self.surface_a = [], []
         self.field_t, self.field = [], []
         self.ever = np.zeros(ne, dtype=bool)
 
-    def record(self, s: ColumnState, field: bool):
+    def record(self, s: ColumnState, field: bool, surface=()):
         col = self.col
         ru = col.excess_ratio(s)
         up = ru > self.peak
@@ -154,11 +177,19 @@ class _Recorder:
         liq = ru > self.ru_liq
         self.first = np.where(np.isnan(self.first) & liq, s.t, self.first)
         self.ever |= liq
+        self.peak_strain = np.maximum(self.peak_strain, np.abs(s.wave.gamma))
+        self.last_contribution = col.settlement_contributions(s)
+        self.max_contribution = np.maximum(self.max_contribution, self.last_contribution)
         self.t.append(s.t)
         self.ru.append(ru[self.elem])
         self.sig.append(col.granular_pressure(s)[self.elem] / col.sigma_v0[self.elem])
         self.settle.append(col.settlement(s))
         self.pbase.append(float(col.excess_pressure(s)[0]))
+        self.ru_top.append(float(ru[-1]))
+        self.flux_top.append(col.surface_seepage(s))
+        for t, a in surface:
+            self.surface_t.append(t)
+            self.surface_a.append(a)
         if field:
             self.field_t.append(s.t)
             self.field.append(ru)
@@ -168,10 +199,12 @@ class _Recorder:
         col = self.col
         ps = col.granular_pressure(s)
         vals = {"base_acceleration_m_s2": col.base_acceleration(s),
+                "surface_acceleration_m_s2": col.surface_acceleration(s),
                 "surface_settlement_m": self.settle[-1],
                 "base_pore_pressure_Pa": float(s.vertical.P[0]),
                 "base_excess_pore_pressure_Pa": self.pbase[-1],
-                "surface_displacement_m": col.surface_displacement(s)}
+                "surface_displacement_m": col.surface_displacement(s),
+                "water_table_seepage_m_s": self.flux_top[-1]}
         for z, e in zip(self.depths, self.elem):
             vals[f"r_u@{z:g}m"] = float(ru[e])
         for z, e in zip(self.depths, self.elem):
@@ -182,20 +215,22 @@ class _Recorder:
 def _profile(col: LiquefactionColumn, s: ColumnState, peak) -> dict:
     v = s.vertical
     mesh = col.v.mesh
+    ns = col.n_sat
     return {"depth_m": col.depth, "y_m": mesh.centres, "porosity": v.n, "reference_porosity": v.n_bar,
             "P_Pa": v.P, "excess_P_Pa": col.excess_pressure(s), "sigma_v_eff_Pa": col.granular_pressure(s),
             "sigma_v0_Pa": col.sigma_v0, "r_u": col.excess_ratio(s), "peak_r_u": peak,
-            "shear_strain": s.wave.gamma, "shear_stress_Pa": s.wave.tau,
+            "shear_strain": s.wave.gamma[:ns], "shear_stress_Pa": s.wave.tau[:ns],
             "hydraulic_conductivity_m_s": hydraulic_conductivity(col, v.n)}
 
 
-def _zone(mask, mesh) -> list | None:
-    """[top depth, bottom depth] [m] spanned by the elements in ``mask`` (None if empty)."""
+def _zone(mask, col) -> list | None:
+    """[top depth, bottom depth] [m] below the ground surface spanned by the saturated elements in
+    ``mask`` (None if empty)."""
     if not np.any(mask):
         return None
-    H = mesh.y[-1]
+    y, H = col.v.mesh.y, col.ground_surface
     e = np.flatnonzero(mask)
-    return [float(H - mesh.y[e.max() + 1]), float(H - mesh.y[e.min()])]
+    return [float(H - y[e.max() + 1]), float(H - y[e.min()])]
 
 
 def run_liquefaction(case, out_dir=None, progress: bool = False):
@@ -209,10 +244,10 @@ def run_liquefaction(case, out_dir=None, progress: bool = False):
     out.mkdir(parents=True, exist_ok=True)
     write_resolved_case(out / "case.resolved.toml", case)
     col, state = b.column, b.state
-    mesh = col.v.mesh
-    H = float(mesh.y[-1])
+    H = col.ground_surface
     rep = case["report"]
-    depths = sorted(set(rep["depths"]) | {H - y for y in case["output"]["probes"]})
+    depths = sorted(set(rep["depths"]) | {H - case["site"]["water_table_depth"] - y
+                                          for y in case["output"]["probes"]})
     rec = _Recorder(col, depths, rep["ru_liquefied"])
     ru0 = rec.record(state, True)
     probe_cols = list(rec.probe_values(state, ru0))
@@ -235,50 +270,62 @@ def run_liquefaction(case, out_dir=None, progress: bool = False):
     inflow = 0.0
     settle_shaking = 0.0 if col.shaking_end == 0.0 else None
     next_probe, next_field = case["output"]["probe_interval"], rep["field_interval"]
-    n_steps, n_sub, last = 0, 0, state
+    n_steps, n_sub, last, probed = 0, 0, state, True
+    ru_done = case["reconsolidation"]["dissipated_r_u"]
+    stop = None if ru_done == 0.0 else (lambda s: float(np.max(col.excess_ratio(s))) < ru_done)
     wall0 = time.perf_counter()
     with run_guard(b.t_end, progress, writer, ffile) as run:
-        for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times):
+        for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times, stop=stop):
             s = last = step.state
             n_steps += 1
             n_sub += step.substeps
             inflow += step.solids_inflow
             at_mark = any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times)
             field = s.t >= next_field - 1e-12 or at_mark
-            ru = rec.record(s, field)
+            ru = rec.record(s, field, step.surface)
             if field:
                 write_field(s, ru)
                 next_field = s.t + rep["field_interval"]
+            probed = False
             if s.t >= next_probe - 1e-12 or at_mark:
                 writer.probe(s.t, rec.probe_values(s, ru))
                 next_probe = s.t + case["output"]["probe_interval"]
+                probed = True
             if settle_shaking is None and s.t >= col.shaking_end - 1e-9:
                 settle_shaking = rec.settle[-1]
             if at_mark:
                 profiles[round(s.t, 9)] = _profile(col, s, rec.peak)
                 writer.profile(s.t, profiles[round(s.t, 9)])
             run.bar.update(s.t - run.bar.n)
+        if run.status == "completed" and round(last.t, 9) not in profiles:  # ended by dissipation
+            profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
+            writer.profile(last.t, profiles[round(last.t, 9)])
+            if not probed:
+                writer.probe(last.t, rec.probe_values(last, col.excess_ratio(last)))
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if round(last.t, 9) not in profiles:
         profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
-    summary = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
-                       settle_shaking)
+    summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
+                              settle_shaking)
     write_json(out / "summary.json", summary)
+    report.write_tables(out, summary, extra, rec)
     if case["output"]["plots"]:
         from ..plots.liquefaction import liquefaction_plots
 
-        liquefaction_plots(rec, col, out, name, rep["ru_liquefied"])
+        liquefaction_plots(rec, col, out, name, rep["ru_liquefied"], case=case, summary=summary, extra=extra)
     hist = {"t": np.array(rec.t), "r_u": np.array(rec.ru), "settlement_m": np.array(rec.settle),
             "base_excess_pore_pressure_Pa": np.array(rec.pbase),
-            "field_t": np.array(rec.field_t), "field_r_u": np.array(rec.field)}
+            "field_t": np.array(rec.field_t), "field_r_u": np.array(rec.field),
+            "surface_t": np.array(rec.surface_t), "surface_acceleration_m_s2": np.array(rec.surface_a)}
     return RunResult(status, out, summary, profiles, hist)
 
 
 def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow, settle_shaking):
-    col = b.column
+    """summary.json, and the per-element and per-layer arrays behind the CSV tables and figures."""
+    col, site = b.column, b.site
     mesh = col.v.mesh
-    H = float(mesh.y[-1])
+    H = col.ground_surface
     n0 = col.n0
     k = hydraulic_conductivity(col, n0)
     beta = col.v.clo.drag(n0, 0.0, col.v.mat.d, col.v.mat.rho_f, col.v.mat.mu_f, **col.v.clo.drag_params)
@@ -293,33 +340,84 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
     if np.any(liq):
         t1 = float(np.nanmin(first))
         at = liq & (first <= t1 + 1e-12)
-        first_info = {"time_s": t1, "depth_range_m": _zone(at, mesh),
-                      "depth_m": float(np.mean(col.depth[at]))}
+        first_info = {"time_s": t1, "depth_range_m": _zone(at, col), "depth_m": float(np.mean(col.depth[at]))}
     m = case["ground_motion"]
     c_base = col.wave.base_impedance
     if c_base is None:
         base = {"kind": "rigid", "record_is": "base motion"}
     else:  # α = ρ̄ V_s / (ρ_r V_r) of the bottom element at the initial G_max
-        g0 = seed_idriss_gmax(col.sigma_v0[0], col.sand.k2max)
+        g0 = seed_idriss_gmax(col.sigma_v0[0], np.broadcast_to(col.sand.k2max, n0.shape)[0])
         rho0 = float(col.mixture_density(n0)[0])
         base = {"kind": "compliant", "record_is": "outcrop motion of the bedrock",
                 "bedrock_impedance_Pa_s_m": c_base,
                 "impedance_ratio_bottom_element": float(np.sqrt(rho0 * g0)) / c_base}
+    # dissipation: the settlement the column will reach once the excess pore pressure is gone
+    final, _ = report.final_settlement(col, last)
+    ru_end = float(np.max(col.excess_ratio(last)))
+    done = case["reconsolidation"]["dissipated_r_u"]
+    dissipated = done > 0.0 and ru_end < done
+    fraction = rec.settle[-1] / final if final > 0.0 else 1.0
+    if status == "completed":
+        reason = (f"dissipated: max r_u = {ru_end:.3g} < {done:g} at t = {last.t:.6g} s" if dissipated else
+                  f"stopped at the end time {b.t_end:g} s before dissipation: max r_u = {ru_end:.3g}, "
+                  f"{100.0 * fraction:.1f} % of the final settlement ({100.0 * final:.3g} cm) reached")
+    boil = report.sand_boil(rec.t, rec.ru_top, rec.flux_top, col.shaking_end, rec.ru_liq)
+    spec = report.spectra(b.motion, rec.surface_t, rec.surface_a, case["report"]["spectrum_periods"],
+                          case["report"]["spectrum_damping"])
+    pga_in = 0.0 if b.motion is None else b.motion.pga / report.G
+    pga_surf = 0.0 if not rec.surface_a else float(np.max(np.abs(rec.surface_a))) / report.G
+    simp_run = report.simplified_rows(col, site, case, pga_surf)
+    simp_in = report.simplified_rows(col, site, case, pga_in)
+    ns = col.n_sat
+    layers = []
+    owner_all = np.concatenate([site.layer_of, site.crust_layer_of])
+    contrib_end = col.settlement_contributions(last)
+    for i, la in enumerate(case["layers"]):
+        e = np.flatnonzero(site.layer_of == i)
+        ea = np.flatnonzero(owner_all == i)
+        row = {"name": la["name"], "depth_top_m": float(site.depth_top[i]),
+               "depth_bottom_m": float(site.depth_bottom[i]), "elements": int(ea.size),
+               "saturated": bool(e.size), "liquefiable": bool(e.size) and la["liquefiable"],
+               "peak_shear_strain": float(rec.peak_strain[ea].max()),
+               "simplified_min_FS_run": float(simp_run.FS[ea].min()),
+               "simplified_min_FS_input": float(simp_in.FS[ea].min()),
+               "simplified_settlement_run_m": float(simp_run.settlement_m[ea].sum()),
+               "simplified_settlement_input_m": float(simp_in.settlement_m[ea].sum())}
+        if e.size:
+            f = first[e]
+            row.update(porosity=float(n0[e].mean()), particle_diameter_m=float(col.v.mat.d_p[e[0]]),
+                       hydraulic_conductivity_m_s=float(k[e].mean()),
+                       hydraulic_conductivity_given_m_s=la["hydraulic_conductivity"] or None,
+                       sigma_v0_Pa=[float(col.sigma_v0[e].min()), float(col.sigma_v0[e].max())],
+                       peak_r_u=float(rec.peak[e].max()),
+                       time_first_liquefied_s=None if not np.any(np.isfinite(f)) else float(np.nanmin(f)),
+                       liquefied_depth_range_m=_zone(np.isin(np.arange(ns), e) & rec.ever, col),
+                       liquefied_thickness_m=float(mesh.lengths[e][rec.ever[e]].sum()),
+                       settlement_end_m=float(contrib_end[e].sum()),
+                       max_settlement_contribution_m=float(rec.max_contribution[e].sum()))
+        else:
+            row.update(unit_weight_N_m3=la["unit_weight"])
+        layers.append(row)
+    zw = case["site"]["water_table_depth"]
     s = {
         "case": case["case"]["name"], "status": status, "stopped_at_s": last.t, "reason": reason,
         "end_time_s": b.t_end, "wall_time_s": wall, "steps": n_steps, "shear_substeps": n_sub,
-        "deposit": {"depth_m": H, "elements": mesh.n_elements, "element_size_m": float(mesh.lengths[0]),
-                    "porosity": float(n0.mean()), "particle_diameter_m": col.v.mat.d_p,
-                    "sigma_v0_Pa": [float(col.sigma_v0.min()), float(col.sigma_v0.max())]},
+        "depths_are": "below the ground surface [m]",
+        "site": {"depth_m": H, "water_table_depth_m": zw, "crust_weight_Pa": site.crust_weight,
+                 "elements": int(col.y_all.size - 1), "saturated_elements": ns,
+                 "sigma_v0_Pa": [float(col.sigma_v0.min()), float(col.sigma_v0.max())]},
+        "layers": layers,
         "hydraulic_conductivity_m_s": float(k.mean()),
         "hydraulic_conductivity_definition": "k = rho_f g n^2 / beta at zero slip, initial porosity",
-        "consolidation_coefficient_m2_s": {"surface": float(c_v[-1]), "mid_depth": float(np.interp(
-            H / 2, col.depth[::-1], c_v[::-1])), "base": float(c_v[0])},
-        "shaking": {"record": m["file"], "pga_g": m["pga_g"],
+        "consolidation_coefficient_m2_s": {"top": float(c_v[-1]), "mid_depth": float(np.interp(
+            zw + (H - zw) / 2, col.depth[::-1], c_v[::-1])), "base": float(c_v[0])},
+        "shaking": {"record": m["file"], "pga_g": m["pga_g"], "magnitude": m["magnitude"],
                     "end_s": col.shaking_end, "shear_wave_end_s": col.shear_end,
                     "applied_pga_m_s2": None if b.motion is None else b.motion.pga, "base": base,
-                    "modulus_reduction": case["sand"]["modulus_reduction"]},
-        "r_u_definition": "(P - P_hydrostatic) / sigma'_v0 per element; liquefied: r_u > "
+                    "peak_surface_acceleration_g": pga_surf,
+                    "modulus_reduction": sorted({la["modulus_reduction"] for la in case["layers"]})[0]
+                    if len({la["modulus_reduction"] for la in case["layers"]}) == 1 else "per layer"},
+        "r_u_definition": "(P - P_hydrostatic) / sigma'_v0 per saturated element; liquefied: r_u > "
                           f"{rec.ru_liq:g}",
         "by_depth": {"depth_m": col.depth, "peak_r_u": rec.peak, "time_of_peak_s": rec.t_peak,
                      "time_first_liquefied_s": [None if not np.isfinite(x) else float(x) for x in first]},
@@ -328,13 +426,26 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                           "time_first_liquefied_s": [None if not np.isfinite(first[e]) else float(first[e])
                                                      for e in rec.elem]},
         "first_liquefaction": first_info,
-        "liquefied_depth_range_m": _zone(rec.ever, mesh),
+        "liquefied_depth_range_m": _zone(rec.ever, col),
         "liquefied_thickness_m": float(mesh.lengths[rec.ever].sum()),
         "peak_r_u_top_element": float(rec.peak[-1]),
+        "surface": boil,
         "settlement_end_of_shaking_m": settle_shaking,
         "settlement_end_m": rec.settle[-1],
         "settlement_end_percent_of_depth": 100.0 * rec.settle[-1] / H,
-        "settlement_definition": "sum over elements of h (n0 - n)/(1 - n): compression of the skeleton",
+        "settlement_definition": "sum over saturated elements of h (n0 - n)/(1 - n): compression of the skeleton",
+        "dissipation": {"dissipated": dissipated, "criterion_max_r_u": done, "max_r_u_end": ru_end,
+                        "final_settlement_m": final, "fraction_of_final_settlement": fraction,
+                        "final_settlement_definition": "the remaining excess pore pressure moved onto the "
+                        "skeleton at fixed reference porosity (skeleton law integrated exactly)"},
+        "simplified_procedure": {
+            "method": "Idriss & Boulanger (2008, 2014): r_d, MSF, K_sigma, CRR from (N1)60cs = 46 Dr^2; "
+                      "settlement: Ishihara & Yoshimine (1992)",
+            "a_max_run_g": pga_surf, "a_max_input_g": pga_in, "magnitude": m["magnitude"],
+            "liquefied_depth_range_run_m": _fs_zone(simp_run, col),
+            "liquefied_depth_range_input_m": _fs_zone(simp_in, col),
+            "settlement_run_m": simp_run.total_settlement_m,
+            "settlement_input_m": simp_in.total_settlement_m},
         "base_excess_pore_pressure": {"peak_Pa": float(pb.max()), "time_of_peak_s": float(t[pb.argmax()]),
                                       "end_Pa": float(pb[-1])},
         "solids_volume_m3": {"initial": solids0, "final": solids, "inflow_top": inflow},
@@ -342,4 +453,19 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
         "solids_volume_balance_error_definition":
             "(solids volume now - initial - solids that entered through the top face) / initial",
     }
-    return s
+    if spec is not None:
+        s["spectra"] = {key: spec[key] for key in ("damping", "pga_input_g", "pga_surface_g",
+                                                   "period_of_peak_Sa_input_s", "period_of_peak_Sa_surface_s")}
+        s["spectra"]["max_amplification"] = float(np.nanmax(spec["amplification"]))
+        s["spectra"]["period_of_max_amplification_s"] = float(spec["period_s"][np.nanargmax(spec["amplification"])])
+    extra = {"simplified_run": simp_run, "simplified_input": simp_in, "spectra": spec,
+             "owner": owner_all, "layer_names": [la["name"] for la in case["layers"]]}
+    return s, extra
+
+
+def _fs_zone(res, col) -> list | None:
+    """Depth range [m] where the simplified procedure's FS < 1."""
+    bad = res.FS < 1.0
+    if not np.any(bad):
+        return None
+    return [float(res.z_top_m[bad].min()), float(res.z_bottom_m[bad].max())]

@@ -1,0 +1,172 @@
+"""What an engineer reads from a liquefaction run, besides the time loop's own records.
+
+- :func:`final_settlement` — the settlement the column will reach once the remaining excess pore
+  pressure has dissipated, from the skeleton law at fixed n̄ (the constrained modulus, integrated);
+- :func:`sand_boil` — a quick surface after the shaking (when, how long, upward seepage);
+- :func:`spectra` — 5 %-damped response spectra of the input and of the surface, and their ratio;
+- :func:`simplified_rows` — the simplified procedure (Idriss & Boulanger 2008, 2014) on the same
+  profile, per element of the column.
+
+Depths are from the ground surface throughout.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..geotech import response_spectrum, simplified_procedure
+
+__all__ = ["final_settlement", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
+
+G = 9.80665  # standard gravity [m/s²]: accelerations reported in g
+DEFAULT_PERIODS = np.logspace(np.log10(0.02), np.log10(5.0), 60)
+
+
+def final_settlement(col, s) -> tuple[float, np.ndarray]:
+    """Settlement at full dissipation [m] and the per-element final porosity.
+
+    The total vertical stress at an element does not change as it drains, so the excess pore
+    pressure u_e = P − P_hydrostatic still in it ends up on the skeleton: P_s,final = P_s + u_e.
+    With n̄ fixed after the shaking the skeleton law P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))]
+    gives the final porosity n_f = 1 − (1 − n̄)/(1 − A ln(P_s,final/p_ref)) — the constrained
+    modulus M = dP_s/dε_v = P_s (1 − n̄)/(A (1 − n)) integrated exactly, not linearised — and
+    the final settlement Σ h (n0 − n_f)/(1 − n_f), the same measure as the run's.
+    """
+    v = s.vertical
+    ps = col.granular_pressure(s)
+    target = np.maximum(ps + col.excess_pressure(s), 1e-12 * np.maximum(col.sigma_v0, 1.0))
+    clo = col.v.clo
+    n_f = 1.0 - (1.0 - v.n_bar) / (1.0 - clo.A * np.log(target / clo.p_ref))
+    h = col.v.mesh.lengths
+    return float(np.sum(h * (col.n0 - n_f) / (1.0 - n_f))), n_f
+
+
+def sand_boil(t, ru_top, flux_top, shaking_end: float, ru_liq: float) -> dict:
+    """A quick surface (r_u of the top saturated element above ``ru_liq``) after the shaking.
+
+    ``t`` [s], ``ru_top`` [-] and ``flux_top`` (upward Darcy flux n (U_f − U_s) of the liquid at the
+    water table [m/s]) are histories over the run's steps. Returns whether the surface went quick
+    during the shaking, and after it: ``sand_boil`` (bool), its start and end [s], duration [s]
+    (time spent quick) and the peak and mean upward seepage velocity while quick [m/s].
+
+    >>> b = sand_boil([0, 1, 2, 3, 4], [0, 0.5, 0.99, 0.99, 0.2], [0, 1e-3, 2e-3, 4e-3, 1e-3], 1.5, 0.95)
+    >>> b["sand_boil"], b["start_s"], b["duration_s"], b["peak_seepage_velocity_m_s"]
+    (True, 2.0, 1.0, 0.004)
+    """
+    t, ru, q = (np.asarray(x, dtype=float) for x in (t, ru_top, flux_top))
+    quick = ru > ru_liq
+    during = quick & (t <= shaking_end + 1e-9)
+    after = quick & (t > shaking_end + 1e-9)
+    out = {"surface_liquefied_while_shaking": bool(during.any()),
+           "peak_r_u_top_while_shaking": float(ru[t <= shaking_end + 1e-9].max()) if t.size else 0.0,
+           "sand_boil": bool(after.any()), "start_s": None, "end_s": None, "duration_s": 0.0,
+           "peak_seepage_velocity_m_s": None, "mean_seepage_velocity_m_s": None}
+    if after.any():
+        i = np.flatnonzero(after)
+        dt = np.diff(t, prepend=t[0])
+        out.update(start_s=float(t[i[0]]), end_s=float(t[i[-1]]), duration_s=float(dt[i].sum()),
+                   peak_seepage_velocity_m_s=float(q[i].max()),
+                   mean_seepage_velocity_m_s=float(np.sum(q[i] * dt[i]) / max(dt[i].sum(), 1e-300)))
+    return out
+
+
+def spectra(motion, surface_t, surface_a, periods=None, damping: float = 0.05) -> dict | None:
+    """Response spectra [g] of the input record and of the surface's absolute acceleration.
+
+    The input is the applied record (base or outcrop motion, m/s²) padded with zeros to the end
+    of the surface history (the free vibration), the surface the sub-step history of the run.
+    None without shaking.
+    """
+    if motion is None or len(surface_t) < 2:
+        return None
+    periods = DEFAULT_PERIODS if periods is None or len(periods) == 0 else np.asarray(periods, float)
+    ts, a_s = np.asarray(surface_t, float), np.asarray(surface_a, float)
+    dt_s = float(np.median(np.diff(ts)))
+    dt_in = float(motion.dt)
+    n_in = max(motion.npts, int(round((ts[-1] - motion.time[0]) / dt_in)) + 1)
+    a_in = np.zeros(n_in)
+    a_in[:motion.npts] = motion.acceleration
+    sa_in, _, _ = response_spectrum(a_in / G, dt_in, periods, damping)
+    sa_s, _, _ = response_spectrum(np.concatenate([[0.0], a_s]) / G, dt_s, periods, damping)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(sa_in > 0.0, sa_s / np.where(sa_in > 0.0, sa_in, 1.0), np.nan)
+    return {"period_s": periods, "Sa_input_g": sa_in, "Sa_surface_g": sa_s, "amplification": ratio,
+            "damping": damping, "pga_input_g": float(np.abs(motion.acceleration).max() / G),
+            "pga_surface_g": float(np.abs(a_s).max() / G),
+            "period_of_peak_Sa_input_s": float(periods[np.argmax(sa_in)]),
+            "period_of_peak_Sa_surface_s": float(periods[np.argmax(sa_s)])}
+
+
+def profile_stresses(col, site, case: dict) -> dict:
+    """Depth ranges, total and effective vertical stress at rest [Pa], Dr [-] and whether each
+    element of the whole column (saturated, bottom first, then the crust) can liquefy."""
+    ys = col.y_all
+    H = col.ground_surface
+    z_top, z_bot = H - ys[1:], H - ys[:-1]
+    ns = col.n_sat
+    layers = case["layers"]
+    owner = np.concatenate([site.layer_of, site.crust_layer_of])
+    u_hydro = np.concatenate([col.p_hydro - col.v.top.pressure, np.zeros(owner.size - ns)])
+    sig_eff = np.empty(owner.size)
+    sig_eff[:ns] = col.sigma_v0
+    if owner.size > ns:  # the crust: σ′_v = σ_v = surcharge + weight above the centre
+        c = col.crust
+        load = c.rho * col.v.mat.g * c.h
+        sig_eff[ns:] = case["site"]["surcharge"] + np.cumsum(load[::-1])[::-1] - 0.5 * load
+    dr = np.array([layers[i]["relative_density"] / 100.0 for i in owner])
+    liq = np.array([layers[i]["liquefiable"] for i in owner], dtype=bool)
+    liq[ns:] = False
+    return {"z_top_m": z_top, "z_bottom_m": z_bot, "sigma_v_Pa": sig_eff + u_hydro,
+            "sigma_v_eff_Pa": sig_eff, "relative_density": dr, "liquefiable": liq, "layer_of": owner}
+
+
+def simplified_rows(col, site, case: dict, a_max_g: float):
+    """:func:`twofluid.geotech.simplified_procedure` per element of the column (crust: FS = inf)."""
+    p = profile_stresses(col, site, case)
+    m = case["ground_motion"]["magnitude"]
+    return simplified_procedure(p["z_top_m"], p["z_bottom_m"], p["sigma_v_Pa"], p["sigma_v_eff_Pa"],
+                                p["relative_density"], p["liquefiable"], min(max(a_max_g, 0.0), 3.0), m)
+
+
+ELEMENT_COLUMNS = ["depth_top_m", "depth_bottom_m", "depth_m", "layer", "saturated", "peak_r_u",
+                   "time_first_liquefied_s", "peak_shear_strain", "max_settlement_contribution_m",
+                   "settlement_contribution_end_m", "FS_simplified_run", "FS_simplified_input",
+                   "eps_v_simplified_run"]
+
+
+def _write_csv(path, header, rows):
+    import csv
+
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        for r in rows:
+            w.writerow(["" if x is None else (f"{x:.8g}" if isinstance(x, float) else x) for x in r])
+
+
+def write_tables(out, summary: dict, extra: dict, rec) -> None:
+    """elements.csv (one row per element of the column, depths from the ground surface, top
+    first), surface_motion.csv (absolute surface acceleration per shear sub-step) and
+    spectra.csv (input and surface S_a and their ratio)."""
+    run, inp = extra["simplified_run"], extra["simplified_input"]
+    col = rec.col
+    ns = col.n_sat
+    names = extra["layer_names"]
+    rows = []
+    for e in np.argsort(run.depth_mid_m):
+        wet = e < ns
+        f = rec.first[e] if wet else np.nan
+        rows.append([float(run.z_top_m[e]), float(run.z_bottom_m[e]), float(run.depth_mid_m[e]),
+                     names[extra["owner"][e]], "yes" if wet else "no",
+                     float(rec.peak[e]) if wet else None, float(f) if np.isfinite(f) else None,
+                     float(rec.peak_strain[e]), float(rec.max_contribution[e]) if wet else 0.0,
+                     float(rec.last_contribution[e]) if wet else 0.0,
+                     float(run.FS[e]), float(inp.FS[e]), float(run.eps_v[e])])
+    _write_csv(out / "elements.csv", ELEMENT_COLUMNS, rows)
+    if rec.surface_t:
+        _write_csv(out / "surface_motion.csv", ["time_s", "surface_acceleration_m_s2"],
+                   [[float(t), float(a)] for t, a in zip(rec.surface_t, rec.surface_a)])
+    spec = extra["spectra"]
+    if spec is not None:
+        _write_csv(out / "spectra.csv", ["period_s", "Sa_input_g", "Sa_surface_g", "amplification"],
+                   [[float(T), float(a), float(b), float(r)] for T, a, b, r in
+                    zip(spec["period_s"], spec["Sa_input_g"], spec["Sa_surface_g"], spec["amplification"])])
