@@ -24,14 +24,13 @@ RECORD = "time_s,acceleration_g\n" + "".join(f"{0.01 * i:.2f},{0.1 * np.sin(2 * 
                                               for i in range(31))
 
 
-def _case(**sections) -> str:
-    """A tiny column shaken by record.csv (next to the case file); ``sections`` add or replace keys."""
+def _case(layer=None, **sections) -> str:
+    """A tiny one-layer site shaken by record.csv (next to the case file); ``layer`` and ``sections``
+    add or replace keys (of the layer, of the sections)."""
     base = {
         "case": {"name": "tiny", "model": "liquefaction_1d"},
-        "materials": {"liquid_density": 1000.0, "liquid_viscosity": 1e-3, "particle_density": 2650.0,
-                      "particle_diameter": 8e-5},
-        "deposit": {"depth": 4.0, "elements": 4},
-        "sand": {},
+        "materials": {"liquid_density": 1000.0, "liquid_viscosity": 1e-3, "particle_density": 2650.0},
+        "site": {},
         "ground_motion": {"file": "record.csv", "pga_g": 0.1, "duration": 0.2},
         "shear_wave": {"step": 0.01, "free_vibration": 0.0},
         "time": {"end": 0.2, "step": 0.02},
@@ -46,6 +45,10 @@ def _case(**sections) -> str:
         lines.append(f"[{sec}]")
         for k, v in keys.items():
             lines.append(f"{k} = {json.dumps(v)}")
+    one = {"name": "sand", "thickness": 4.0, "elements": 4, "particle_diameter": 8e-5, "porosity": 0.44,
+           **(layer or {})}
+    lines.append("[[layers]]")
+    lines += [f"{k} = {json.dumps(v)}" for k, v in one.items()]
     return "\n".join(lines) + "\n"
 
 
@@ -77,12 +80,12 @@ def _bad_run(folder, capsys, text, files=()):
 
 
 BAD = [  # (case sections, extra files, words in the message)
-    (dict(sand={"reference_porosity_law": "ann", "ann_weights": "missing.json"}), (),
-     ["bad.toml", "[sand] ann_weights", "missing.json", "no such file"]),
-    (dict(sand={"reference_porosity_law": "ann", "ann_weights": "broken.json"}), [("broken.json", "{nope")],
-     ["[sand] ann_weights", "broken.json", "not valid JSON"]),
-    (dict(sand={"reference_porosity_law": "ann", "ann_weights": "short.json"}),
-     [("short.json", json.dumps({"input_min": [0, 0, 0]}))], ["[sand] ann_weights", "missing key"]),
+    (dict(layer={"reference_porosity_law": "ann", "ann_weights": "missing.json"}), (),
+     ["bad.toml", "[layers 1 'sand'] ann_weights", "missing.json", "no such file"]),
+    (dict(layer={"reference_porosity_law": "ann", "ann_weights": "broken.json"}), [("broken.json", "{nope")],
+     ["[layers 1 'sand'] ann_weights", "broken.json", "not valid JSON"]),
+    (dict(layer={"reference_porosity_law": "ann", "ann_weights": "short.json"}),
+     [("short.json", json.dumps({"input_min": [0, 0, 0]}))], ["[layers 1 'sand'] ann_weights", "missing key"]),
     (dict(ground_motion={"file": "zero.csv"}), [("zero.csv", "0,0\n0.01,0\n0.02,0\n")],
      ["[ground_motion] file", "zero.csv", "all zero", "pga_g = 0"]),
     (dict(ground_motion={"file": "const.csv"}), [("const.csv", "0,0.1\n0.01,0.1\n0.02,0.1\n")],
@@ -94,40 +97,40 @@ BAD = [  # (case sections, extra files, words in the message)
     (dict(materials={"particle_density": 900.0}), (),
      ["[materials] particle_density", "must exceed [materials] liquid_density = 1000"]),
     (dict(materials={"gravity": 0.0}), (), ["[materials] gravity", "(0, inf)"]),
-    (dict(sand={"compressibility": 0.5}), (), ["[sand] compressibility", "valid: A <"]),
-    # tabulated G/G_max (docs/model.md, "Shear modulus"): inline lists or a CSV file next to the case file
-    (dict(sand={"modulus_reduction": "tabulated"}), (), ["[sand] modulus_reduction", "needs a table"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-4, 1e-5],
+    (dict(layer={"compressibility": 0.5}), (), ["[layers 1 'sand'] compressibility", "valid: A <"]),
+    # tabulated G/G_max (SPEC 4.3): inline lists or a CSV file next to the case file
+    (dict(layer={"modulus_reduction": "tabulated"}), (), ["[layers 1 'sand'] modulus_reduction", "needs a table"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [1e-4, 1e-5],
                 "reduction_ratios": [1.0, 0.5]}), (),
-     ["bad.toml", "[sand] reduction_strains", "strictly increase", "0.0001 (point 1) then 1e-05"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [0.0, 1e-4],
-                "reduction_ratios": [1.0, 0.5]}), (), ["[sand] reduction_strains", "valid range (0, inf)"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4],
-                "reduction_ratios": [1.0, 1.5]}), (), ["[sand] reduction_ratios", "1.5", "valid range (0, 1]"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4, 1e-3],
-                "reduction_ratios": [1.0, 0.5, 0.7]}), (), ["[sand] reduction_ratios", "must not increase"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5],
-                "reduction_ratios": [1.0]}), (), ["[sand] reduction_strains", "at least 2"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4, 1e-3],
-                "reduction_ratios": [1.0, 0.5]}), (), ["[sand] reduction_ratios", "3 strain(s) but 2"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4],
-                "reduction_ratios": "0.5"}), (), ["[sand] reduction_ratios", "list of numbers"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "missing.csv"}), (),
-     ["[sand] reduction_file", "missing.csv", "no such file"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
+     ["bad.toml", "[layers 1 'sand'] reduction_strains", "strictly increase", "0.0001 (point 1) then 1e-05"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [0.0, 1e-4],
+                "reduction_ratios": [1.0, 0.5]}), (), ["[layers 1 'sand'] reduction_strains", "valid range (0, inf)"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4],
+                "reduction_ratios": [1.0, 1.5]}), (), ["[layers 1 'sand'] reduction_ratios", "1.5", "valid range (0, 1]"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4, 1e-3],
+                "reduction_ratios": [1.0, 0.5, 0.7]}), (), ["[layers 1 'sand'] reduction_ratios", "must not increase"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [1e-5],
+                "reduction_ratios": [1.0]}), (), ["[layers 1 'sand'] reduction_strains", "at least 2"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4, 1e-3],
+                "reduction_ratios": [1.0, 0.5]}), (), ["[layers 1 'sand'] reduction_ratios", "3 strain(s) but 2"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [1e-5, 1e-4],
+                "reduction_ratios": "0.5"}), (), ["[layers 1 'sand'] reduction_ratios", "list of numbers"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_file": "missing.csv"}), (),
+     ["[layers 1 'sand'] reduction_file", "missing.csv", "no such file"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
      [("g.csv", "strain,G_over_Gmax\n1e-5,1.0\n1e-4,abc\n")],
-     ["[sand] reduction_file", "g.csv line 3", "non-numeric"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
-     [("g.csv", "1e-5,1.0,3\n1e-4,0.5\n")], ["[sand] reduction_file", "g.csv line 1", "3 value(s)"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
+     ["[layers 1 'sand'] reduction_file", "g.csv line 3", "non-numeric"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
+     [("g.csv", "1e-5,1.0,3\n1e-4,0.5\n")], ["[layers 1 'sand'] reduction_file", "g.csv line 1", "3 value(s)"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}),
      [("g.csv", "# Seed-Idriss\n1e-5,1.0\n1e-4,0.0\n")],
-     ["[sand] reduction_file", "g.csv: G/G_max = 0 at strain 0.0001", "(0, 1]"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}), [("g.csv", "strain,ratio\n")],
-     ["[sand] reduction_file", "has 0 point(s)", "at least 2"]),
-    (dict(sand={"modulus_reduction": "tabulated", "reduction_file": "g.csv", "reduction_strains": [1e-5, 1e-4],
+     ["[layers 1 'sand'] reduction_file", "g.csv: G/G_max = 0 at strain 0.0001", "(0, 1]"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_file": "g.csv"}), [("g.csv", "strain,ratio\n")],
+     ["[layers 1 'sand'] reduction_file", "has 0 point(s)", "at least 2"]),
+    (dict(layer={"modulus_reduction": "tabulated", "reduction_file": "g.csv", "reduction_strains": [1e-5, 1e-4],
                 "reduction_ratios": [1.0, 0.5]}), [("g.csv", "1e-5,1\n1e-4,0.5\n")],
-     ["[sand] reduction_file", "not both"]),
-    # compliant base (Lysmer & Kuhlemeyer 1969 dashpot)
+     ["[layers 1 'sand'] reduction_file", "not both"]),
+    # compliant base (SPEC 5.4)
     (dict(shear_wave={"base": "elastic"}), (), ["[shear_wave] base", "'rigid', 'compliant'"]),
     (dict(shear_wave={"base": "compliant", "bedrock_shear_velocity": 0.0}), (),
      ["[shear_wave] bedrock_shear_velocity", "(0, 10000]", "m/s"]),
@@ -164,8 +167,8 @@ def test_edited_case_dict_is_checked_again_before_writing(folder, tmp_path):
         run_liquefaction(c, tmp_path / "o1")
     assert not (tmp_path / "o1").exists()
     c = load_case(str(path))
-    c["deposit"]["porosity"] = 0.95
-    with pytest.raises(CaseError, match=r"\[deposit\] porosity.*\[0\.2, 0\.7\]"):
+    c["layers"][0]["porosity"] = 0.95
+    with pytest.raises(CaseError, match=r"\[layers 1 'sand'\] porosity.*\[0, 0\.7\]"):
         run_liquefaction(c, tmp_path / "o2")
     assert not (tmp_path / "o2").exists()
 
@@ -175,7 +178,7 @@ def test_weights_path_is_relative_to_the_case_file_and_read_once(folder, monkeyp
     real = rp.load_weights
     monkeypatch.setattr(rp, "load_weights", lambda p=None: calls.append(p) or real(p))
     path = folder / "ann.toml"
-    path.write_text(_case(sand={"reference_porosity_law": "ann", "ann_weights": "weights.json"}))
+    path.write_text(_case(layer={"reference_porosity_law": "ann", "ann_weights": "weights.json"}))
     # the current folder (work/) holds no weights.json: found next to the case file
     r = run_liquefaction(str(path), folder / "out")
     assert r.status == "completed"
@@ -243,7 +246,7 @@ def test_tabulated_reduction_from_a_csv_next_to_the_case_file(folder):
     for name, sand in (("hyp", {}), ("same", {"modulus_reduction": "tabulated", "reduction_file": "same.csv"}),
                        ("stiff", {"modulus_reduction": "tabulated", "reduction_file": "stiff.csv"})):
         path = folder / f"{name}.toml"
-        path.write_text(_case(sand=sand, ground_motion={"pga_g": 0.5}))
+        path.write_text(_case(layer=sand, ground_motion={"pga_g": 0.5}))
         r = run_liquefaction(str(path), folder / name)
         assert r.status == "completed"
         assert r.summary["shaking"]["modulus_reduction"] == ("hyperbolic" if name == "hyp" else "tabulated")
@@ -258,13 +261,13 @@ def test_inline_table_and_its_warnings(folder, capsys):
     """Inline lists work; gamma_ref is then ignored (warning), and a table whose log interpolation
     makes the stress fall between two points is run with a warning naming them."""
     path = folder / "inline.toml"
-    path.write_text(_case(sand={"modulus_reduction": "tabulated", "gamma_ref": 2e-3,
+    path.write_text(_case(layer={"modulus_reduction": "tabulated", "gamma_ref": 2e-3,
                                 "reduction_strains": [1e-6, 1e-4, 1e-3, 3e-3, 1e-2],
                                 "reduction_ratios": [1.0, 0.9, 0.5, 0.3, 0.12]}))
     assert main(["run", str(path), "--out", str(folder / "o"), "--quiet"]) == 0
     err = capsys.readouterr().err
-    assert "[sand] gamma_ref: ignored" in err
-    assert "[sand] reduction_ratios" in err and "0.003–0.01" in err and "softening" in err
+    assert "[layers 1 'sand'] gamma_ref: ignored" in err
+    assert "[layers 1 'sand'] reduction_ratios" in err and "0.003–0.01" in err and "softening" in err
     with pytest.warns(CaseWarning) as caught:
         case = load_case(str(path))
     assert sorted("softening" in str(w.message) for w in caught) == [False, True]

@@ -343,7 +343,9 @@ def markdown() -> str:
              "`[case] model` chooses the equation set; each model lists its sections below.", ""]
     seen: set[str] = set()
     for model, schema in SCHEMAS.items():
-        lines += [f"## model = \"{model}\"", "", "Sections: " + ", ".join(f"[{w}]" for w in schema), ""]
+        arrays = ", ".join(f"[[{a}]]" for a in ARRAYS.get(model, {}))
+        lines += [f"## model = \"{model}\"", "", "Sections: " + ", ".join(f"[{w}]" for w in schema)
+                  + (f"; arrays of tables: {arrays}" if arrays else ""), ""]
     for model, schema in SCHEMAS.items():
         for where, keys in schema.items():
             ident = f"{where}:{id(keys)}"

@@ -36,6 +36,8 @@ VISCOSITY_MAX = 1e5
 _MATERIALS = [k for k in SCHEMA["materials"] if k.name != "particle_diameter"]
 
 _SITE = [
+    K("depth", float, 0.0, "m", "depth of the base below the ground surface; if given (> 0) the layer "
+      "thicknesses must add up to it (0: their sum)", lo=0.0, hi=1000.0),
     K("water_table_depth", float, 0.0, "m", "depth of the water table below the ground surface; the "
       "layers above it are a crust (no pore pressure; it must fall on a layer boundary)", lo=0.0, hi=1000.0),
     K("surcharge", float, 0.0, "Pa", "load on the ground surface (fill, foundation)", lo=0.0),
@@ -258,6 +260,10 @@ def _check_layers(case: dict, source: str) -> None:
                         "with name and thickness, from the ground surface down)")
     names = [la["name"] for la in layers]
     H = sum(la["thickness"] for la in layers)
+    depth = case["site"]["depth"]
+    if depth > 0.0 and abs(depth - H) > 1e-9 * depth:
+        raise CaseError(source, "[site] depth", f"{depth:g} m, but the {len(layers)} layer thicknesses add up "
+                        f"to {H:g} m; valid: their sum, or 0")
     zw = case["site"]["water_table_depth"]
     if zw >= H:
         raise CaseError(source, "[site] water_table_depth", f"{zw:g} m is at or below the base of the "

@@ -137,7 +137,7 @@ def simplified_table(case, a_max_g: float | None = None):
         raise CaseError(_source(case), "--a-max", f"{a_max_g:g} is outside the valid range [0, 3] [g]")
     b = build_column(case)
     a = case["ground_motion"]["pga_g"] if a_max_g is None else a_max_g
-    return report.simplified_rows(b.column, b.site, case, a)
+    return report.simplified_rows(b.column, b.site, case, a, top_first=True)
 
 
 def hydraulic_conductivity(col: LiquefactionColumn, n) -> np.ndarray:

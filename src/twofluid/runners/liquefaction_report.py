@@ -119,9 +119,14 @@ def profile_stresses(col, site, case: dict) -> dict:
             "sigma_v_eff_Pa": sig_eff, "relative_density": dr, "liquefiable": liq, "layer_of": owner}
 
 
-def simplified_rows(col, site, case: dict, a_max_g: float):
-    """:func:`twofluid.geotech.simplified_procedure` per element of the column (crust: FS = inf)."""
+def simplified_rows(col, site, case: dict, a_max_g: float, top_first: bool = False):
+    """:func:`twofluid.geotech.simplified_procedure` per element of the column (crust: FS = inf),
+    in the column's element order (saturated bottom first, then the crust), or from the ground
+    surface down."""
     p = profile_stresses(col, site, case)
+    if top_first:
+        order = np.argsort(p["z_top_m"])
+        p = {k: v[order] for k, v in p.items()}
     m = case["ground_motion"]["magnitude"]
     return simplified_procedure(p["z_top_m"], p["z_bottom_m"], p["sigma_v_Pa"], p["sigma_v_eff_Pa"],
                                 p["relative_density"], p["liquefiable"], min(max(a_max_g, 0.0), 3.0), m)

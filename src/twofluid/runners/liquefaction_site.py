@@ -117,6 +117,8 @@ def _reduction(case, source, owner, gamma_ref_default=None):
     tables = {i: sl.load_reduction_table(case, source, i) for i in set(owner.tolist())}
     if all(t is None for t in tables.values()):
         return None
+    if len(tables) == 1:  # one curve for every element: any array of strains
+        return tabulated_curve(*next(iter(tables.values())))
     from ..closures.shear_modulus import hyperbolic
 
     parts = []
