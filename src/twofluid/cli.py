@@ -28,6 +28,19 @@ def _cmd_run(args) -> int:
         first = s["first_liquefaction"]
         print(f"  first liquefaction (r_u > 0.95) at t = {first['time_s']:.3g} s, depth {first['depth_m']:.3g} m"
               if first else "  no liquefaction (r_u > 0.95 nowhere)")
+    boil = s.get("surface")
+    if boil is not None:
+        print("  surface: liquefied while shaking" if boil["surface_liquefied_while_shaking"] else
+              "  surface: not liquefied while shaking; " + (
+                  f"sand boil at {boil['start_s']:.3g} s for {boil['duration_s']:.3g} s, seepage up to "
+                  f"{boil['peak_seepage_velocity_m_s']:.3g} m/s" if boil["sand_boil"] else "no sand boil"))
+    simp = s.get("simplified_procedure")
+    if simp is not None:
+        for which in ("input", "run"):
+            zone = simp[f"liquefied_depth_range_{which}_m"]
+            print(f"  simplified procedure, a_max = {simp[f'a_max_{which}_g']:.3g} g ({which}): FS < 1 at "
+                  + ("no depth" if zone is None else f"{zone[0]:.3g}-{zone[1]:.3g} m")
+                  + f", settlement {simp[f'settlement_{which}_m']:.3g} m")
     balance = s.get("solids_volume_balance_error")
     print(f"  solids volume balance error = {balance:.3g}" if balance is not None
           else "  solids volume balance error: not computed")

@@ -59,11 +59,12 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
         ax.set_xlabel("time [s]")
         ax.set_ylabel("depth below the ground surface [m]")
         ax.set_title(f"{title}: r_u (red: r_u = {ru_liq:g})")
-        if col.shaking_end > 0.0:
+        if col.shaking_end > 0.0:  # the shaking window: a labelled bar along the top edge
             ax.axvline(col.shaking_end, color="w", ls="--", lw=0.8)
-            ax.annotate("shaking", xy=(0.5 * min(col.shaking_end, ft[-1]), 0.0), xytext=(0, -2),
-                        textcoords="offset points", ha="center", va="top", color="w", fontsize=8)
-            ax.axvspan(0.0, col.shaking_end, ymin=0.97, ymax=1.0, color="w", alpha=0.6)
+            ax.axvspan(0.0, col.shaking_end, ymin=0.95, ymax=1.0, color="tab:red", alpha=0.8)
+            ax.annotate(f"shaking 0–{col.shaking_end:g} s", xy=(col.shaking_end, 0.975),
+                        xycoords=("data", "axes fraction"), xytext=(4, 0), textcoords="offset points",
+                        ha="left", va="center", color="tab:red", fontsize=8)
         zw = col.ground_surface - col.v.mesh.y[-1]
         if zw > 0.0:
             ax.axhline(zw, color="c", lw=0.8)
