@@ -273,3 +273,12 @@ def test_valid_site_text_runs(tmp_path):
     path = tmp_path / "site.toml"
     path.write_text(_site_text())
     assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+
+
+def test_saturated_keys_on_the_crust_are_a_warning(tmp_path):
+    from twofluid.casefile.schema import CaseWarning
+
+    path = tmp_path / "site.toml"
+    path.write_text(_site_text(layers=[{**CRUST, "porosity": 0.4}, SAND]))
+    with pytest.warns(CaseWarning, match=r"\[layers 1 'crust'\] porosity: ignored above the water table"):
+        load_case(str(path))

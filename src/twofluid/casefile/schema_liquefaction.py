@@ -203,6 +203,9 @@ def layer_porosity(layer: dict) -> float:
     return layer["porosity"] if layer["porosity"] > 0.0 else layer["void_ratio"] / (1.0 + layer["void_ratio"])
 
 
+_SATURATED_ONLY = ("particle_diameter", "hydraulic_conductivity", "porosity", "void_ratio")
+
+
 def check_liquefaction(case: dict, source: str) -> None:
     """Cross-key checks of a ``liquefaction_1d`` case (one-line CaseError naming file and key)."""
     t, out = case["time"], case["output"]
@@ -249,6 +252,12 @@ def check_liquefaction(case: dict, source: str) -> None:
     load_motion(case, source)
     for i, table in enumerate(tables):  # last: a warning only for a valid case
         _warn_softening(case, source, i, table)
+    for i, wet in enumerate(saturated(case)):
+        given = [k for k in _SATURATED_ONLY if not wet and case["layers"][i][k] > 0.0]
+        if given:
+            warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} {', '.join(given)}: ignored above the "
+                                      "water table (a crust has its unit_weight, stiffness and G/G_max only)"),
+                          stacklevel=3)
 
 
 def _check_layers(case: dict, source: str) -> None:

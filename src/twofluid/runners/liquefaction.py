@@ -399,6 +399,7 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
             row.update(unit_weight_N_m3=la["unit_weight"])
         layers.append(row)
     zw = case["site"]["water_table_depth"]
+    curves = {la["modulus_reduction"] for la in case["layers"]}
     s = {
         "case": case["case"]["name"], "status": status, "stopped_at_s": last.t, "reason": reason,
         "end_time_s": b.t_end, "wall_time_s": wall, "steps": n_steps, "shear_substeps": n_sub,
@@ -415,8 +416,7 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                     "end_s": col.shaking_end, "shear_wave_end_s": col.shear_end,
                     "applied_pga_m_s2": None if b.motion is None else b.motion.pga, "base": base,
                     "peak_surface_acceleration_g": pga_surf,
-                    "modulus_reduction": sorted({la["modulus_reduction"] for la in case["layers"]})[0]
-                    if len({la["modulus_reduction"] for la in case["layers"]}) == 1 else "per layer"},
+                    "modulus_reduction": curves.pop() if len(curves) == 1 else "per layer"},
         "r_u_definition": "(P - P_hydrostatic) / sigma'_v0 per saturated element; liquefied: r_u > "
                           f"{rec.ru_liq:g}",
         "by_depth": {"depth_m": col.depth, "peak_r_u": rec.peak, "time_of_peak_s": rec.t_peak,
@@ -441,7 +441,9 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
         "simplified_procedure": {
             "method": "Idriss & Boulanger (2008, 2014): r_d, MSF, K_sigma, CRR from (N1)60cs = 46 Dr^2; "
                       "settlement: Ishihara & Yoshimine (1992)",
-            "a_max_run_g": pga_surf, "a_max_input_g": pga_in, "magnitude": m["magnitude"],
+            "a_max_run_g": min(pga_surf, 3.0), "a_max_input_g": pga_in, "magnitude": m["magnitude"],
+            "a_max_run_note": None if pga_surf <= 3.0 else f"the run's peak surface acceleration "
+                              f"{pga_surf:.3g} g is above the procedure's range; evaluated at 3 g",
             "liquefied_depth_range_run_m": _fs_zone(simp_run, col),
             "liquefied_depth_range_input_m": _fs_zone(simp_in, col),
             "settlement_run_m": simp_run.total_settlement_m,
