@@ -98,7 +98,7 @@ BAD = [  # (case sections, extra files, words in the message)
      ["[materials] particle_density", "must exceed [materials] liquid_density = 1000"]),
     (dict(materials={"gravity": 0.0}), (), ["[materials] gravity", "(0, inf)"]),
     (dict(layer={"compressibility": 0.5}), (), ["[layers 1 'sand'] compressibility", "valid: A <"]),
-    # tabulated G/G_max (SPEC 4.3): inline lists or a CSV file next to the case file
+    # tabulated G/G_max (docs/model.md, "Shear modulus"): inline lists or a CSV file next to the case file
     (dict(layer={"modulus_reduction": "tabulated"}), (), ["[layers 1 'sand'] modulus_reduction", "needs a table"]),
     (dict(layer={"modulus_reduction": "tabulated", "reduction_strains": [1e-4, 1e-5],
                 "reduction_ratios": [1.0, 0.5]}), (),
@@ -130,7 +130,7 @@ BAD = [  # (case sections, extra files, words in the message)
     (dict(layer={"modulus_reduction": "tabulated", "reduction_file": "g.csv", "reduction_strains": [1e-5, 1e-4],
                 "reduction_ratios": [1.0, 0.5]}), [("g.csv", "1e-5,1\n1e-4,0.5\n")],
      ["[layers 1 'sand'] reduction_file", "not both"]),
-    # compliant base (SPEC 5.4)
+    # compliant base (docs/liquefaction.md, "Compliant base")
     (dict(shear_wave={"base": "elastic"}), (), ["[shear_wave] base", "'rigid', 'compliant'"]),
     (dict(shear_wave={"base": "compliant", "bedrock_shear_velocity": 0.0}), (),
      ["[shear_wave] bedrock_shear_velocity", "(0, 10000]", "m/s"]),
