@@ -55,6 +55,18 @@ through the top face divided by (1 − n) to second order).
 Excess pore-pressure ratio per element: r_u = (P − P_hydrostatic)/σ′_v0, with
 P_hydrostatic = p_top + ρ_f g (H − y) and σ′_v0 the initial granular pressure
 (the buoyant weight above, plus any surcharge).
+
+Layered sites: every :class:`Sand` parameter may be an array over the saturated elements
+(each layer its own K2max, G/G_max, Dr, viscosity, law, liquefiable or not; the vertical
+model's drag diameter, A and p_ref are arrays of its materials and closures). A
+:class:`Crust` — the layers above the water table — sits on top of the saturated elements in
+the shear column only: its mass and fixed G_max shear with the column, its weight reaches the
+vertical model as the surcharge at the water table, and it has no pore pressure.
+
+Liquefied-soil viscosity: ``Sand.viscosity`` η_s (1 000 Pa·s by default; Chen et al. 2019
+measured 0.8–1.7 kPa·s in falling-ball tests on liquefied soil) is added to the mixture
+viscosity of the shear wave, Newtonian, or a power law η_s (|γ̇|/γ̇_ref)^(m − 1) capped at
+:data:`VISCOSITY_MAX` when ``viscosity_exponent`` m < 1 (η_s from the previous sub-step's rate).
 """
 from __future__ import annotations
 
@@ -67,11 +79,10 @@ import scipy.sparse.linalg as spla
 
 from ..closures import registry
 from ..closures.reference_porosity import ShearState
-from ..closures.shear_modulus import seed_idriss_gmax
+from ..closures.shear_modulus import hyperbolic, seed_idriss_gmax
 from ..closures.solids_pressure import reference_porosity_for
 from ..closures.viscosity import mooney_pringle
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
-from ..closures.shear_modulus import hyperbolic
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
 from .two_fluid_1d import State, TwoFluid1D
 

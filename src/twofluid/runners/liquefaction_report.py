@@ -50,7 +50,7 @@ def sand_boil(t, ru_top, flux_top, shaking_end: float, ru_liq: float) -> dict:
 
     >>> b = sand_boil([0, 1, 2, 3, 4], [0, 0.5, 0.99, 0.99, 0.2], [0, 1e-3, 2e-3, 4e-3, 1e-3], 1.5, 0.95)
     >>> b["sand_boil"], b["start_s"], b["duration_s"], b["peak_seepage_velocity_m_s"]
-    (True, 2.0, 1.0, 0.004)
+    (True, 2.0, 2.0, 0.004)
     """
     t, ru, q = (np.asarray(x, dtype=float) for x in (t, ru_top, flux_top))
     quick = ru > ru_liq

@@ -63,7 +63,7 @@ def equivalent_diameter(law, params: dict, n: float, k: float, rho_f: float, mu_
     >>> from twofluid.closures.drag import ergun
     >>> d = equivalent_diameter(ergun, {}, 0.4, 1e-3, 1000.0, 1e-3, 9.81)
     >>> round(d * 1e6, 3)  # √(150 μ (1 − n)² k / (ρ g n³)) [µm]
-    117.275
+    293.273
     """
     beta_k = rho_f * g * n * n / k
     d = 1e-3
