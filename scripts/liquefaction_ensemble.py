@@ -20,6 +20,7 @@ import tomllib
 
 import twofluid.runners.liquefaction as liq
 from twofluid.casefile.loader import load_case
+from twofluid.casefile.schema_liquefaction import layer_elements
 
 
 def _with_drag_factor(factor: float):
@@ -108,8 +109,7 @@ def main(argv=None) -> int:
               f"{first['time_s'] if first else None}, {100 * (s['settlement_end_of_shaking_m'] or 0):.4g}, "
               f"{100 * s['settlement_end_m']:.4g}, {s['surface']['sand_boil']}, "
               f"{s['peak_r_u_top_element']:.3f}, {s['stopped_at_s']:.5g}, {s['status']}", flush=True)
-    h = min(la["thickness"] / max(1, la["elements"] or round(la["thickness"] / la["element_size"]))
-            for la in case["layers"])
+    h = min(la["thickness"] / layer_elements(la) for la in case["layers"])  # the finest element
     sp = spread(members, h)
     print(f"range shift {sp['range_shift_elements']:.2f} element(s) (criterion <= 1), settlement spread "
           f"{100 * sp['settlement_spread']:.2f} % (criterion <= 2 %)")

@@ -34,7 +34,7 @@ def _coarse(changes=None):
         la["element_size"] = sizes[la["name"]]
     c["ground_motion"]["duration"] = 4.0
     c["shear_wave"]["free_vibration"] = 2.0
-    c["output"].update(plots=False, times=[])
+    c["output"].update(plots=False, times=[], probes=[1.0])  # 1 m above the base: 14 m deep
     for (section, key), value in (changes or {}).items():
         c[section][key] = value
     return c
@@ -130,6 +130,8 @@ def test_outputs_with_depths_from_the_ground_surface(layered):
     assert all(float(r["FS_simplified_input"]) > 0.0 for r in rows if r["saturated"] == "yes")
     spec = list(csv.DictReader(open(out / "spectra.csv")))
     assert set(spec[0]) == {"period_s", "Sa_input_g", "Sa_surface_g", "amplification"}
+    probes = list(csv.DictReader(open(out / "probes.csv")))
+    assert "r_u@14m" in probes[0] and "r_u@2.5m" in probes[0]
     motion = np.loadtxt(out / "surface_motion.csv", delimiter=",", skiprows=1)
     assert np.max(np.abs(motion[:, 1])) / report.G == pytest.approx(s["shaking"]["peak_surface_acceleration_g"])
     assert json.loads((out / "summary.json").read_text())["simplified_procedure"]["magnitude"] == 6.95

@@ -246,8 +246,7 @@ def run_liquefaction(case, out_dir=None, progress: bool = False):
     col, state = b.column, b.state
     H = col.ground_surface
     rep = case["report"]
-    depths = sorted(set(rep["depths"]) | {H - case["site"]["water_table_depth"] - y
-                                          for y in case["output"]["probes"]})
+    depths = sorted(set(rep["depths"]) | {H - y for y in case["output"]["probes"]})  # y above the base
     rec = _Recorder(col, depths, rep["ru_liquefied"])
     ru0 = rec.record(state, True)
     probe_cols = list(rec.probe_values(state, ru0))
