@@ -284,3 +284,51 @@ def test_saturated_keys_on_the_crust_are_a_warning(tmp_path):
     path.write_text(_site_text(layers=[{**CRUST, "porosity": 0.4}, SAND]))
     with pytest.warns(CaseWarning, match=r"\[layers 1 'crust'\] porosity: ignored above the water table"):
         load_case(str(path))
+
+
+def test_layers_keep_their_own_laws():
+    """Per element: a non-liquefiable layer keeps n̄; law groups give each layer its own law."""
+    from twofluid.closures.reference_porosity import ShearState, byrne, ann
+
+    mask = np.array([True, True, False, False])
+    s = Sand(dr=np.array([47.0, 47.0, 80.0, 80.0]), liquefiable=np.array([True, False, True, True]),
+             law_groups=((mask, "byrne", {}), (~mask, "ann", {})))
+    law = s.n_bar_law()
+    nb0 = np.full(4, 0.5)
+    dg = np.full(4, 1e-3)
+    nb, _ = law(dg, dg, nb0, ShearState.zeros(4))
+    ref_b, _ = byrne(dg, dg, nb0, ShearState.zeros(4), c1=7600.0 * s.dr ** -2.5)
+    ref_a, _ = ann(dg, dg, nb0, ShearState.zeros(4))
+    assert nb[0] == ref_b[0] < 0.5  # byrne, Dr 47 %
+    assert nb[1] == 0.5  # not liquefiable: n̄ held
+    np.testing.assert_array_equal(nb[2:], ref_a[2:])  # the ann layer
+
+
+def test_shear_wave_velocity_sets_g_max_at_rest():
+    c = _coarse()
+    c["layers"][0]["shear_wave_velocity"] = 150.0  # crust
+    c["layers"][2]["shear_wave_velocity"] = 250.0  # dense sand
+    b = build_column(c)
+    col = b.column
+    from twofluid.closures.shear_modulus import seed_idriss_gmax
+
+    g_sat = seed_idriss_gmax(col.sigma_v0, col.sand.k2max)
+    rho = col.mixture_density(col.n0)
+    dense = b.site.layer_of == 2
+    np.testing.assert_allclose(g_sat[dense], rho[dense] * 250.0**2, rtol=1e-12)
+    np.testing.assert_allclose(col.crust.g_max, 18000.0 / 9.81 * 150.0**2, rtol=1e-12)
+    loose = b.site.layer_of == 1  # k2max = 30 there
+    np.testing.assert_allclose(g_sat[loose], seed_idriss_gmax(col.sigma_v0[loose], 30.0), rtol=1e-12)
+
+
+def test_one_tabulated_layer_among_hyperbolic_ones():
+    c = _coarse()
+    c["layers"][2].update(modulus_reduction="tabulated", reduction_strains=[1e-5, 1e-3, 1e-2],
+                          reduction_ratios=[1.0, 0.3, 0.1])
+    b = build_column(c)
+    col = b.column
+    nt = col.y_all.size - 1
+    ratio = col.wave.backbone(np.full(nt, 1e-3))[0] / 1e-3  # τ/(G_max γ) = G/G_max
+    dense = np.concatenate([b.site.layer_of == 2, np.zeros(nt - col.n_sat, bool)])
+    np.testing.assert_allclose(ratio[dense], 0.3, rtol=1e-12)
+    np.testing.assert_allclose(ratio[~dense], 0.5, rtol=1e-12)  # the hyperbola at γ = γ_ref

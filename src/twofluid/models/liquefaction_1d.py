@@ -79,7 +79,7 @@ import scipy.sparse.linalg as spla
 
 from ..closures import registry
 from ..closures.reference_porosity import ShearState
-from ..closures.shear_modulus import hyperbolic, seed_idriss_gmax
+from ..closures.shear_modulus import seed_idriss_gmax
 from ..closures.solids_pressure import reference_porosity_for
 from ..closures.viscosity import mooney_pringle
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
@@ -149,6 +149,12 @@ class Sand:
             return np.array(eta, dtype=float)
         x = np.maximum(np.abs(rate), 1e-12) / self.viscosity_reference_rate
         return np.minimum(eta * x ** (m - 1.0), VISCOSITY_MAX)
+
+
+def _hyperbola(gamma_ref) -> Callable:
+    """G/G_max = 1/(1 + |γ|/γ_ref) with γ_ref per element (the closure takes one γ_ref)."""
+    r = np.asarray(gamma_ref, dtype=float)
+    return lambda g: 1.0 / (1.0 + np.abs(g) / r)
 
 
 def _select_history(mask, a: ShearState, b: ShearState) -> ShearState:
@@ -300,8 +306,8 @@ class LiquefactionColumn:
             g_crust = np.broadcast_to(np.asarray(crust.gamma_ref, dtype=float), (nt - ns,))
             if reduction is not None or crust.reduction is not None:
                 reduction = piecewise_reduction(
-                    [(slice(0, ns), reduction or (lambda g, r=gamma_ref: hyperbolic(g, r))),
-                     (slice(ns, nt), crust.reduction or (lambda g, r=g_crust: hyperbolic(g, r)))], nt)
+                    [(slice(0, ns), reduction or _hyperbola(gamma_ref)),
+                     (slice(ns, nt), crust.reduction or _hyperbola(g_crust))], nt)
             gamma_ref = np.concatenate([gamma_ref, g_crust])
         self.wave = ShearColumn(y, rho=rho, gamma_ref=gamma_ref, reduction=reduction,
                                 damping_ratio=damping_ratio, damping_frequencies=damping_frequencies,
