@@ -1,28 +1,33 @@
-"""Run a ``liquefaction_1d`` case: build the column, shake it, let it reconsolidate, write results.
+"""Run a ``liquefaction_1d`` case: build the layered column, shake it, let it reconsolidate until
+the excess pore pressure has dissipated (or the end time), write results.
 
 ``run_liquefaction`` is what ``twofluid run`` calls for this model (through
-:data:`twofluid.runners.common.RUNNERS`). The run folder holds
+:data:`twofluid.runners.common.RUNNERS`); ``simplified_table`` is what ``twofluid simplified``
+prints. The run folder holds (depths below the ground surface; columns in docs/outputs.md)
 
 - ``case.resolved.toml`` — every key with the value used;
-- ``probes.csv`` — time series: base acceleration (absolute; on a compliant base the
-  outcrop record plus the base's motion relative to it), surface settlement, base pore
-  pressure, surface displacement relative to the base, and r_u and σ′_v at the
-  ``[report] depths`` (every vertical step, or every ``[output] probe_interval``);
-- ``ru_field.csv`` — r_u of every element against time (the depth–time map);
+- ``probes.csv`` — time series: base and surface acceleration (absolute), surface settlement,
+  base pore pressure, surface displacement relative to the base, seepage at the water table,
+  and r_u and σ′_v at the ``[report] depths``;
+- ``elements.csv`` — per element of the column (crust included): layer, peak r_u, first
+  liquefaction, peak shear strain, settlement contribution, the simplified procedure's FS;
+- ``surface_motion.csv``, ``spectra.csv`` — surface acceleration per shear sub-step, response
+  spectra of input and surface and their ratio;
+- ``ru_field.csv`` — r_u of every saturated element against time (the depth–time map);
 - ``profiles.csv`` — element profiles at t = 0, the ``[output] times``, the end of
   the shaking and the end of the run;
-- ``summary.json`` — peak r_u and time of first liquefaction by depth, liquefied
-  depth range, settlement at the end of the shaking and of the run, base pore
-  pressure peak, solids balance, wall time, status (completed / interrupted /
-  failed, with ``stopped_at_s``);
-- ``ru_histories.png``, ``ru_map.png``, ``settlement.png``.
+- ``summary.json`` — per layer and per element results, liquefied depth range, surface and
+  sand boil, settlement, dissipation (fraction of the final settlement), the simplified
+  procedure, spectra, solids balance, wall time, status (completed / interrupted / failed,
+  with ``stopped_at_s`` and the reason);
+- ``profile.png``, ``ru_map.png``, ``spectra.png``, ``ru_histories.png``, ``settlement.png``.
 
 Inputs are checked before the folder is created: the case (again, if it is a dictionary
 that may have been edited since loading) with the record, the ANN weights and the G/G_max
-table it names, read and validated (:mod:`twofluid.casefile.schema_liquefaction`); a bad one
-is a CaseError and nothing is written. Once running, CSV rows are flushed as they are written, so Ctrl-C or a
-failed step (including a non-finite shear step) leaves readable files, and ``summary.json``
-is written whatever the outcome.
+tables it names, read and validated (:mod:`twofluid.casefile.schema_liquefaction`); a bad one
+is a CaseError and nothing is written. Once running, CSV rows are flushed as they are written,
+so Ctrl-C or a failed step (including a non-finite shear step) leaves readable files, and
+``summary.json`` is written whatever the outcome.
 """
 from __future__ import annotations
 
