@@ -245,6 +245,13 @@ BAD = [  # (site, layers, sections, words)
     (None, None, {"ground_motion": {"pga_g": 0.0, "magnitude": 4.0}}, ["[ground_motion] magnitude", "[5, 9]"]),
     (None, None, {"reconsolidation": {"dissipated_r_u": 0.9}}, ["[reconsolidation] dissipated_r_u", "[0, 0.5]"]),
     (None, None, {"report": {"depths": [0.5]}}, ["[report] depths", "outside [1, 5] m"]),
+    ({"water_table_depth": -1.0}, None, {}, ["[site] water_table_depth", "[0, 1000]"]),
+    ({"depth": -2.0}, None, {}, ["[site] depth", "[0, 1000]"]),
+    (None, [CRUST, {**SAND, "elements": -1}], {}, ["[layers 2 'sand'] elements", "[0, 5000]"]),
+    (None, [CRUST, {**SAND, "element_size": 0.0}], {}, ["[layers 2 'sand'] element_size", "(0, 1000]"]),
+    (None, [CRUST, {**SAND, "viscosity_law": "power_law", "viscosity_reference_rate": 0.0}], {},
+     ["[layers 2 'sand'] viscosity_reference_rate", "(0, 1000]"]),
+    (None, None, {"report": {"depths": [2.0], "spectrum_damping": 0.5}}, ["[report] spectrum_damping", "[0, 0.5)"]),
     (None, None, {"report": {"depths": [2.0], "spectrum_periods": [0.5, 0.1]}},
      ["[report] spectrum_periods", "increasing"]),
 ]
