@@ -339,3 +339,15 @@ def test_one_tabulated_layer_among_hyperbolic_ones():
     dense = np.concatenate([b.site.layer_of == 2, np.zeros(nt - col.n_sat, bool)])
     np.testing.assert_allclose(ratio[dense], 0.3, rtol=1e-12)
     np.testing.assert_allclose(ratio[~dense], 0.5, rtol=1e-12)  # the hyperbola at γ = γ_ref
+
+
+def test_the_status_line_says_a_run_stopped_early(tmp_path, capsys):
+    """An imposed excess pore pressure that has not dissipated by the end time: `twofluid run`
+    prints why the completed run ended, with the fraction of the final settlement reached."""
+    path = tmp_path / "site.toml"
+    path.write_text(_site_text(site={"initial_excess_ratio": 0.5}, time={"end": 0.5, "step": 0.02}))
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "completed at t = 0.5 s" in out
+    assert "stopped at the end time 0.5 s before dissipation: max r_u = " in out
+    assert "% of the final settlement" in out

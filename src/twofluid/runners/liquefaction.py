@@ -362,9 +362,11 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
     dissipated = done > 0.0 and ru_end < done
     fraction = rec.settle[-1] / final if final > 0.0 else 1.0
     if status == "completed":
+        reached = (f"max r_u = {ru_end:.3g}, {100.0 * fraction:.1f} % of the final settlement "
+                   f"({100.0 * final:.3g} cm) reached")
         reason = (f"dissipated: max r_u = {ru_end:.3g} < {done:g} at t = {last.t:.6g} s" if dissipated else
-                  f"stopped at the end time {b.t_end:g} s before dissipation: max r_u = {ru_end:.3g}, "
-                  f"{100.0 * fraction:.1f} % of the final settlement ({100.0 * final:.3g} cm) reached")
+                  f"stopped at the end time {b.t_end:g} s before dissipation: {reached}" if done > 0.0 else
+                  f"stopped at the end time {b.t_end:g} s (no dissipation criterion): {reached}")
     boil = report.sand_boil(rec.t, rec.ru_top, rec.flux_top, col.shaking_end, rec.ru_liq)
     spec = report.spectra(b.motion, rec.surface_t, rec.surface_a, case["report"]["spectrum_periods"],
                           case["report"]["spectrum_damping"])
