@@ -148,6 +148,10 @@ def test_simplified_procedure_beside_the_run(layered):
     layers = layered.summary["layers"]
     assert layers[0]["simplified_min_FS_input"] == float("inf")
     assert layers[2]["simplified_min_FS_input"] > 1.0 > layers[1]["simplified_min_FS_input"]
+    table = s["table_input"]
+    assert len(table) == layered.summary["site"]["elements"]
+    assert table[0]["z_mid [m]"] < table[-1]["z_mid [m]"]  # from the ground surface down
+    assert table[0]["FS [-]"] == float("inf")  # the crust
 
 
 def test_spectra_of_a_scaled_copy_give_its_ratio():

@@ -453,7 +453,8 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
             "liquefied_depth_range_run_m": _fs_zone(simp_run, col),
             "liquefied_depth_range_input_m": _fs_zone(simp_in, col),
             "settlement_run_m": simp_run.total_settlement_m,
-            "settlement_input_m": simp_in.total_settlement_m},
+            "settlement_input_m": simp_in.total_settlement_m,
+            "table_input": _rows_top_first(simp_in), "table_run": _rows_top_first(simp_run)},
         "base_excess_pore_pressure": {"peak_Pa": float(pb.max()), "time_of_peak_s": float(t[pb.argmax()]),
                                       "end_Pa": float(pb[-1])},
         "solids_volume_m3": {"initial": solids0, "final": solids, "inflow_top": inflow},
@@ -469,6 +470,13 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
     extra = {"simplified_run": simp_run, "simplified_input": simp_in, "spectra": spec,
              "owner": owner_all, "layer_names": [la["name"] for la in case["layers"]]}
     return s, extra
+
+
+def _rows_top_first(res) -> list[dict]:
+    """The simplified procedure's rows (labels with units; FS null where it cannot liquefy) from
+    the ground surface down."""
+    rows = res.to_rows()
+    return [rows[i] for i in np.argsort(res.z_top_m)]
 
 
 def _fs_zone(res, col) -> list | None:
