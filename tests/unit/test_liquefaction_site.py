@@ -19,7 +19,6 @@ import pytest
 
 from twofluid.casefile.loader import load_case
 from twofluid.cli import main
-from twofluid.closures import drag
 from twofluid.models.liquefaction_1d import VISCOSITY_MAX, Sand
 from twofluid.runners import liquefaction_report as report
 from twofluid.runners.liquefaction import build_column, hydraulic_conductivity, run_liquefaction
