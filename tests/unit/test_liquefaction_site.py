@@ -127,6 +127,10 @@ def test_outputs_with_depths_from_the_ground_surface(layered):
     crust = [r for r in rows if r["layer"] == "crust"]
     assert crust and all(r["saturated"] == "no" and r["peak_r_u"] == "" for r in crust)
     assert all(float(r["FS_simplified_input"]) > 0.0 for r in rows if r["saturated"] == "yes")
+    lay = list(csv.DictReader(open(out / "layers.csv")))
+    assert [r["layer"] for r in lay] == ["crust", "loose sand", "dense sand"]
+    assert float(lay[1]["liquefied_thickness_m"]) == pytest.approx(s["layers"][1]["liquefied_thickness_m"])
+    assert lay[0]["peak_r_u"] == "" and lay[0]["FS_min_simplified_input"] == "inf"
     spec = list(csv.DictReader(open(out / "spectra.csv")))
     assert set(spec[0]) == {"period_s", "Sa_input_g", "Sa_surface_g", "amplification"}
     probes = list(csv.DictReader(open(out / "probes.csv")))

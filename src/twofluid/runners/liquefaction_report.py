@@ -148,10 +148,28 @@ def _write_csv(path, header, rows):
             w.writerow(["" if x is None else (f"{x:.8g}" if isinstance(x, float) else x) for x in r])
 
 
+LAYER_COLUMNS = ["layer", "depth_top_m", "depth_bottom_m", "saturated", "liquefiable",
+                 "hydraulic_conductivity_m_s", "peak_r_u", "time_first_liquefied_s", "liquefied_top_m",
+                 "liquefied_bottom_m", "liquefied_thickness_m", "peak_shear_strain", "settlement_end_m",
+                 "max_settlement_contribution_m", "FS_min_simplified_input", "FS_min_simplified_run",
+                 "settlement_simplified_input_m", "settlement_simplified_run_m"]
+
+
 def write_tables(out, summary: dict, extra: dict, rec) -> None:
-    """elements.csv (one row per element of the column, depths from the ground surface, top
-    first), surface_motion.csv (absolute surface acceleration per shear sub-step) and
-    spectra.csv (input and surface S_a and their ratio)."""
+    """layers.csv (one row per layer), elements.csv (one row per element of the column, depths
+    from the ground surface, top first), surface_motion.csv (absolute surface acceleration per
+    shear sub-step) and spectra.csv (input and surface S_a and their ratio)."""
+    rows = []
+    for la in summary["layers"]:
+        zone = la.get("liquefied_depth_range_m") or [None, None]
+        rows.append([la["name"], la["depth_top_m"], la["depth_bottom_m"], "yes" if la["saturated"] else "no",
+                     "yes" if la["liquefiable"] else "no", la.get("hydraulic_conductivity_m_s"),
+                     la.get("peak_r_u"), la.get("time_first_liquefied_s"), zone[0], zone[1],
+                     la.get("liquefied_thickness_m"), la["peak_shear_strain"], la.get("settlement_end_m", 0.0),
+                     la.get("max_settlement_contribution_m", 0.0), la["simplified_min_FS_input"],
+                     la["simplified_min_FS_run"], la["simplified_settlement_input_m"],
+                     la["simplified_settlement_run_m"]])
+    _write_csv(out / "layers.csv", LAYER_COLUMNS, rows)
     run, inp = extra["simplified_run"], extra["simplified_input"]
     col = rec.col
     ns = col.n_sat
