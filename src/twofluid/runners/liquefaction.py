@@ -9,8 +9,9 @@ prints. The run folder holds (depths below the ground surface; columns in docs/o
 - ``probes.csv`` — time series: base and surface acceleration (absolute), surface settlement,
   base pore pressure, surface displacement relative to the base, seepage at the water table,
   and r_u and σ′_v at the ``[report] depths``;
-- ``layers.csv``, ``elements.csv`` — per layer and per element of the column (crust included): layer, peak r_u, first
-  liquefaction, peak shear strain, settlement contribution, the simplified procedure's FS;
+- ``layers.csv``, ``elements.csv`` — per layer and per element of the column (crust included):
+  peak r_u, first liquefaction, peak shear strain, settlement contribution, the simplified
+  procedure's FS;
 - ``surface_motion.csv``, ``spectra.csv`` — surface acceleration per shear sub-step, response
   spectra of input and surface and their ratio;
 - ``ru_field.csv`` — r_u of every saturated element against time (the depth–time map);
