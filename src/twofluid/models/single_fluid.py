@@ -53,6 +53,9 @@ class StokesResult:
     pressure : (n_el,) element pressure [Pa]
     enclosed : whether the mean-zero pressure constraint was used
     info : solver details (dofs, nnz)
+    reaction : (n_nodes, n_comp) nodal reactions A u − b of the momentum rows [N]: the force
+        the prescribed boundaries exert on the fluid (zero to round-off at free nodes);
+        with the 2πr measure in axisymmetry over the full circumference
     """
 
     mesh: QuadMesh
@@ -60,6 +63,7 @@ class StokesResult:
     pressure: NDArray[np.float64]
     enclosed: bool
     info: dict = field(default_factory=dict)
+    reaction: NDArray[np.float64] | None = None
 
 
 @dataclass
@@ -244,6 +248,7 @@ def solve_stokes(
     rhs = sys_.rhs - A @ x
     A_ff = A[free][:, free].tocsc()
     x[free] = spla.splu(A_ff).solve(rhs[free])
+    reaction = (A @ x - sys_.rhs)[:nu]
     return StokesResult(
         mesh=mesh,
         velocity=x[:nu].reshape(sys_.n_comp, mesh.n_nodes).T.copy(),

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..casefile.builder import Schedule, closures, inlet_velocities, materials, settled_reference_porosity
-from ..casefile.schema import CaseError
+from ..casefile.schema import CaseError, CaseWarning
 from ..casefile.schema_2d import BOUNDARY_NAMES
 from ..io.fields import FieldWriter
 from ..io.results import write_json, write_resolved_case
@@ -32,7 +32,8 @@ from .common import RunResult, run_guard
 from ..timestepping.backward_euler import (PicardSettings, Step, StepFailure, integrate, picard_step,
                                           relative_change)
 
-__all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile", "pseudo_transient"]
+__all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile", "pseudo_transient",
+           "SteadySteps"]
 
 #: [m/s] velocity scale floor of the steady-state measures (rates, change per step, the
 #: pseudo-transient Δt growth): they compare a flow with itself down to this speed, unlike the
@@ -156,9 +157,15 @@ def steady_flow(model: TwoFluid2D, state: State, settings=PicardSettings(tol=1e-
     return state.copy(V=new.V, W=new.W, P=new.P)
 
 
+#: pseudo-transient continuation is declared stalled after this many steps without a tenfold
+#: drop of its change per step, max(|Δn|, |ΔV|/|V|max) (a continuation that works drops it a
+#: decade in at most 12 steps in the runs of docs/benchmarks_2d.md)
+STALL_STEPS = 25
+
+
 def pseudo_transient(model: TwoFluid2D, state: State, t_end: float, dt: float, dt_max: float,
                      settings: PicardSettings, grow: float = 2.0,
-                     iterations: int = 0):
+                     iterations: int = 0, stall_steps: int = STALL_STEPS):
     """Backward Euler with switched evolution relaxation (SER): Δt grows as the fields settle.
 
     After each converged step Δt ← Δt · min(``grow``, r_prev / r), r the relative rate
@@ -172,8 +179,18 @@ def pseudo_transient(model: TwoFluid2D, state: State, t_end: float, dt: float, d
     iterates per step, the last one taken even if not converged (one per step is
     the classic choice, Kelley & Keyes 1998); 0: each step converged to
     ``settings.tol``. Yields :class:`Step` as ``integrate``.
+
+    Stall: when the smallest change per step, max(|Δn|, |ΔV|/|V|max), has not dropped
+    tenfold within ``stall_steps`` steps (0: never), the generator stops and returns the
+    reason (``StopIteration.value``). The change, not the rate: with unconverged iterates
+    the rate falls as Δt grows even when the change does not.
+    That happens where Newton's region of convergence is smaller than what one step
+    changes (the dilute riser of ``docs/benchmarks_2d.md``: porosity errors of 1e-4
+    are already outside it); the caller then falls back to the transient
+    (:class:`SteadySteps`).
     """
     h, n_steps, prev = dt, 0, None
+    best, since = np.inf, 0
     eps = 1e-9 * max(dt, 1e-12)
     while state.t < t_end - eps:
         h_try = min(h, t_end - state.t)
@@ -189,7 +206,8 @@ def pseudo_transient(model: TwoFluid2D, state: State, t_end: float, dt: float, d
             prev = None
             continue
         n_steps += 1
-        r = max(relative_change(model, new, state, floor=STEADY_VELOCITY_FLOOR)) / h_try
+        c = max(relative_change(model, new, state, floor=STEADY_VELOCITY_FLOOR))
+        r = c / h_try
         if prev is not None and r > 0.0:
             h = h_try * min(grow, prev / r)
         if info > settings.easy_iters:
@@ -197,6 +215,48 @@ def pseudo_transient(model: TwoFluid2D, state: State, t_end: float, dt: float, d
         h = min(max(h, dt), dt_max)
         prev, state = r, new
         yield Step(state.t, h_try, info, state, n_steps)
+        if c < best / 10.0 or best == np.inf:
+            best, since = c, 0
+        else:
+            since += 1
+        if stall_steps and since >= stall_steps:
+            return (f"pseudo-transient continuation stalled: the change per step did not drop tenfold in "
+                    f"{stall_steps} steps (after {n_steps} steps: {c:.3g}, smallest {best:.3g}, Δt {h_try:.3g} s)")
+    return None
+
+
+class SteadySteps:
+    """The steps of a steady-state run: pseudo-transient continuation, and the transient if it stalls.
+
+    Iterates :func:`pseudo_transient`; if that stalls, says so on the console and
+    continues with the transient (``integrate``, Δt = [time] step, every step converged)
+    from the initial state, which is where a stalled continuation has no better
+    state to offer (its iterates are not converged). ``fallback`` then holds what
+    happened and ``restart`` the initial state until the runner has taken it.
+    """
+
+    def __init__(self, model, state, b, time_section, echo=print):
+        self.model, self.initial, self.b, self.tm, self.echo = model, state, b, time_section, echo
+        self.fallback, self.restart = None, None
+
+    def __iter__(self):
+        b, tm = self.b, self.tm
+        reason = yield from pseudo_transient(self.model, self.initial, b.t_end, b.dt, tm["max_step"] or b.t_end,
+                                             b.settings, iterations=tm["iterations_per_step"])
+        if reason is None:
+            return
+        self.fallback = {"reason": reason, "then": f"transient from the initial state (t = 0) with Δt = "
+                         f"[time] step = {b.dt:g} s, every step converged to picard_tol, until steady"}
+        self.echo(f"{reason}; falling back to the {self.fallback['then']}")
+        self.model.linear.lu = None
+        self.restart = self.initial
+        yield from integrate(self.model, self.initial, b.t_end, b.dt, settings=b.settings)
+
+
+def _warn_stall(message: str) -> None:
+    import warnings
+
+    warnings.warn(message, CaseWarning, stacklevel=2)
 
 
 def horizontal_profile(model: TwoFluid2D, fields: dict, height: float) -> dict:
@@ -378,15 +438,20 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     n_steps, last, rate, change, steady_reason = 0, state, (np.inf, np.inf), (np.inf, np.inf), ""
     tm = case["time"]
     if tm["stepping"] == "pseudo_transient":
-        steps = pseudo_transient(model, state, b.t_end, b.dt, tm["max_step"] or b.t_end, b.settings,
-                                 iterations=tm["iterations_per_step"])
+        steps = SteadySteps(model, state, b, tm, echo=_warn_stall)
     else:
         steps = integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings)
     history = _History(out, model, pc["heights"])
     history.write(0, state, 0.0, 0, (np.nan, np.nan), (np.nan, np.nan))
     pending = [t for t in out_times if t > state.t]
+    offset = 0  # steps before a fallback to the transient
     with run_guard(b.t_end, progress, history) as run:
         for step in steps:
+            if getattr(steps, "restart", None) is not None:  # the continuation stalled: transient from t = 0
+                last, calm, outflow, offset, steps.restart = steps.restart, 0, 0.0, n_steps, None
+                pending = [t for t in out_times if t > last.t]
+                run.bar.reset(total=b.t_end)
+            step = replace(step, n_steps=step.n_steps + offset)
             s = step.state
             outflow += step.dt * model.solids_outflow(s)
             change = relative_change(model, s, last, floor=STEADY_VELOCITY_FLOOR)
@@ -408,6 +473,9 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
                                  f"change in the last step {max(change):.3g} (Δt = {step.dt:.4g} s)")
                 break
     status, reason = run.status, run.reason or steady_reason
+    if getattr(steps, "fallback", None):
+        extra["stepping_fallback"] = steps.fallback
+        reason = f"{reason} (after the fallback to the transient: {steps.fallback['reason']})"
     if not writer.entries or writer.entries[-1][0] != last.t:
         prof.write(last.t, _write_fields(writer, model, last))
     prof.close()
