@@ -256,4 +256,5 @@ def solve_stokes(
         enclosed=sys_.enclosed,
         info={"n_dofs": int(free.sum()), "nnz": int(A_ff.nnz),
               "stabilisation": sys_.stabilisation},
+        reaction=reaction.reshape(sys_.n_comp, mesh.n_nodes).T.copy(),
     )

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["couette_torque", "SpindleSection", "spindle_section", "spindle_torque",
+__all__ = ["couette_torque", "couette_viscosity", "SpindleSection", "spindle_section", "spindle_torque",
            "mixture_swirl_reaction", "swirl_without_circulation"]
 
 
@@ -49,6 +49,24 @@ def couette_torque(mu: float, omega: float, length: float, r_i: float, r_o: floa
     return 4.0 * np.pi * mu * omega * length * r_i ** 2 * r_o ** 2 / (r_o ** 2 - r_i ** 2)
 
 
+def couette_viscosity(r_edges, mu) -> float:
+    """The viscosity [Pa·s] a Couette viscometer reads from layers of viscosity ``mu`` between ``r_edges``.
+
+    Torque is the same through every cylinder r (steady swirl), so the layers act in
+    series with the weight 1/r³: μ_eq = (r_i⁻² − r_o⁻²) / Σ_j (r_j⁻² − r_j+1⁻²)/μ_j.
+
+    Examples
+    --------
+    >>> couette_viscosity([0.02, 0.03, 0.05], [2.0, 2.0])
+    2.0
+    >>> bool(couette_viscosity([0.02, 0.03, 0.05], [1.0, 3.0]) < 2.0)   # the inner layer weighs most
+    True
+    """
+    r = np.asarray(r_edges, dtype=float)
+    w = r[:-1] ** -2 - r[1:] ** -2
+    return float(w.sum() / (w / np.asarray(mu, dtype=float)).sum())
+
+
 @dataclass(frozen=True)
 class SpindleSection:
     """Geometry of a spindle: radius, wetted side [z_lo, z_hi], measuring section [z_a, z_b] (m)."""
@@ -65,17 +83,21 @@ class SpindleSection:
         return self.z_b - self.z_a
 
 
-def spindle_section(points: np.ndarray, nodes: np.ndarray) -> SpindleSection:
+def spindle_section(points: np.ndarray, nodes: np.ndarray, z_top: float | None = None) -> SpindleSection:
     """The spindle of the nodes ``nodes`` (a rotating wall) on a mesh with node coordinates ``points``.
 
-    r_i is the largest radius of the spindle's nodes, r_o the largest of the mesh;
-    the measuring section is the side with one gap width r_o − r_i cut off at each
-    end (the middle third of the side if it is shorter than three gap widths).
+    r_i is the largest radius of the spindle's nodes, r_o the largest of the mesh; the
+    wetted side runs from the side's lowest node to its highest, or to ``z_top`` [m]
+    (e.g. the surface of a bed) if lower. The measuring section is the wetted side with
+    one gap width r_o − r_i cut off at each end (the middle third of the wetted side if
+    it is shorter than three gap widths).
     """
     p = points[nodes]
     r_i, r_o = float(p[:, 0].max()), float(points[:, 0].max())
     side = p[np.abs(p[:, 0] - r_i) <= 1e-9 * r_o, 1]
     z_lo, z_hi = float(side.min()), float(side.max())
+    if z_top is not None:
+        z_hi = min(z_hi, float(z_top))
     guard = r_o - r_i
     if z_hi - z_lo < 3.0 * guard:
         guard = (z_hi - z_lo) / 3.0
@@ -160,7 +182,7 @@ def swirl_without_circulation(model, state, iterations: int = 20, tol: float = 1
     k = state.copy(V=state.V.copy(), W=state.W.copy())
     k.V[:2 * nn] = 0.0
     k.W[:2 * nn] = 0.0
-    idx, val = model.dirichlet(state.t)
+    idx = model.dirichlet(state.t)[0]
     fixed = np.zeros(model.size, dtype=bool)
     fixed[idx] = True
     free = theta[~fixed[theta]]
@@ -168,7 +190,7 @@ def swirl_without_circulation(model, state, iterations: int = 20, tol: float = 1
     for _ in range(iterations):
         A, b = model.assemble(k, k, 1e12, state.t)  # Δt → ∞: the steady rows
         x = model.pack(k)
-        x[idx] = val
+        x[idx] = model.dirichlet(state.t)[1]  # the rotating wall's W_θ from the nodal porosity
         rest = np.ones(model.size, dtype=bool)
         rest[free] = False
         rhs = b[free] - A[free][:, rest] @ x[rest]

@@ -28,6 +28,7 @@ from ..io.results import write_json, write_resolved_case
 from ..mesh.quad import QuadMesh, rectangle, remove_block
 from ..models.two_fluid_1d import State
 from ..models.two_fluid_2d import Boundary2D, TwoFluid2D
+from . import viscometer
 from .common import RunResult, run_guard
 from ..timestepping.backward_euler import (PicardSettings, Step, StepFailure, integrate, picard_step,
                                           relative_change)
@@ -389,6 +390,9 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
              "u_theta_relative_L2_error": err(ut, ut_ex),
              "definition": "relative L2 error of the nodal profile along r (weight r) against annular "
                            "Poiseuille flow of the same flow rate and Couette swirl"}
+    spindle = viscometer.spindle(case)
+    if spindle is not None:
+        out_d["viscometer"] = viscometer.single_fluid(mesh, res, spindle, sf["viscosity"])
     if plots:
         from ..plots.fields import profile_plot
 
@@ -480,6 +484,9 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
         prof.write(last.t, _write_fields(writer, model, last))
     prof.close()
     wall = time.perf_counter() - wall0
+    visc = viscometer.mixture(case, model, last)
+    if visc is not None:
+        extra["viscometer"] = visc
     summary = _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra,
                        change, history)
     write_json(out / "summary.json", summary)
