@@ -39,8 +39,8 @@ def couette_torque(mu: float, omega: float, length: float, r_i: float, r_o: floa
     Examples
     --------
     >>> T = couette_torque(1.0, 10.0, 0.06, 0.02, 0.05)
-    >>> round(T * 1e3, 6)   # mN·m
-    3.590391
+    >>> round(T * 1e3, 4)   # mN·m
+    3.5904
     >>> # τ_rθ at r_i times the wetted area times r_i
     >>> tau = 2 * 1.0 * 10.0 * 0.05**2 / (0.05**2 - 0.02**2)
     >>> bool(abs(tau * 2 * np.pi * 0.02 * 0.06 * 0.02 - T) < 1e-15)
