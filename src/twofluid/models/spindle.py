@@ -90,7 +90,7 @@ def spindle_section(points: np.ndarray, nodes: np.ndarray, z_top: float | None =
     wetted side runs from the side's lowest node to its highest, or to ``z_top`` [m]
     (e.g. the surface of a bed) if lower. The measuring section is the wetted side with
     one gap width r_o − r_i cut off at each end (the middle third of the wetted side if
-    it is shorter than three gap widths).
+    it is shorter than three gap widths), its ends moved inward to the nearest nodes.
     """
     p = points[nodes]
     r_i, r_o = float(p[:, 0].max()), float(points[:, 0].max())
@@ -101,7 +101,11 @@ def spindle_section(points: np.ndarray, nodes: np.ndarray, z_top: float | None =
     guard = r_o - r_i
     if z_hi - z_lo < 3.0 * guard:
         guard = (z_hi - z_lo) / 3.0
-    return SpindleSection(r_i, r_o, z_lo, z_hi, z_lo + guard, z_hi - guard)
+    # the section ends on nodes of the side (inward), so the trapezoidal end weights are exact
+    zs = np.unique(side)
+    z_a = float(zs[np.searchsorted(zs, z_lo + guard - 1e-9 * r_o)])
+    z_b = float(zs[np.searchsorted(zs, z_hi - guard + 1e-9 * r_o, side="right") - 1])
+    return SpindleSection(r_i, r_o, z_lo, z_hi, z_a, z_b)
 
 
 def spindle_torque(points: np.ndarray, nodes: np.ndarray, reaction_theta: np.ndarray,

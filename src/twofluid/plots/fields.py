@@ -10,7 +10,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
-__all__ = ["field_plot", "velocity_plot", "profile_plot"]
+__all__ = ["field_plot", "velocity_plot", "profile_plot", "single_fluid_plot", "robust_limits"]
+
+#: percentiles of the element values that set a colour scale (one odd element must not set it)
+PERCENTILES = (1.0, 99.0)
 
 
 def _labels(axi: bool) -> tuple[str, str]:
@@ -28,13 +31,46 @@ def _cells(ax, mesh, values, cmap, vmin=None, vmax=None):
     return pc
 
 
+def robust_limits(values, percentiles=PERCENTILES) -> tuple[float, float, str]:
+    """Colour limits from percentiles of the finite values, and a note for the colour-bar label.
+
+    The full range is used when the percentiles leave nothing out; otherwise the note
+    names the percentiles and the full range (values outside get the end colours).
+
+    >>> lo, hi, note = robust_limits(np.r_[np.linspace(0.80, 0.81, 200), 0.95])
+    >>> bool(hi < 0.811), "percentile" in note
+    (True, True)
+    >>> robust_limits([0.5, 0.6])[2]
+    ''
+    """
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return 0.0, 1.0, ""
+    lo, hi = np.percentile(v, percentiles)
+    full = float(v.min()), float(v.max())
+    if hi <= lo or (lo <= full[0] and hi >= full[1]):
+        return full[0], full[1], ""
+    return float(lo), float(hi), (f"colour scale: percentiles {percentiles[0]:g}–{percentiles[1]:g} of the "
+                                  f"elements; full range {full[0]:.4g}–{full[1]:.4g}")
+
+
 def field_plot(mesh, values, path: Path, title: str, label: str, cmap="viridis_r",
-               vmin=None, vmax=None) -> Path:
-    """Element field (e.g. porosity) coloured on the mesh; saved as PNG."""
+               vmin=None, vmax=None, robust: bool = True) -> Path:
+    """Element field (e.g. porosity) coloured on the mesh; saved as PNG.
+
+    ``robust``: without ``vmin``/``vmax`` the colour scale spans the 1st–99th percentile
+    of the element values (:func:`robust_limits`, said in the colour-bar label).
+    """
     h = np.ptp(mesh.points[:, 1]) / max(np.ptp(mesh.points[:, 0]), 1e-12)
     fig, ax = plt.subplots(figsize=(min(3.0 + 6.0 / max(h, 0.5), 9.0), 7.0))
+    extend = "neither"
+    if robust and vmin is None and vmax is None:
+        vmin, vmax, note = robust_limits(values)
+        if note:
+            label, extend = f"{label}\n({note})", "both"
     pc = _cells(ax, mesh, values, cmap, vmin, vmax)
-    fig.colorbar(pc, ax=ax, label=label)
+    fig.colorbar(pc, ax=ax, label=label, extend=extend)
     xl, yl = _labels(mesh.axisymmetric)
     ax.set_xlabel(xl)
     ax.set_ylabel(yl)
@@ -45,14 +81,32 @@ def field_plot(mesh, values, path: Path, title: str, label: str, cmap="viridis_r
     return path
 
 
+#: arrow length ∝ |U|^ARROW_POWER: slow regions (speeds over decades) keep visible arrows
+ARROW_POWER = 0.5
+
+
 def _quiver(ax, xc, vec, n_arrows=22):
-    """Arrows at a subsample of element centres (about n_arrows per direction)."""
+    """Arrows at a subsample of element centres (about n_arrows per direction).
+
+    White with a black edge (seen on light and dark colours), length ∝ √|U| scaled so
+    the longest spans the typical spacing of the arrows (a flow whose speeds span
+    decades keeps arrows in its slow parts); the colour gives the speed.
+    """
     span = np.ptp(xc, axis=0)
     cell = np.maximum(span / n_arrows, 1e-12)
     key = np.floor((xc - xc.min(axis=0)) / cell).astype(int)
     _, pick = np.unique(key, axis=0, return_index=True)
     ok = pick[np.all(np.isfinite(vec[pick, :2]), axis=1)]
-    return ax.quiver(xc[ok, 0], xc[ok, 1], vec[ok, 0], vec[ok, 1], color="k", width=0.004)
+    u = vec[ok, :2]
+    mag = np.hypot(u[:, 0], u[:, 1])
+    top = mag.max() if mag.size else 0.0
+    if top <= 0.0:
+        return None
+    spacing = np.sqrt(np.prod(np.maximum(span, 1e-12)) / max(ok.size, 1))
+    scale = (mag / top) ** ARROW_POWER * 0.9 * min(spacing, span.min() / 3) / np.where(mag > 0, mag, 1.0)
+    return ax.quiver(xc[ok, 0], xc[ok, 1], u[:, 0] * scale, u[:, 1] * scale, angles="xy", scale_units="xy",
+                     scale=1.0, color="white", edgecolor="black", linewidth=0.6, width=0.006,
+                     headwidth=4.0, headlength=4.5, headaxislength=4.0)
 
 
 def velocity_plot(mesh, fields: dict, path: Path, title: str) -> Path:
@@ -63,13 +117,17 @@ def velocity_plot(mesh, fields: dict, path: Path, title: str) -> Path:
         u = fields[key]
         mag = np.sqrt(np.nansum(u[:, :2] ** 2, axis=1))
         mag = np.where(np.isfinite(u[:, 0]), mag, np.nan)
-        pc = _cells(ax, mesh, np.ma.masked_invalid(mag), "magma_r")
+        lo, hi, note = robust_limits(mag)
+        pc = _cells(ax, mesh, np.ma.masked_invalid(mag), "magma_r", 0.0, hi)
         _quiver(ax, xc, u)
-        fig.colorbar(pc, ax=ax, label=f"|{name}| in plane [m/s]", shrink=0.8)
+        label = f"|{name}| in plane [m/s]" + (f"\n(top of the scale: percentile {PERCENTILES[1]:g}; "
+                                               f"max {np.nanmax(mag):.3g} m/s)" if note else "")
+        fig.colorbar(pc, ax=ax, label=label, shrink=0.8, extend="max" if note else "neither")
         xl, yl = _labels(mesh.axisymmetric)
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
-        ax.set_title(f"{name} (blank: clear liquid)" if key == "Us_m_s" else name)
+        ax.set_title((f"{name} (blank: clear liquid)" if key == "Us_m_s" else name)
+                     + "\narrows: direction, length ∝ √|U|", fontsize=9)
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
@@ -101,6 +159,26 @@ def profile_plot(profiles: dict, path: Path, title: str, axi: bool, extra: dict 
     for ax in axes:
         ax.set_xlabel(xl)
         ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def single_fluid_plot(r, uz, ut, r_exact, uz_exact, ut_exact, path: Path, title: str) -> Path:
+    """Single-fluid check: axial and swirl velocity along r, FEM nodes against the exact annulus."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.5))
+    for ax, u, ex, name, exact in ((axes[0], uz, uz_exact, "axial velocity u_z [m/s]",
+                                    "annular Poiseuille flow, same flow rate [m/s]"),
+                                   (axes[1], ut, ut_exact, "swirl velocity u_θ [m/s]",
+                                    "circular Couette flow [m/s]")):
+        ax.plot(r, u, "o", ms=3, label="finite elements, nodes [m/s]")
+        ax.plot(r_exact, ex, "-", color="k", lw=1, label=exact)
+        ax.set_xlabel("r [m]")
+        ax.set_ylabel(name)
+        ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     fig.suptitle(title)
     fig.tight_layout()

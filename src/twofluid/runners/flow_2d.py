@@ -394,12 +394,14 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
     if spindle is not None:
         out_d["viscometer"] = viscometer.single_fluid(mesh, res, spindle, sf["viscosity"])
     if plots:
-        from ..plots.fields import profile_plot
+        from ..plots.fields import single_fluid_plot
 
-        prof = {float(y): {"x_m": r, "porosity": np.ones_like(r), "Uf_y": uz, "Us_y": uz, "Uf_theta": ut}}
-        profile_plot(prof, out / "single_fluid.png", "single fluid (ρ = %g, μ = %g) vs analytic annulus"
-                     % (sf["density"], sf["viscosity"]), True,
-                     extra={"analytic u_z": (r, uz_ex)})
+        rf = np.linspace(r_i, r_o, 201)
+        single_fluid_plot(r, uz, ut, rf, annular_poiseuille(rf, r_i, r_o, annular_poiseuille_gradient(
+                              r_i, r_o, sf["viscosity"], u_mean), sf["viscosity"]), couette_swirl(rf, r_i, r_o, omega),
+                          out / "single_fluid.png",
+                          f"single fluid (ρ = {sf['density']:g} kg/m³, μ = {sf['viscosity']:g} Pa·s) at "
+                          f"z = {y:g} m against the exact annulus")
     return out_d
 
 
@@ -491,7 +493,7 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
                        change, history)
     write_json(out / "summary.json", summary)
     if case["output"]["plots"]:
-        _plots(case, model, last, prof.last, out, extra)
+        _plots(case, model, last, prof.last, out, extra, reason)
     return RunResult(status, out, summary, {last.t: model.element_fields(last)}, {})
 
 
@@ -560,10 +562,15 @@ def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outfl
     return s
 
 
-def _plots(case, model, s, profiles, out, extra):
+def _plots(case, model, s, profiles, out, extra, reason=""):
     from ..plots.fields import field_plot, profile_plot, velocity_plot
 
-    title = f"{case['case']['name']}, t = {s.t:.4g} s"
+    name = case["case"]["name"]
+    if case["time"]["stepping"] == "pseudo_transient" and "stepping_fallback" not in extra:
+        # the clock of pseudo-transient continuation is not a time: say what the state is
+        title = f"{name}, steady state" if reason.startswith("steady") else f"{name}, not steady (see summary.json)"
+    else:
+        title = f"{name}, t = {s.t:.4g} s" + (", steady" if reason.startswith("steady") else "")
     f = model.element_fields(s)
     field_plot(model.mesh, s.n, out / "porosity.png", title, "porosity n [-]")
     velocity_plot(model.mesh, f, out / "velocity.png", title)
