@@ -82,48 +82,82 @@ def test_pipe_flow_pseudo_transient_reaches_steady_state(tmp_path):
     assert np.abs(new.V - last.V).max() < 1e-6 * m.velocity_scale(last)
 
 
-def test_a_stalled_pseudo_transient_run_falls_back_to_the_transient_and_says_so(tmp_path):
-    """A dilute riser (the pipe-flow case fed at 0.078 m/s liquid, 0.0011 m/s solids, n = 0.9727).
-
-    On this 12 × 24 mesh, as on the bundled one, pseudo-transient continuation does not
-    converge (Newton's region of convergence is smaller than what one step changes,
-    docs/benchmarks_2d.md); the run must notice, warn, run the transient from the
-    initial state to the steady state, and say so in its summary. The steady state is
-    checked against the discrete equations: a converged step of 2 s from it leaves it
-    where it is, and liquid and solids leave as fast as they enter.
-    """
-    from twofluid.casefile.schema import CaseWarning
-    from twofluid.runners.flow_2d import STALL_STEPS, build_2d
-    from twofluid.timestepping.backward_euler import picard_step
-
+def _dilute_riser(nx=12, ny=24):
+    """The pipe-flow case fed as a dilute riser: 0.078 m/s liquid, 0.0011 m/s solids, n = 0.9727."""
     case = load_case("pipe-flow")
-    case["mesh"].update(nx=12, ny=24)
+    case["mesh"].update(nx=nx, ny=ny)
     case["boundary.bottom"].update(velocities=[0.078], solids_velocity=0.0011)
     case["initial"]["porosity"] = 0.9727
     case["output"]["plots"] = False
-    with pytest.warns(CaseWarning, match="stalled.*falling back to the transient"):
-        res = run_case(case, tmp_path)
+    return case
+
+
+def _assert_steady(case, res, out):
+    """The run's final state is a steady state of the discrete equations, and the summary says so.
+
+    A converged step of 2 s from it changes it by less than the steady criteria allow
+    (rate × 2 s) plus the step's own Picard tolerance; liquid and solids leave as fast as
+    they enter.
+    """
+    from twofluid.runners.flow_2d import build_2d
+    from twofluid.timestepping.backward_euler import picard_step
+
     s = res.summary
     assert res.status == "completed" and s["reason"].startswith("steady"), s["reason"]
-    assert "fallback to the transient" in s["reason"]
-    fb = s["stepping_fallback"]
-    assert "stalled" in fb["reason"] and fb["then"].startswith("transient from the initial state")
-    assert s["steps"] > STALL_STEPS
-    tol_change = case["profiles"]["steady_change"]
-    assert max(s["final_change"]["max_dn"], s["final_change"]["max_dV_over_Vmax"]) < tol_change
+    assert max(s["final_change"]["max_dn"], s["final_change"]["max_dV_over_Vmax"]) \
+        < case["profiles"]["steady_change"]
     assert abs(s["solids_outflow_over_inflow"] - 1.0) < 1e-3
     assert abs(s["liquid_outflow_over_inflow"] - 1.0) < 1e-3
     b = build_2d(case)
-    m, f = b.model, meshio.read(sorted(tmp_path.glob("fields_*.vtu"))[-1])
+    m, f = b.model, meshio.read(sorted(out.glob("fields_*.vtu"))[-1])
     last = b.state.copy(V=f.point_data["V"][:, :m.nc].T.ravel().copy(),
                         W=f.point_data["W"][:, :m.nc].T.ravel().copy(),
                         P=f.cell_data["P"][0].copy(), n=f.cell_data["porosity"][0].copy())
     new, _ = picard_step(m, last, 2.0, b.settings)
     assert new is not None
-    # the run stopped when a step of 2 s changed the fields by less than the steady criteria
-    assert np.abs(new.n - last.n).max() < 2.0 * case["profiles"]["steady_tolerance"] + b.settings.tol
-    assert np.abs(new.V - last.V).max() < (2.0 * case["profiles"]["steady_tolerance"] + b.settings.tol) \
-        * m.velocity_scale(last)
+    bound = 2.0 * case["profiles"]["steady_tolerance"] + b.settings.tol
+    assert np.abs(new.n - last.n).max() < bound
+    assert np.abs(new.V - last.V).max() < bound * m.velocity_scale(last)
+
+
+def test_pseudo_transient_run_of_a_dilute_riser_reaches_its_steady_state(tmp_path):
+    """The dilute riser that stalled the continuation (issue: 151 steps in 14 min, not steady).
+
+    With the trust region it converges on this 12 × 24 mesh; where it still stalls (the
+    trajectory is sensitive to the linear solver's round-off, docs/benchmarks_2d.md) the
+    run falls back to the transient and says so. Either way it ends steady.
+    """
+    import warnings
+
+    case = _dilute_riser()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = run_case(case, tmp_path)
+    _assert_steady(case, res, tmp_path)
+    fell_back = "stepping_fallback" in res.summary
+    assert fell_back == any("falling back to the transient" in str(w.message) for w in caught)
+    assert fell_back == ("fallback to the transient" in res.summary["reason"])
+
+
+def test_a_stalled_pseudo_transient_run_falls_back_to_the_transient_and_says_so(tmp_path, monkeypatch):
+    """A continuation that stalls (forced: no trust region, 3 steps without a tenfold drop of the
+    change; the first steps of this riser change by 0.1–0.2 each) warns, runs the transient from
+    the initial state to the steady state and says so in its summary."""
+    from twofluid.casefile.schema import CaseWarning
+    from twofluid.runners import flow_2d
+
+    monkeypatch.setattr(flow_2d, "STALL_STEPS", 3)
+    monkeypatch.setattr(flow_2d, "MAX_SOLIDS_CHANGE", 0.0)
+    case = _dilute_riser()
+    with pytest.warns(CaseWarning, match="stalled.*falling back to the transient"):
+        res = run_case(case, tmp_path)
+    _assert_steady(case, res, tmp_path)
+    s = res.summary
+    assert "fallback to the transient" in s["reason"]
+    fb = s["stepping_fallback"]
+    assert "stalled" in fb["reason"] and fb["then"].startswith("transient from the initial state")
+    lines = (tmp_path / "steps.csv").read_text().splitlines()
+    assert len(lines) == s["steps"] + 2 and s["steps"] > 3
 
 
 def test_cli_says_a_pseudo_transient_run_stopped_at_its_steady_state(tmp_path, capsys):
