@@ -79,7 +79,9 @@ _TIME = [
     K("stepping", str, "fixed", "-", "fixed: Δt = step (shrinks where needed, lands on [output] times; "
       "the transient); pseudo_transient: Δt grows as the fields settle (switched evolution relaxation, "
       "up to max_step), for the steady state only: [output] times are written at the first step "
-      "reaching them; inlets must then hold one value", choices=("fixed", "pseudo_transient")),
+      "reaching them; inlets must then hold one value. If the continuation stalls (its change per "
+      "step not down tenfold in 25 steps) the run says so and continues with the transient from the "
+      "initial state (Δt = step) until steady", choices=("fixed", "pseudo_transient")),
     K("max_step", float, 0.0, "s", "pseudo_transient: largest Δt (0: [time] end)", lo=0.0,
       used_when=("stepping", ("pseudo_transient",))),
     K("iterations_per_step", int, 1, "-", "pseudo_transient: Newton iterates per step (pseudo-transient "
