@@ -12,7 +12,8 @@ def _cmd_run(args) -> int:
 
     res = run_case(args.case, args.out, progress=not args.quiet and sys.stderr.isatty())
     s = res.summary
-    clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" else "t"  # Δt grows to 1e4 s there
+    clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" and not s.get("stepping_fallback") \
+        else "t"  # Δt grows to 1e4 s there; after a fallback to the transient the time is physical
     print(f"{s['case']}: {s['status']} at {clock} = {s['stopped_at_s']:.6g} s after {s['steps']} steps "
           f"in {s['wall_time_s']:.1f} s; results in {res.out_dir}")
     if s["status"] != "completed":

@@ -4,7 +4,8 @@ Outputs in ``out_dir``: ``case.resolved.toml``; ``fields.pvd`` + ``fields_NNNN.v
 (ParaView, every [output] time); ``profiles.csv`` (horizontal/radial profiles at the
 [profiles] heights, long format); ``steps.csv`` (one row per step: Δt, iterations,
 rates and changes of the fields, linear-solver counts, U_f along the axis at the
-[profiles] heights); ``summary.json``; PNGs (``porosity.png``,
+[profiles] heights; after a fallback from pseudo-transient continuation to the transient
+the step count goes on and the time starts again from 0); ``summary.json``; PNGs (``porosity.png``,
 ``velocity.png``, ``profiles.png``, and ``single_fluid.png`` with the annulus check).
 Ctrl-C or a step that cannot be made keeps what was written; the summary says
 where the run stopped. ``[time] stepping = "pseudo_transient"`` replaces the
@@ -463,11 +464,19 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     history.write(0, state, 0.0, 0, (np.nan, np.nan), (np.nan, np.nan))
     pending = [t for t in out_times if t > state.t]
     offset = 0  # steps before a fallback to the transient
+    pseudo = isinstance(steps, SteadySteps)
     with run_guard(b.t_end, progress, history) as run:
+        time_format = getattr(run.bar, "bar_format", None)  # a disabled bar has none
+        if pseudo and time_format:  # its clock is not a time: count steps
+            run.bar.bar_format = "steady state by pseudo-transient continuation: step {n} [{elapsed}]"
+            run.bar.reset(total=None)
         for step in steps:
             if getattr(steps, "restart", None) is not None:  # the continuation stalled: transient from t = 0
                 last, calm, outflow, offset, steps.restart = steps.restart, 0, 0.0, n_steps, None
                 pending = [t for t in out_times if t > last.t]
+                pseudo = False
+                if time_format:
+                    run.bar.bar_format = time_format
                 run.bar.reset(total=b.t_end)
             step = replace(step, n_steps=step.n_steps + offset)
             s = step.state
@@ -485,7 +494,7 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
                 pending.pop(0)
             if steady or due:
                 prof.write(s.t, _write_fields(writer, model, s))
-            run.bar.update(min(s.t, b.t_end) - run.bar.n)
+            run.bar.update(1 if pseudo else min(s.t, b.t_end) - run.bar.n)
             if steady:
                 steady_reason = (f"steady: max |dn/dt| = {rate[0]:.3g} 1/s, max |dV/dt|/|V| = {rate[1]:.3g} 1/s, "
                                  f"change in the last step {max(change):.3g} (Δt = {step.dt:.4g} s)")
@@ -513,7 +522,8 @@ def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outfl
              change=(np.nan, np.nan), history=None):
     solids = model.solids_volume(last)
     fluxes = model.boundary_fluxes(last)
-    pseudo = case["time"]["stepping"] == "pseudo_transient"
+    # after a fallback the steps are a transient from the initial state: its history balance holds
+    pseudo = case["time"]["stepping"] == "pseudo_transient" and "stepping_fallback" not in extra
     sol_in = sum(-v["solids_m3_s"] for v in fluxes.values() if v["solids_m3_s"] < 0.0)
     history_balance = (solids - solids0 + outflow) / solids0 if solids0 > 0 else 0.0
     steady = pseudo and sol_in > 0  # a pseudo-transient run with no solids inflow keeps the history balance
