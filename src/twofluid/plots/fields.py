@@ -16,8 +16,27 @@ __all__ = ["field_plot", "velocity_plot", "profile_plot", "single_fluid_plot", "
 PERCENTILES = (1.0, 99.0)
 
 
+#: a domain taller (or wider) than this is drawn stretched to this ratio, the axes labelled so
+MAX_RATIO = 3.0
+
+
 def _labels(axi: bool) -> tuple[str, str]:
     return ("r [m]", "z [m]") if axi else ("x [m]", "y [m]")
+
+
+def _aspect(mesh) -> float:
+    """Display aspect (height of a y unit over width of an x unit): 1, or a stretch to MAX_RATIO."""
+    ratio = np.ptp(mesh.points[:, 1]) / max(np.ptp(mesh.points[:, 0]), 1e-12)
+    return 1.0 if 1.0 / MAX_RATIO <= ratio <= MAX_RATIO else float(np.clip(ratio, 1 / MAX_RATIO, MAX_RATIO)) / ratio
+
+
+def _axis_labels(ax, mesh):
+    xl, yl = _labels(mesh.axisymmetric)
+    a = _aspect(mesh)
+    if a != 1.0:  # say that the picture is not to scale
+        yl = f"{yl} (drawn at {a:.3g}× the scale of {xl.split()[0]})"
+    ax.set_xlabel(xl)
+    ax.set_ylabel(yl)
 
 
 def _cells(ax, mesh, values, cmap, vmin=None, vmax=None):
@@ -27,7 +46,7 @@ def _cells(ax, mesh, values, cmap, vmin=None, vmax=None):
     ax.add_collection(pc)
     ax.set_xlim(mesh.points[:, 0].min(), mesh.points[:, 0].max())
     ax.set_ylim(mesh.points[:, 1].min(), mesh.points[:, 1].max())
-    ax.set_aspect("equal")
+    ax.set_aspect(_aspect(mesh))
     return pc
 
 
@@ -62,7 +81,7 @@ def field_plot(mesh, values, path: Path, title: str, label: str, cmap="viridis_r
     ``robust``: without ``vmin``/``vmax`` the colour scale spans the 1st–99th percentile
     of the element values (:func:`robust_limits`, said in the colour-bar label).
     """
-    h = np.ptp(mesh.points[:, 1]) / max(np.ptp(mesh.points[:, 0]), 1e-12)
+    h = np.ptp(mesh.points[:, 1]) / max(np.ptp(mesh.points[:, 0]), 1e-12) * _aspect(mesh)  # as drawn
     fig, ax = plt.subplots(figsize=(min(3.0 + 6.0 / max(h, 0.5), 9.0), 7.0))
     extend = "neither"
     if robust and vmin is None and vmax is None:
@@ -71,9 +90,7 @@ def field_plot(mesh, values, path: Path, title: str, label: str, cmap="viridis_r
             label, extend = f"{label}\n({note})", "both"
     pc = _cells(ax, mesh, values, cmap, vmin, vmax)
     fig.colorbar(pc, ax=ax, label=label, extend=extend)
-    xl, yl = _labels(mesh.axisymmetric)
-    ax.set_xlabel(xl)
-    ax.set_ylabel(yl)
+    _axis_labels(ax, mesh)
     ax.set_title(title)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
@@ -85,12 +102,13 @@ def field_plot(mesh, values, path: Path, title: str, label: str, cmap="viridis_r
 ARROW_POWER = 0.5
 
 
-def _quiver(ax, xc, vec, n_arrows=22):
+def _quiver(ax, xc, vec, n_arrows=22, aspect=1.0):
     """Arrows at a subsample of element centres (about n_arrows per direction).
 
     White with a black edge (seen on light and dark colours), length ∝ √|U| scaled so
-    the longest spans the typical spacing of the arrows (a flow whose speeds span
-    decades keeps arrows in its slow parts); the colour gives the speed.
+    the longest spans the typical spacing of the arrows on the page (a flow whose speeds
+    span decades keeps arrows in its slow parts); the colour gives the speed. Directions
+    are those of the data; ``aspect`` is the display stretch of y (:func:`_aspect`).
     """
     span = np.ptp(xc, axis=0)
     cell = np.maximum(span / n_arrows, 1e-12)
@@ -102,8 +120,10 @@ def _quiver(ax, xc, vec, n_arrows=22):
     top = mag.max() if mag.size else 0.0
     if top <= 0.0:
         return None
-    spacing = np.sqrt(np.prod(np.maximum(span, 1e-12)) / max(ok.size, 1))
-    scale = (mag / top) ** ARROW_POWER * 0.9 * min(spacing, span.min() / 3) / np.where(mag > 0, mag, 1.0)
+    # page lengths in x units: a data vector (u, v) shows as √(u² + (aspect v)²)
+    spacing = np.sqrt(span[0] * span[1] * aspect / max(ok.size, 1))
+    page = np.sqrt(u[:, 0] ** 2 + (aspect * u[:, 1]) ** 2)
+    scale = (mag / top) ** ARROW_POWER * 0.9 * min(spacing, span[0] / 3) / np.where(page > 0, page, 1.0)
     return ax.quiver(xc[ok, 0], xc[ok, 1], u[:, 0] * scale, u[:, 1] * scale, angles="xy", scale_units="xy",
                      scale=1.0, color="white", edgecolor="black", linewidth=0.6, width=0.006,
                      headwidth=4.0, headlength=4.5, headaxislength=4.0)
@@ -119,13 +139,11 @@ def velocity_plot(mesh, fields: dict, path: Path, title: str) -> Path:
         mag = np.where(np.isfinite(u[:, 0]), mag, np.nan)
         lo, hi, note = robust_limits(mag)
         pc = _cells(ax, mesh, np.ma.masked_invalid(mag), "magma_r", 0.0, hi)
-        _quiver(ax, xc, u)
+        _quiver(ax, xc, u, aspect=_aspect(mesh))
         label = f"|{name}| in plane [m/s]" + (f"\n(top of the scale: percentile {PERCENTILES[1]:g}; "
                                                f"max {np.nanmax(mag):.3g} m/s)" if note else "")
         fig.colorbar(pc, ax=ax, label=label, shrink=0.8, extend="max" if note else "neither")
-        xl, yl = _labels(mesh.axisymmetric)
-        ax.set_xlabel(xl)
-        ax.set_ylabel(yl)
+        _axis_labels(ax, mesh)
         ax.set_title((f"{name} (blank: clear liquid)" if key == "Us_m_s" else name)
                      + "\narrows: direction, length ∝ √|U|", fontsize=9)
     fig.suptitle(title)
