@@ -53,8 +53,9 @@ def _cells(ax, mesh, values, cmap, vmin=None, vmax=None):
 def robust_limits(values, percentiles=PERCENTILES) -> tuple[float, float, str]:
     """Colour limits from percentiles of the finite values, and a note for the colour-bar label.
 
-    The full range is used when the percentiles leave nothing out; otherwise the note
-    names the percentiles and the full range (values outside get the end colours).
+    The full range is used when the percentiles span most of it (80 %: no outlier to
+    leave out); otherwise the note names the percentiles and the full range (values
+    outside get the end colours).
 
     >>> lo, hi, note = robust_limits(np.r_[np.linspace(0.80, 0.81, 200), 0.95])
     >>> bool(hi < 0.811), "percentile" in note
@@ -68,7 +69,7 @@ def robust_limits(values, percentiles=PERCENTILES) -> tuple[float, float, str]:
         return 0.0, 1.0, ""
     lo, hi = np.percentile(v, percentiles)
     full = float(v.min()), float(v.max())
-    if hi <= lo or (lo <= full[0] and hi >= full[1]):
+    if hi <= lo or hi - lo >= 0.8 * (full[1] - full[0]):
         return full[0], full[1], ""
     return float(lo), float(hi), (f"colour scale: percentiles {percentiles[0]:g}–{percentiles[1]:g} of the "
                                   f"elements; full range {full[0]:.4g}–{full[1]:.4g}")
