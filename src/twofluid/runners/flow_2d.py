@@ -507,7 +507,10 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
         prof.write(last.t, _write_fields(writer, model, last))
     prof.close()
     wall = time.perf_counter() - wall0
-    visc = viscometer.mixture(case, model, last)
+    try:  # a reading that cannot be made must not cost the summary of the run
+        visc = viscometer.mixture(case, model, last)
+    except (ValueError, RuntimeError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        visc = {"error": f"{type(exc).__name__}: {exc}"}
     if visc is not None:
         extra["viscometer"] = visc
     summary = _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outflow, rate, extra,
