@@ -248,8 +248,9 @@ class SteadySteps:
     happened and ``restart`` the initial state until the runner has taken it.
     """
 
-    def __init__(self, model, state, b, time_section, echo=print):
+    def __init__(self, model, state, b, time_section, echo=print, stops=()):
         self.model, self.initial, self.b, self.tm, self.echo = model, state, b, time_section, echo
+        self.stops = stops  # [output] times the transient lands on
         self.fallback, self.restart = None, None
 
     def __iter__(self):
@@ -264,7 +265,7 @@ class SteadySteps:
         self.echo(f"{reason}; falling back to the {self.fallback['then']}")
         self.model.linear.lu = None
         self.restart = self.initial
-        yield from integrate(self.model, self.initial, b.t_end, b.dt, settings=b.settings)
+        yield from integrate(self.model, self.initial, b.t_end, b.dt, stops=self.stops, settings=b.settings)
 
 
 def _warn_stall(message: str) -> None:
@@ -457,7 +458,7 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     n_steps, last, rate, change, steady_reason = 0, state, (np.inf, np.inf), (np.inf, np.inf), ""
     tm = case["time"]
     if tm["stepping"] == "pseudo_transient":
-        steps = SteadySteps(model, state, b, tm, echo=_warn_stall)
+        steps = SteadySteps(model, state, b, tm, echo=_warn_stall, stops=out_times)
     else:
         steps = integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings)
     history = _History(out, model, pc["heights"])
