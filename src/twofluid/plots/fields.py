@@ -16,8 +16,8 @@ __all__ = ["field_plot", "velocity_plot", "profile_plot", "single_fluid_plot", "
 PERCENTILES = (1.0, 99.0)
 
 
-#: a domain taller (or wider) than this is drawn stretched to this ratio, the axes labelled so
-MAX_RATIO = 3.0
+#: a domain taller (or wider) than this ratio is drawn stretched to it, the axis label says so
+MAX_RATIO = 4.0
 
 
 def _labels(axi: bool) -> tuple[str, str]:
