@@ -235,6 +235,19 @@ def test_viscometer_reads_the_mooney_viscosity_of_a_uniform_bed_with_the_circula
     assert all(abs(e) < 0.02 for e in errors) and abs(errors[1]) < abs(errors[0])
 
 
+def test_a_viscometer_reading_that_cannot_be_made_is_said_in_the_summary(tmp_path):
+    """A bed below the spindle's tip wets no side: the summary says why there is no reading."""
+    case = load_case("viscometer")
+    case["mesh"].update(nx=6, ny=16)
+    case["initial"]["bed_height"] = 0.03
+    case["time"].update(end=0.02, step=0.01)
+    case["output"].update(times=[], plots=False)
+    case["single_fluid"]["enabled"] = False
+    res = run_case(case, tmp_path)
+    assert res.status == "completed"
+    assert "not wetted" in res.summary["viscometer"]["error"]
+
+
 def test_2d_case_errors_name_key():
     doc = {"case": {"name": "x", "model": "two_fluid_2d"},
            "materials": {"liquid_density": 1000.0, "liquid_viscosity": 1e-3, "particle_density": 2600.0,

@@ -98,6 +98,8 @@ def spindle_section(points: np.ndarray, nodes: np.ndarray, z_top: float | None =
     z_lo, z_hi = float(side.min()), float(side.max())
     if z_top is not None:
         z_hi = min(z_hi, float(z_top))
+    if z_hi <= z_lo:
+        raise ValueError(f"the spindle's side (from z = {z_lo:g} m) is not wetted (top {z_hi:g} m)")
     guard = r_o - r_i
     if z_hi - z_lo < 3.0 * guard:
         guard = (z_hi - z_lo) / 3.0

@@ -98,6 +98,8 @@ def mixture(case: dict, model, state) -> dict | None:
     calm = swirl_without_circulation(model, state)
     still = spindle_torque(mesh.points, nodes, mixture_swirl_reaction(model, calm)[nodes], omega, geo)
     sec = (r_lo >= geo.r_i - 1e-12) & (zc > geo.z_a) & (zc < geo.z_b)
+    if not sec.any():
+        raise ValueError(f"no elements in the measuring section z = {geo.z_a:g}–{geo.z_b:g} m")
     mu_el = mooney_pringle(state.n, model.mat.mu_f, **model.clo.viscosity_params)
     edges = np.unique(np.round(np.concatenate([r_lo[sec], r_hi[sec]]), 12))
     col = np.searchsorted(edges, np.round(r_lo[sec], 12))
@@ -120,8 +122,8 @@ def mixture(case: dict, model, state) -> dict | None:
         "circulation_share_of_section_torque": 1.0 - still["section_torque_N_m"] / out["section_torque_N_m"],
         "bed_surface_m": _bed_surface(mesh, state.n, nodes, model.vol),
         "definition": _TORQUE_DEFINITION + ". Mixture: the wetted side ends at the bed's surface in the gap "
-        f"(bottom of the lowest row with mean porosity above {CLEAR_ROW}); the steady reaction of the mixture's swirl rows "
-        "(liquid and solids stresses together); Mooney–Pringle viscosity at the section's mean porosity "
+        f"(bottom of the lowest row with mean porosity above {CLEAR_ROW}); the steady reaction of the "
+        "mixture's swirl rows (liquid and solids stresses together); Mooney–Pringle viscosity at the section's mean porosity "
         "(volume weighted) and the reading of its porosity layers (Mooney per element, mean along z, "
         "1/r³ series rule across the gap); circulation share = 1 − torque of the same porosity field "
         "with the meridional velocities suppressed (swirl rows solved alone, steady) / torque",
