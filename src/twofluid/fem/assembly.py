@@ -56,8 +56,10 @@ class BlockSystem:
         """Add element vectors ``local`` (n_el, a) (or plain vectors) at ``rdofs``."""
         np.add.at(self.rhs, np.asarray(rdofs) + self.offset[row], local)
 
+    def triplets(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(rows, cols, values) of all entries added (duplicates not yet summed)."""
+        return np.concatenate(self._rows), np.concatenate(self._cols), np.concatenate(self._vals)
+
     def matrix(self) -> sp.csr_matrix:
-        rows = np.concatenate(self._rows)
-        cols = np.concatenate(self._cols)
-        vals = np.concatenate(self._vals)
+        rows, cols, vals = self.triplets()
         return sp.csr_matrix((vals, (rows, cols)), shape=(self.size, self.size))

@@ -39,7 +39,7 @@ contiguous) and one banded LU solve; what does not change inside the Picard loop
 (the mixture velocity and its element products, the old state's terms, Δt
 factors) is computed once per step, or once per V or Δt. The first iterate of a
 step starts from the extrapolation of the last converged steps, of order up to 4
-chosen entry by entry (W and n; V is known exactly; :class:`_Extrapolator`): on the
+chosen entry by entry (W and n; V is known exactly; :class:`~twofluid.models.extrapolation.Extrapolator`): on the
 settling column nearly every step then converges at the first iterate, on the
 fluidized bed (100 elements) three in four.
 
@@ -52,82 +52,13 @@ import numpy as np
 from scipy.linalg.lapack import dgbsv
 
 from ..closures.viscosity import solid_viscosity
+from .extrapolation import Extrapolator
 from .two_fluid_1d import _CLEAR, State, TwoFluid1D
 
 __all__ = ["Reduced1D"]
 
 _KL = 2  # half-width of the band of the interleaved (W, n) system
-_HISTORY = 6  # backward differences kept for the extrapolated first iterate (orders up to 4)
 _DIAG = 2 * _KL  # row of the main diagonal in LAPACK band storage (KL fill-in rows first)
-
-
-class _Extrapolator:
-    """First iterate of a step from the converged steps before it, for the fields W and n.
-
-    Keeps the backward differences ∇ʲx (j < ``_HISTORY``) of the last converged states
-    at equal steps h. The extrapolation of order p to the next step is Σ_{j≤p} ∇ʲx and
-    its error is about the next term ∇^{p+1}x, so each entry takes the order p ≤ 4
-    whose next term is smallest (locally adaptive: high order where the field is
-    smooth in time, low order where a front crosses an element). After a change of
-    step (or a restart) the table starts again from the last two states, extrapolated
-    linearly (at most twice their step ahead) until it has three.
-
-    >>> e = _Extrapolator()
-    >>> for t in range(6):
-    ...     e.push(float(t), [np.array([t ** 3 + 1.0])], None)
-    >>> float(e.predict(6.0)[0][0]), e.order  # a cubic in time is extrapolated exactly
-    (217.0, 6)
-    """
-
-    def __init__(self):
-        self.t = self.h = None
-        self.D = None  # per field: (order, size) backward differences, ∇⁰x = x first
-        self.order = 0  # number of rows (states) in the table
-        self.state = None  # the state the last row belongs to (identity check)
-
-    def push(self, t: float, fields: list, state, t_old: float | None = None, old_fields: list | None = None):
-        """Add the converged ``fields`` at ``t``; ``t_old``/``old_fields`` restart the table from the step before."""
-        if old_fields is not None:
-            self.D = [np.stack([x, x - xo]) for x, xo in zip(fields, old_fields)]
-            self.order, self.h = 2, t - t_old
-        elif self.D is None:
-            self.D = [x[None, :].copy() for x in fields]
-            self.order, self.h = 1, None
-        elif self.h is None or not abs((t - self.t) - self.h) <= 1e-9 * self.h:  # a new step size
-            self.D = [np.stack([x, x - Do[0]]) for x, Do in zip(fields, self.D)]
-            self.order, self.h = 2, t - self.t
-        else:
-            m = min(self.order + 1, _HISTORY)
-            D = []
-            for x, Do in zip(fields, self.D):
-                Dn = np.empty((m, x.size))
-                Dn[0] = x
-                for j in range(1, m):
-                    np.subtract(Dn[j - 1], Do[j - 1], out=Dn[j])  # ∇ʲx_new = ∇ʲ⁻¹x_new − ∇ʲ⁻¹x_old
-                D.append(Dn)
-            self.D, self.order = D, m
-        self.t, self.state = t, state
-
-    def predict(self, t: float) -> list | None:
-        """The extrapolated fields at ``t`` (None without at least two states)."""
-        if self.order < 2 or not t > self.t:
-            return None
-        h_new = t - self.t
-        if self.order >= 3 and abs(h_new - self.h) <= 1e-9 * self.h:
-            out = []
-            for D in self.D:
-                acc = D[0] + D[1]  # order 1
-                pred, err = acc.copy(), np.abs(D[2])
-                for j in range(2, self.order - 1):  # order j, its next term ∇^{j+1}x
-                    acc += D[j]
-                    e = np.abs(D[j + 1])
-                    better = e < err
-                    np.copyto(pred, acc, where=better)
-                    np.minimum(err, e, out=err)
-                out.append(pred)
-            return out
-        f = min(h_new / self.h, 2.0)
-        return [D[0] + f * D[1] for D in self.D]
 
 
 class Reduced1D(TwoFluid1D):
@@ -181,7 +112,7 @@ class Reduced1D(TwoFluid1D):
         self._dt_c = self._V_c = self._step = None  # caches of what is fixed per Δt, per V, per step
         self._belf = self._belf_of = None  # upwind side as 0/1 floats, and the boolean array it came from
         self._last_iterate = None  # pieces of the last assembled iterate, for the pressure of the step
-        self._extrap = _Extrapolator()  # W and n of the last converged steps, for the first iterate
+        self._extrap = Extrapolator()  # W and n of the last converged steps, for the first iterate
 
     # ----------------------------------------------------------- pieces
     def mixture_flux(self, t: float) -> float:
@@ -266,15 +197,13 @@ class Reduced1D(TwoFluid1D):
         return r, Pb, Qa
 
     # ---------------------------------------------------- stepper interface
-    def begin_iteration(self, it: int, k: State) -> None:
-        """Picard hook: extrapolated first iterate, then the full model's upwind-side choice.
-
-        At the first iteration of a step from the last converged state, W and n start
-        from their extrapolation from the last converged steps (:class:`_Extrapolator`),
+    def _first_iterate(self, k: State) -> None:
+        """At the first iteration of a step from the last converged state, W and n start
+        from their extrapolation from the last converged steps (:class:`~twofluid.models.extrapolation.Extrapolator`),
         n kept in (0, 1], and V from c(t)/A.
         """
         ex = self._extrap
-        if it == 1 and ex.order >= 2 and k.t > ex.t:
+        if ex.order >= 2 and k.t > ex.t:
             DW, Dn = ex.D
             if (k.n == Dn[0]).all() and (k.W == DW[0]).all():  # k is the last converged state
                 W, n = ex.predict(k.t)
@@ -282,7 +211,6 @@ class Reduced1D(TwoFluid1D):
                 k.W[:] = W
                 np.minimum(n, 1.0, out=k.n)
                 np.maximum(k.n, _CLEAR, out=k.n)
-        super().begin_iteration(it, k)
 
     def assemble(self, k: State, old: State, dt: float, t_new: float) -> tuple:
         """Banded Newton system for the increment of (W, n) of one Picard iterate (module docstring)."""
@@ -440,11 +368,7 @@ class Reduced1D(TwoFluid1D):
             L[0] += vl
             L[1] -= vl
         new.P = self._pressure_from(self._assemble_nodal(L))
-        ex = self._extrap
-        if ex.state is old and ex.t == old.t:  # a continuation of the steps in the table
-            ex.push(new.t, [new.W, new.n], new)
-        else:
-            ex.push(new.t, [new.W, new.n], new, old.t, [old.W, old.n])
+        self._remember(old, new, lambda s: [s.W, s.n])
         return new
 
     def recover_pressure(self, s: State, old: State, dt: float) -> np.ndarray:

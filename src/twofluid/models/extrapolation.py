@@ -1,0 +1,82 @@
+"""First iterate of a time step extrapolated from the converged steps before it.
+
+Both 1D models start the Newton–Picard loop of a step from this prediction: on a
+smooth flow it is accurate to the Picard tolerance and the step converges at the
+first iterate (docs/benchmarks.md). It only steers the iterates, not the fixed point.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["Extrapolator"]
+
+_HISTORY = 6  # backward differences kept (orders up to 4)
+
+
+class Extrapolator:
+    """First iterate of a step from the converged steps before it, for the fields W and n.
+
+    Keeps the backward differences ∇ʲx (j < ``_HISTORY``) of the last converged states
+    at equal steps h. The extrapolation of order p to the next step is Σ_{j≤p} ∇ʲx and
+    its error is about the next term ∇^{p+1}x, so each entry takes the order p ≤ 4
+    whose next term is smallest (locally adaptive: high order where the field is
+    smooth in time, low order where a front crosses an element). After a change of
+    step (or a restart) the table starts again from the last two states, extrapolated
+    linearly (at most twice their step ahead) until it has three.
+
+    >>> e = Extrapolator()
+    >>> for t in range(6):
+    ...     e.push(float(t), [np.array([t ** 3 + 1.0])], None)
+    >>> float(e.predict(6.0)[0][0]), e.order  # a cubic in time is extrapolated exactly
+    (217.0, 6)
+    """
+
+    def __init__(self):
+        self.t = self.h = None
+        self.D = None  # per field: (order, size) backward differences, ∇⁰x = x first
+        self.order = 0  # number of rows (states) in the table
+        self.state = None  # the state the last row belongs to (identity check)
+
+    def push(self, t: float, fields: list, state, t_old: float | None = None, old_fields: list | None = None):
+        """Add the converged ``fields`` at ``t``; ``t_old``/``old_fields`` restart the table from the step before."""
+        if old_fields is not None:
+            self.D = [np.stack([x, x - xo]) for x, xo in zip(fields, old_fields)]
+            self.order, self.h = 2, t - t_old
+        elif self.D is None:
+            self.D = [x[None, :].copy() for x in fields]
+            self.order, self.h = 1, None
+        elif self.h is None or not abs((t - self.t) - self.h) <= 1e-9 * self.h:  # a new step size
+            self.D = [np.stack([x, x - Do[0]]) for x, Do in zip(fields, self.D)]
+            self.order, self.h = 2, t - self.t
+        else:
+            m = min(self.order + 1, _HISTORY)
+            D = []
+            for x, Do in zip(fields, self.D):
+                Dn = np.empty((m, x.size))
+                Dn[0] = x
+                for j in range(1, m):
+                    np.subtract(Dn[j - 1], Do[j - 1], out=Dn[j])  # ∇ʲx_new = ∇ʲ⁻¹x_new − ∇ʲ⁻¹x_old
+                D.append(Dn)
+            self.D, self.order = D, m
+        self.t, self.state = t, state
+
+    def predict(self, t: float) -> list | None:
+        """The extrapolated fields at ``t`` (None without at least two states)."""
+        if self.order < 2 or not t > self.t:
+            return None
+        h_new = t - self.t
+        if self.order >= 3 and abs(h_new - self.h) <= 1e-9 * self.h:
+            out = []
+            for D in self.D:
+                acc = D[0] + D[1]  # order 1
+                pred, err = acc.copy(), np.abs(D[2])
+                for j in range(2, self.order - 1):  # order j, its next term ∇^{j+1}x
+                    acc += D[j]
+                    e = np.abs(D[j + 1])
+                    better = e < err
+                    np.copyto(pred, acc, where=better)
+                    np.minimum(err, e, out=err)
+                out.append(pred)
+            return out
+        f = min(h_new / self.h, 2.0)
+        return [D[0] + f * D[1] for D in self.D]
