@@ -14,11 +14,15 @@ Taylor-linearised about it (Pringle 2001 eqs. 4.31–4.32), ρ̄ is implicit in 
 ``linearisation = "newton"`` (default) μ_s(n) and the 1/n weights of the liquid
 inertia and viscous terms are Newton-linearised too (finite difference in n for
 μ_s), so every term is, and the iterates converge quadratically; ``"picard"``
-freezes them at k, the thesis's Picard iteration, which converges only linearly
-(rate ~0.3 on settling-illite with 300 elements, where the loop then hit its
-iteration limit). Both have the same fixed point, the discrete equations.
-The first iterate of a step is extrapolated from the last converged steps
-(:class:`~twofluid.models.extrapolation.Extrapolator`, V, W and n).
+freezes them at k and starts every step from the last state, the thesis's Picard
+iteration (and this code's before 2026-12), kept as the reference path: it
+converges only linearly. Both have the same fixed point, the discrete equations.
+With ``"newton"`` the first iterate of a step is extrapolated from the last
+converged steps (:class:`~twofluid.models.extrapolation.Extrapolator`, V, W and n),
+and each iterate is one band LU solve for the increment from the iterate
+(:mod:`twofluid.fem.banded`; without it, a slowly settling column with 300
+elements stalled at the solve's round-off, 2e-7 of the velocity scale, above the
+Picard tolerance, and hit the iteration limit again and again).
 
 Pressure gradients (P constant per element): the mixture term is integrated by
 parts, −∫ ∇·δV (P + P_s), plus the traction of the prescribed pressure on an
@@ -179,6 +183,7 @@ class TwoFluid1D:
         ecentre = np.arange(ne) + 0.5
         pos_p = ecentre if self.p_order == 0 else np.repeat(ecentre, 2)
         node = np.arange(self.nv) / p
+        self._pattern = {}  # global indices of the element blocks, the same at every iterate
         self._band = BandSolver(np.concatenate([node, node, pos_p, ecentre]))
 
     # ------------------------------------------------------------------ setup
@@ -264,7 +269,7 @@ class TwoFluid1D:
     def assemble(self, k: State, old: State, dt: float, t_new: float):
         """Matrix and right-hand side of one Picard iterate (see module docstring)."""
         mat, clo = self.mat, self.clo
-        S = BlockSystem(self.sizes)
+        S = BlockSystem(self.sizes, self._pattern)
         S.iterate = self.pack(k)  # the linearisation point (the band solve is for the increment from it)
         vd, ed, pd = self.vdofs, self.edofs, self.pdofs
         n = k.n
@@ -392,7 +397,7 @@ class TwoFluid1D:
         keeping it for the rest of the step stops a flux that is nearly zero from flipping
         the upwind side at every iteration.
         """
-        if it == 1:
+        if it == 1 and self.linearisation == "newton":
             self._first_iterate(k)
         if it <= 2:
             node = self.vert_node

@@ -40,6 +40,7 @@ class Step:
     iterations: int
     state: object
     n_steps: int
+    rejected: int = 0  # attempts at this step rejected (Picard not converged, state not admissible)
 
 
 class StepFailure(RuntimeError):
@@ -109,7 +110,7 @@ def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = ()
     """Advance ``state`` to ``t_end`` with target step ``dt`` [s], yielding each step."""
     stops = sorted(t for t in stops if state.t < t <= t_end) + [t_end]
     h = dt
-    n_steps = 0
+    n_steps = rejected = 0
     eps = 1e-9 * max(dt, 1e-12)
     for stop in stops:
         while state.t < stop - eps:
@@ -121,9 +122,11 @@ def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = ()
                 if h_try / 2 < settings.dt_min:
                     raise StepFailure(state.t, h_try, info, state)
                 h = h_try / 2
+                rejected += 1
                 continue
             n_steps += 1
             state = new
             if info <= settings.easy_iters and h < dt:
                 h = min(dt, h * settings.grow)
-            yield Step(state.t, h_try, info, state, n_steps)
+            yield Step(state.t, h_try, info, state, n_steps, rejected)
+            rejected = 0
