@@ -10,7 +10,8 @@ __all__ = ["main"]
 def _cmd_run(args) -> int:
     from .runners import run_case
 
-    res = run_case(args.case, args.out, progress=not args.quiet and sys.stderr.isatty())
+    res = run_case(args.case, args.out, progress=not args.quiet and sys.stderr.isatty(),
+                   plots=False if args.no_plots else None)
     s = res.summary
     clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" and not s.get("stepping_fallback") \
         else "t"  # Δt grows to 1e4 s there; after a fallback to the transient the time is physical
@@ -139,6 +140,7 @@ def parser() -> argparse.ArgumentParser:
     r.add_argument("case", help="bundled case name (see `twofluid cases`) or path to a TOML file")
     r.add_argument("--out", help="output folder (default: twofluid-out/<case name>)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--no-plots", action="store_true", help="write no PNG plots (overrides [output] plots)")
     r.set_defaults(func=_cmd_run)
     sp = sub.add_parser("simplified", help="the simplified liquefaction procedure (Idriss & Boulanger) on a "
                         "liquefaction_1d case's profile, per element, without running the column")

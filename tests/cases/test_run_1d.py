@@ -118,3 +118,15 @@ def test_a_key_without_effect_is_a_warning_naming_file_and_key(tmp_path, capsys)
         warnings.simplefilter("error", CaseWarning)
         for name in ("fluidized-bed-step", "settling-illite"):
             load_case(name)
+
+
+def test_no_plots_option_writes_results_without_pngs(tmp_path):
+    """``twofluid run --no-plots`` overrides the case's ``[output] plots = true`` (the default)."""
+    path = tmp_path / "short.toml"
+    text = case_text("settling-illite").replace("end = 300.0", "end = 1.0")
+    path.write_text(text.replace("times = [30.0, 90.0, 180.0, 300.0]", "times = [0.5]"))
+    assert load_case(path)["output"]["plots"] is True
+    out = tmp_path / "run"
+    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plots"]) == 0
+    assert (out / "summary.json").stat().st_size > 0 and (out / "profiles.csv").stat().st_size > 0
+    assert not list(out.glob("*.png"))

@@ -14,7 +14,6 @@ array additions per term, not a scatter.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 __all__ = ["BlockSystem"]
 
@@ -103,6 +102,9 @@ class BlockSystem:
             vals.append(np.broadcast_to(local, key[4]).ravel())
         return np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
 
-    def matrix(self) -> sp.csr_matrix:
+    def matrix(self):
+        """The summed matrix as ``scipy.sparse.csr_matrix`` (SciPy's sparse module imported on use)."""
+        import scipy.sparse as sp
+
         rows, cols, vals = self.triplets()
         return sp.csr_matrix((vals, (rows, cols)), shape=(self.size, self.size))

@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from ..casefile.loader import load_case
 from ..timestepping.backward_euler import StepFailure
@@ -29,11 +28,32 @@ class RunResult:
     history: dict = field(default_factory=dict)  # name -> array over steps
 
 
+class _NoBar:
+    """The progress bar's interface when there is none (no tqdm import for a quiet run)."""
+
+    n = 0.0
+
+    def update(self, dn: float) -> None:
+        self.n += dn
+
+    def close(self) -> None:
+        pass
+
+
+def _bar(t_end: float, progress: bool):
+    if not progress:
+        return _NoBar()
+    from tqdm import tqdm
+
+    return tqdm(total=t_end, unit="s", leave=False,
+                bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated [{elapsed}<{remaining}]")
+
+
 @dataclass
 class RunGuard:
-    """What :func:`run_guard` found: status, reason and the progress bar to update."""
+    """What :func:`run_guard` found: status, reason and the progress bar (tqdm) to update."""
 
-    bar: tqdm
+    bar: object
     status: str = "completed"
     reason: str = ""
 
@@ -55,9 +75,7 @@ def run_guard(t_end: float, progress: bool, *closing):
     with the reason, closes the bar and every object in ``closing`` (result
     writers), and the runner goes on to write its summary from what it has.
     """
-    run = RunGuard(tqdm(total=t_end, unit="s", disable=not progress, leave=False,
-                        bar_format="{l_bar}{bar}| t = {n:.4g}/{total:.4g} s simulated "
-                                   "[{elapsed}<{remaining}]"))
+    run = RunGuard(_bar(t_end, progress))
     try:
         yield run
     except KeyboardInterrupt:
@@ -81,10 +99,15 @@ RUNNERS = {"two_fluid_1d": "twofluid.runners.column_1d:run_1d",
            "liquefaction_1d": "twofluid.runners.liquefaction:run_liquefaction"}
 
 
-def run_case(case, out_dir=None, progress: bool = False) -> RunResult:
-    """Run ``case`` (resolved dict, bundled name or TOML path); write results to ``out_dir``."""
+def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = None) -> RunResult:
+    """Run ``case`` (resolved dict, bundled name or TOML path); write results to ``out_dir``.
+
+    ``plots``: True/False overrides the case's ``[output] plots`` (None keeps it).
+    """
     if not isinstance(case, dict):
         case = load_case(case)
+    if plots is not None:
+        case = {**case, "output": {**case["output"], "plots": bool(plots)}}
     mod, func = RUNNERS[case["case"]["model"]].split(":")
     return getattr(importlib.import_module(mod), func)(case, out_dir, progress=progress)
 

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from typing import Iterable, Iterator
 
 import numpy as np
-import scipy.sparse.linalg as spla
 
 __all__ = ["Step", "StepFailure", "PicardSettings", "picard_step", "relative_change", "integrate"]
 
@@ -50,6 +49,8 @@ class StepFailure(RuntimeError):
 
 
 def _solve(model, S, t_new):
+    import scipy.sparse.linalg as spla  # on use: models with their own ``solve`` never need it
+
     A = S.matrix().tocsr()
     idx, val = model.dirichlet(t_new)
     a = np.zeros(S.size)
