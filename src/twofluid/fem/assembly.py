@@ -43,6 +43,16 @@ class BlockSystem:
         self._cols: list[np.ndarray] = []
         self._vals: list[np.ndarray] = []
 
+    def copy(self) -> "BlockSystem":
+        """A system holding the same terms, to add more to (element arrays shared, not copied)."""
+        new = BlockSystem.__new__(BlockSystem)
+        new.offset, new.size, new._pattern = self.offset, self.size, self._pattern
+        new._rhs = self.rhs.copy()
+        new._rhs_blocks = {}
+        new._blocks = {key: list(blk) for key, blk in self._blocks.items()}
+        new._rows, new._cols, new._vals = list(self._rows), list(self._cols), list(self._vals)
+        return new
+
     def slice(self, name: str, size: int) -> slice:
         return slice(self.offset[name], self.offset[name] + size)
 
@@ -99,7 +109,7 @@ class BlockSystem:
             r, c = self._indices(key, rdofs, cdofs)
             rows.append(r)
             cols.append(c)
-            vals.append(np.broadcast_to(local, key[4]).ravel())
+            vals.append(local.ravel())
         return np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
 
     def matrix(self):

@@ -50,6 +50,7 @@ class BandSolver:
         self.pos = np.empty(self.size, dtype=np.intp)
         self.pos[self.perm] = np.arange(self.size)  # global -> band row
         self._fixed_of = None
+        self._entries_of = (None, None)
 
     def _row_mask(self, idx: np.ndarray) -> np.ndarray:
         """1.0 on free rows, 0.0 on prescribed ones (cached for the last index set)."""
@@ -61,11 +62,15 @@ class BandSolver:
         return cached[1]
 
     def _row_entries(self, pi: np.ndarray, kl: int, ku: int, ldab: int) -> np.ndarray:
-        """Flat band-storage indices of all entries of band rows ``pi``."""
-        d = np.arange(-ku, kl + 1)  # i − j
-        j = pi[:, None] - d[None, :]
-        ok = (j >= 0) & (j < self.size)
-        return (j * ldab + (kl + ku) + d[None, :])[ok]
+        """Flat band-storage indices of all entries of band rows ``pi`` (cached for the last rows and band)."""
+        key, flat = self._entries_of
+        if key is None or key[1:] != (kl, ku) or not np.array_equal(key[0], pi):
+            d = np.arange(-ku, kl + 1)  # i − j
+            j = pi[:, None] - d[None, :]
+            ok = (j >= 0) & (j < self.size)
+            flat = (j * ldab + (kl + ku) + d[None, :])[ok]
+            self._entries_of = ((pi.copy(), kl, ku), flat)
+        return flat
 
     def solve(self, S, a_k: np.ndarray, idx: np.ndarray, val: np.ndarray) -> np.ndarray:
         """The solution a of S with a[idx] = val, from the increment about ``a_k``.

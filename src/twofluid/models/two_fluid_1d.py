@@ -184,6 +184,8 @@ class TwoFluid1D:
         pos_p = ecentre if self.p_order == 0 else np.repeat(ecentre, 2)
         node = np.arange(self.nv) / p
         self._pattern = {}  # global indices of the element blocks, the same at every iterate
+        self._step_full = None  # the terms of the current step that do not depend on the iterate
+        self._B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1): −∫ ∇·N_i dΩ
         self._band = BandSolver(np.concatenate([node, node, pos_p, ecentre]))
 
     # ------------------------------------------------------------------ setup
@@ -256,41 +258,45 @@ class TwoFluid1D:
         return sign * b.velocity(t) if b.kind == "inlet" else 0.0
 
     def dirichlet(self, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """Global indices (into the full system) and values of prescribed V and W."""
+        """Global indices (into the full system) and values of prescribed V and W (kept for the last t)."""
+        last = getattr(self, "_dirichlet_of", None)
+        if last is not None and last[0] == t:
+            return last[1], last[2]
         idx, val = [], []
         for b, node, sign in ((self.bottom, 0, 1.0), (self.top, self.nv - 1, -1.0)):
             if b.kind in ("inlet", "wall"):
                 u = self.inlet_value(b, t, sign)
                 idx += [node, self.nv + node]
                 val += [u, u]
-        return np.array(idx, dtype=int), np.array(val, dtype=float)
+        idx, val = np.array(idx, dtype=int), np.array(val, dtype=float)
+        self._dirichlet_of = (t, idx, val)
+        return idx, val
 
     # -------------------------------------------------------------- assembly
     def assemble(self, k: State, old: State, dt: float, t_new: float):
         """Matrix and right-hand side of one Picard iterate (see module docstring)."""
         mat, clo = self.mat, self.clo
-        S = BlockSystem(self.sizes, self._pattern)
+        S = self._step_terms(old, dt, t_new).copy()
         S.iterate = self.pack(k)  # the linearisation point (the band solve is for the increment from it)
-        vd, ed, pd = self.vdofs, self.edofs, self.pdofs
+        vd, ed = self.vdofs, self.edofs
         n = k.n
-        rho_hat = 0.5 * (mat.rho_s + mat.rho_f)
-        d_rho = 0.5 * (mat.rho_s - mat.rho_f)
-        M, Kv, src = self.M, self.Kvis, self.src
-
-        # mixture (rows V)
-        S.add("V", "V", vd, vd, rho_hat / dt * M)
-        S.add("V", "W", vd, vd, -d_rho / dt * M)
-        S.add_rhs("V", vd, np.einsum("eij,ej->ei", M, rho_hat * old.V[vd] - d_rho * old.W[vd]) / dt)
+        M, Kv = self.M, self.Kvis
         newton = self.linearisation == "newton"
-        if newton:  # ∂/∂n of the liquid rows' 1/n terms at k: inertia −h/n M(ΔV + ΔW), h = ρ_f/(2nΔt)
-            dW_dn = np.einsum("eij,ej->ei", M, k.V[vd] + k.W[vd] - old.V[vd] - old.W[vd]) \
-                * (-0.5 * mat.rho_f / dt / (n * n))[:, None]
+        # liquid inertia per unit liquid volume h M(V + W), h = ρ_f/(2nΔt); Newton: ∂/∂n = −h/n M(ΔV + ΔW)
+        h = 0.5 * mat.rho_f / dt / n
+        hM = h[:, None, None] * M
+        S.add("W", "V", vd, vd, hM)
+        S.add("W", "W", vd, vd, hM)
+        S.add_rhs("W", vd, h[:, None] * self._step_full["M_VWold"])
+        if newton:
+            dW_dn = (np.einsum("eij,ej->ei", M, k.V[vd] + k.W[vd]) - self._step_full["M_VWold"]) * (-h / n)[:, None]
         if clo.viscous:
             mu_s = solid_viscosity(n, mat.mu_f, **clo.viscosity_params)
             S.add("V", "V", vd, vd, 0.5 * (mat.mu_f + mu_s)[:, None, None] * Kv)
             S.add("V", "W", vd, vd, 0.5 * (mat.mu_f - mu_s)[:, None, None] * Kv)
-            S.add("W", "V", vd, vd, 0.5 * mat.mu_f / n[:, None, None] * Kv)
-            S.add("W", "W", vd, vd, 0.5 * mat.mu_f / n[:, None, None] * Kv)
+            ml = (0.5 * mat.mu_f / n)[:, None, None] * Kv
+            S.add("W", "V", vd, vd, ml)
+            S.add("W", "W", vd, vd, ml)
             if newton:  # μ_s(n) by a finite difference away from n = 0 and 1; the viscous 1/n exactly
                 dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
                 dmu = (solid_viscosity(n + dn, mat.mu_f, **clo.viscosity_params) - mu_s) / dn
@@ -299,34 +305,47 @@ class TwoFluid1D:
                 dW_dn -= (0.5 * mat.mu_f / (n * n))[:, None] * np.einsum("eij,ej->ei", Kv, Vk + Wk)
         if newton:
             self._newton_in_n(S, "W", k, dW_dn)
-        BpT = -np.swapaxes(self.Bp, 1, 2)
-        S.add("V", "P", vd, pd, BpT)
         ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
-        B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1)
+        B0T = self._B0T  # (ne, nl, 1)
         S.add("V", "n", vd, ed, B0T * dps[:, None, None])
         S.add_rhs("V", vd, -B0T[:, :, 0] * (ps - dps * n)[:, None])
-        S.add("V", "n", vd, ed, ((mat.rho_s - mat.rho_f) * self.g_y * src)[:, :, None])
-        S.add_rhs("V", vd, mat.rho_s * self.g_y * src)
-
-        # liquid (rows W), per unit liquid volume: tested with δW/n (see module docstring)
-        inv_n = (1.0 / n)[:, None, None]
-        S.add("W", "V", vd, vd, 0.5 * mat.rho_f / dt * inv_n * M)
-        S.add("W", "W", vd, vd, 0.5 * mat.rho_f / dt * inv_n * M)
-        S.add_rhs("W", vd, np.einsum("eij,ej->ei", inv_n * M, 0.5 * mat.rho_f * (old.V[vd] + old.W[vd])) / dt)
-        S.add_rhs("W", vd, mat.rho_f * self.g_y * src)
         self._drag(S, k)
         self._liquid_pressure(S, n, k.P)
+        self._solids_flux(S, k)
+        return S
 
+    def _step_terms(self, old: State, dt: float, t_new: float) -> BlockSystem:
+        """The terms of a step that do not depend on the iterate (assembled once per step)."""
+        st = self._step_full
+        if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new:
+            return st["S"]
+        mat = self.mat
+        S = BlockSystem(self.sizes, self._pattern)
+        vd, ed, pd = self.vdofs, self.edofs, self.pdofs
+        rho_hat = 0.5 * (mat.rho_s + mat.rho_f)
+        d_rho = 0.5 * (mat.rho_s - mat.rho_f)
+        M, src = self.M, self.src
+        Vold, Wold = old.V[vd], old.W[vd]
+        # mixture (rows V): inertia, −∫ ∇·δV P, weight ρ̄ g_y with ρ̄ implicit in n
+        S.add("V", "V", vd, vd, rho_hat / dt * M)
+        S.add("V", "W", vd, vd, -d_rho / dt * M)
+        S.add_rhs("V", vd, np.einsum("eij,ej->ei", M, rho_hat * Vold - d_rho * Wold) / dt)
+        S.add("V", "P", vd, pd, -np.swapaxes(self.Bp, 1, 2))
+        S.add("V", "n", vd, ed, ((mat.rho_s - mat.rho_f) * self.g_y * src)[:, :, None])
+        S.add_rhs("V", vd, mat.rho_s * self.g_y * src)
+        # liquid (rows W), per unit liquid volume: tested with δW/n (see module docstring)
+        S.add_rhs("W", vd, mat.rho_f * self.g_y * src)
         # continuity (rows P) and porosity (rows n)
         S.add("P", "V", pd, vd, self.Bp)
         S.add("n", "n", ed, ed, (2.0 * self.volumes / dt)[:, None, None])
         S.add_rhs("n", ed[:, 0], 2.0 * self.volumes / dt * old.n)
-        self._solids_flux(S, k)
-
         # prescribed pressure on outlets: traction in the mixture row
         for b, v, sign in ((self.bottom, 0, -1.0), (self.top, self.mesh.n_elements, 1.0)):
             if b.kind == "outlet":
                 S.add_rhs("V", np.array([self.vert_node[v]]), np.array([-sign * b.pressure * self.vert_area[v]]))
+        S.rhs  # scatter the right-hand side once
+        self._step_full = {"old": old, "dt": dt, "t": t_new, "S": S,
+                      "M_VWold": np.einsum("eij,ej->ei", M, Vold + Wold)}
         return S
 
     def _newton_in_n(self, S: BlockSystem, row: str, k: State, d: np.ndarray) -> None:
@@ -334,38 +353,39 @@ class TwoFluid1D:
         S.add(row, "n", self.vdofs, self.edofs, d[:, :, None])
         S.add_rhs(row, self.vdofs, d * k.n[:, None])
 
-    def _drag_force(self, n, V, W):
-        """Element drag vectors ∫ N_i β s dΩ (n_el, nl) with β from the element-mean slip."""
-        q = (1.0 - 2.0 * n)[:, None] * V[self.vdofs] + W[self.vdofs]
-        s_abs = np.abs(self.slip(V, W, n))
-        K = self.clo.beta_per_solids(n, s_abs, self.mat)
-        return (K / (2.0 * n * n))[:, None] * np.einsum("eij,ej->ei", self.M, q), K, s_abs, q
-
     def _drag(self, S: BlockSystem, k: State):
         """β s tested with δW, Newton-linearised about iterate k.
 
-        D = K(n, |s̄|) M q / (2n), K = β/(1−n), q = (1−2n)V + W, s̄ = q̄/(2n(1−n)) the
+        D = K(n, |s̄|) M q / (2n²), K = β/(1−n), q = (1−2n)V + W, s̄ = q̄/(2n(1−n)) the
         element-mean slip. The V, W derivatives are exact (with the element mean
-        q̄ = w·q); the n derivative is a finite difference per element.
+        q̄ = w·q); the n derivative is a finite difference per element. The drag law is
+        called once, at (n, |s|), (n, |s| + δs) and (n + δn, |s(n + δn)|).
         """
-        vd, ed, n, M = self.vdofs, self.edofs, k.n, self.M
-        D0, K0, s_abs, qk = self._drag_force(n, k.V, k.W)
+        vd, ed, n, M, wts = self.vdofs, self.edofs, k.n, self.M, self.avg_weights
+        V = k.V[vd]
+        dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
+        qk = (1.0 - 2.0 * n)[:, None] * V + k.W[vd]
+        qn = qk - (2.0 * dn)[:, None] * V  # q at n + δn
+        qbar = np.einsum("ei,ie->e", qk, wts)
+        nn = n + dn
+        s_abs = np.abs(qbar) / (2.0 * n * np.maximum(1.0 - n, _CLEAR))
+        s_n = np.abs(np.einsum("ei,ie->e", qn, wts)) / (2.0 * nn * np.maximum(1.0 - nn, _CLEAR))
         ds = 1e-6 * np.maximum(s_abs, 1e-6)
-        dK = (self.clo.beta_per_solids(n, s_abs + ds, self.mat) - K0) / ds * s_abs  # K'|s|
-        qbar = np.einsum("ei,ie->e", qk, self.avg_weights)
+        K3 = self.clo.beta_per_solids(np.concatenate((n, n, nn)), np.concatenate((s_abs, s_abs + ds, s_n)),
+                                      self.mat).reshape(3, -1)
+        K0 = K3[0]
+        dK = (K3[1] - K0) / ds * s_abs  # K'|s|
         gain = np.where(np.abs(qbar) > 0.0, dK / np.where(qbar != 0.0, qbar, 1.0), 0.0)
         Mq = np.einsum("eij,ej->ei", M, qk)
-        Jq = (K0 / (2.0 * n * n))[:, None, None] * M \
-            + (gain / (2.0 * n * n))[:, None, None] * Mq[:, :, None] * self.avg_weights.T[:, None, :]
+        c0 = K0 / (2.0 * n * n)
+        D0 = c0[:, None] * Mq
+        Jn = ((K3[2] / (2.0 * nn * nn))[:, None] * np.einsum("eij,ej->ei", M, qn) - D0) / dn[:, None]
+        Jq = c0[:, None, None] * M + (gain / (2.0 * n * n))[:, None, None] * Mq[:, :, None] * wts.T[:, None, :]
         JV = (1.0 - 2.0 * n)[:, None, None] * Jq
-        dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
-        Dn, _, _, _ = self._drag_force(n + dn, k.V, k.W)
-        Jn = (Dn - D0) / dn[:, None]
         S.add("W", "V", vd, vd, JV)
         S.add("W", "W", vd, vd, Jq)
         S.add("W", "n", vd, ed, Jn[:, :, None])
-        lin = np.einsum("eij,ej->ei", JV, k.V[vd]) + np.einsum("eij,ej->ei", Jq, k.W[vd])
-        S.add_rhs("W", vd, lin + Jn * n[:, None] - D0)
+        S.add_rhs("W", vd, np.einsum("eij,ej->ei", Jq, qk) + Jn * n[:, None] - D0)  # J·xᵏ = Jq qᵏ
 
     def _liquid_pressure(self, S: BlockSystem, n: np.ndarray, P: np.ndarray):
         """∂P/∂y tested with δW (the liquid equation per unit liquid volume).
