@@ -133,7 +133,7 @@ def hydraulic_conductivity(beta, n, rho_f, g=G):
 
 def _velocity_root(residual, what: str) -> float:
     """The root in (0, 1000] m/s of a residual negative at 0 and growing with u (brentq)."""
-    from scipy.optimize import brentq
+    from ..scipy_kernels import brentq  # scipy.optimize's, without importing scipy.optimize
 
     hi = 1e-3
     while residual(hi) < 0.0:

@@ -20,7 +20,7 @@ between iterates, above the Picard tolerance, while the increment form gives ~1e
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg.lapack import dgbsv
+from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
 __all__ = ["BandSolver"]
 

@@ -49,7 +49,7 @@ the skeleton only, drained liquid), used by the Terzaghi check.
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg.lapack import dgbsv
+from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
 from ..closures.viscosity import solid_viscosity
 from .extrapolation import Extrapolator

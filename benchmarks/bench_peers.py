@@ -1,0 +1,159 @@
+"""twofluid against its peers (OpenFOAM, OpenSees) as whole processes, alternated, CPU time.
+
+Each round runs the peer, then every twofluid configuration of that work, one after
+another (A B A B …), each as its own process; the CPU time of a process is its user +
+system time including its children (``resource.getrusage(RUSAGE_CHILDREN)`` around
+it). The speed ratio of a round is peer CPU / twofluid CPU; the table gives the median
+and min–max over the rounds. The machine may be shared: only ratios of runs
+alternated in one benchmark are quoted, never absolute times from separate runs.
+
+Works (what is and is not the same work is said in each twofluid case file):
+
+- ``openfoam-fluidized-bed``, ``openfoam-sedimentation``: ``bash run.sh`` of a copy of
+  ``../shared/peers/openfoam/<case>`` (twoPhaseEulerFoam, mesh generation included)
+  against ``twofluid run benchmarks/peers/openfoam-*.toml --no-plots`` with the full
+  and the reduced 1D model. Skipped, and said so, if ``twoPhaseEulerFoam`` is not on
+  the PATH (Debian: ``apt-get install -y openfoam``).
+- ``opensees-column``: ``python column.py --perm 1e-4 --quiet`` of a copy of
+  ``../shared/peers/opensees/column.py`` (openseespy from the ``bench`` extra) against
+  ``twofluid run`` of the bundled liquefaction-elcentro with 20 elements and 30 s of
+  shaking (``--no-plots``). Skipped if openseespy is not installed.
+
+    python benchmarks/bench_peers.py                       # all works, 3 rounds
+    python benchmarks/bench_peers.py --only openfoam-sedimentation --rounds 5
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import tomllib
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+# the peers sit beside the project (../shared/peers), or beside the folder of worktrees
+PEERS = Path(os.environ.get("TWOFLUID_PEERS", "")) if os.environ.get("TWOFLUID_PEERS") else next(
+    (d for d in (ROOT.parent / "shared" / "peers", ROOT.parent.parent / "shared" / "peers") if d.is_dir()),
+    ROOT.parent / "shared" / "peers")
+MOTION = PEERS.parent / "data" / "ground-motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+
+
+def cpu_of(cmd: list[str], cwd: Path, env: dict | None = None) -> float:
+    """User + system CPU seconds of ``cmd`` run to completion (with all its children)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(cmd, cwd=cwd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def _case_file(text: str, path: Path, edits: dict) -> Path:
+    """Write the TOML ``text`` with ``edits`` {(section, key): value} applied (sections may be dotted)."""
+    import tomli_w
+
+    case = tomllib.loads(text)
+    for (section, key), value in edits.items():
+        d = case
+        for part in section.split("."):
+            d = d.setdefault(part, {})
+        d[key] = value
+    path.write_text(tomli_w.dumps(case))
+    return path
+
+
+def twofluid_cmd(case_path: Path, out: Path) -> list[str]:
+    return [sys.executable, "-m", "twofluid.cli", "run", str(case_path), "--out", str(out), "--quiet", "--no-plots"]
+
+
+def works(tmp: Path) -> dict:
+    """{work: (peer description, peer command, peer cwd, {config: twofluid command}) or a reason to skip}."""
+    out = {}
+    foam = shutil.which("twoPhaseEulerFoam")
+    for name, folder in (("openfoam-fluidized-bed", "fluidizedBed"), ("openfoam-sedimentation", "sedimentation")):
+        if foam is None:
+            out[name] = "skipped: twoPhaseEulerFoam not on the PATH (Debian: apt-get install -y openfoam)"
+            continue
+        peer_dir = tmp / name / folder
+        shutil.copytree(PEERS / "openfoam" / folder, peer_dir)
+        text = (HERE / "peers" / f"{name}.toml").read_text()
+        cfg = {}
+        for model in ("two_fluid_1d", "reduced_1d"):
+            path = _case_file(text, tmp / name / f"{model}.toml", {("case", "model"): model})
+            cfg[f"twofluid {model}"] = twofluid_cmd(path, tmp / name / f"out-{model}")
+        out[name] = ("OpenFOAM v1912 twoPhaseEulerFoam (`bash run.sh`)", ["bash", "run.sh"], peer_dir, cfg)
+    try:
+        import openseespy  # noqa: F401
+        has_ops = True
+    except ImportError:
+        has_ops = False
+    name = "opensees-column"
+    if not has_ops:
+        out[name] = "skipped: openseespy not installed (pip install -e '.[bench]')"
+    else:
+        from twofluid.casefile.loader import case_text
+
+        peer_dir = tmp / name
+        peer_dir.mkdir()
+        shutil.copy(PEERS / "opensees" / "column.py", peer_dir / "column.py")
+        path = _case_file(case_text("liquefaction-elcentro"), peer_dir / "column-20.toml",
+                          {("deposit", "elements"): 20, ("ground_motion", "duration"): 30.0})
+        peer = [sys.executable, "column.py", "--perm", "1e-4", "--quiet", "--out", "out", "--motion", str(MOTION)]
+        out[name] = ("OpenSeesPy PDMY02 u-p column (`column.py --perm 1e-4`)", peer, peer_dir,
+                     {"twofluid liquefaction_1d, 20 elements, 30 s shaking": twofluid_cmd(path, peer_dir / "out-tf")})
+    return out
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--rounds", type=int, default=3, help="alternated rounds per work (default 3)")
+    p.add_argument("--only", nargs="+", help="run only these works")
+    p.add_argument("--src", help="run twofluid from this source folder (e.g. an export of an older "
+                   "commit, for a before/after table) instead of the installed package")
+    a = p.parse_args(argv)
+    env = None
+    if a.src:
+        env = dict(os.environ, PYTHONPATH=str(Path(a.src).resolve()))
+    from twofluid.verification.suite import machine
+
+    load0 = os.getloadavg()[0]
+    started = datetime.datetime.now(datetime.timezone.utc)
+    lines = ["| work | peer | twofluid | peer CPU [s] (median) | twofluid CPU [s] (median) "
+             "| speed-up: peer / twofluid, median (min–max) | rounds |", "|---|---|---|---|---|---|---|"]
+    notes = []
+    with tempfile.TemporaryDirectory(prefix="twofluid-peers-") as td:
+        for name, w in works(Path(td)).items():
+            if a.only and name not in a.only:
+                continue
+            if isinstance(w, str):
+                notes.append(f"- {name}: {w}")
+                print(f"{name}: {w}", file=sys.stderr)
+                continue
+            desc, peer_cmd, peer_cwd, cfg = w
+            peer_cpu, tf_cpu = [], {c: [] for c in cfg}
+            for r in range(a.rounds):
+                peer_cpu.append(cpu_of(peer_cmd, peer_cwd))
+                for c, cmd in cfg.items():
+                    tf_cpu[c].append(cpu_of(cmd, ROOT, env))
+                print(f"{name} round {r + 1}: peer {peer_cpu[-1]:.2f} s, "
+                      + ", ".join(f"{c} {v[-1]:.2f} s" for c, v in tf_cpu.items()), file=sys.stderr)
+            for c, v in tf_cpu.items():
+                ratios = [pc / tc for pc, tc in zip(peer_cpu, v)]
+                lines.append(f"| {name} | {desc} | {c} | {statistics.median(peer_cpu):.2f} | "
+                             f"{statistics.median(v):.2f} | **{statistics.median(ratios):.2f}×** "
+                             f"({min(ratios):.2f}–{max(ratios):.2f}) | {len(ratios)} |")
+    load1 = os.getloadavg()[0]
+    src = f"; twofluid from {a.src}" if a.src else ""
+    print(f"{started:%Y-%m-%d %H:%M} UTC{src}; {machine()}; load average (1 min) {load0:.2f} before, "
+          f"{load1:.2f} after (the machine is shared)")
+    print("\n".join(lines + notes))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
