@@ -5,7 +5,9 @@ Output, probes, the progress bar and plots all consume the generator of
 """
 from __future__ import annotations
 
+import copy
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -22,28 +24,29 @@ PROFILE_COLUMNS = ["y_m", "porosity", "reference_porosity", "P_Pa", "Ps_Pa", "V_
                    "Uf_m_s", "Us_m_s"]
 
 
-class _HeldEnds:
-    """The model with its prescribed velocities held at the state's own values."""
+def _held_ends(model, state):
+    """A shallow copy of the model whose inlets keep their velocity at ``state.t``.
 
-    def __init__(self, model, state):
-        self._model, self._a = model, model.pack(state)
-
-    def __getattr__(self, name):
-        return getattr(self._model, name)
-
-    def dirichlet(self, t):
-        idx, _ = self._model.dirichlet(t)
-        return idx, self._a[idx]
+    A copy with other boundaries, not a wrapper of ``dirichlet``: the models' own
+    solves (band LU, the reduced model's continuity A V = c(t)) read the boundary
+    velocities themselves.
+    """
+    held = copy.copy(model)
+    for side in ("bottom", "top"):
+        b = getattr(model, side)
+        if b.kind == "inlet":
+            setattr(held, side, replace(b, velocity=lambda t, v=b.velocity(state.t): v))
+    return held
 
 
 def _initial_pressure(model, state, dt):
     """P consistent with the initial state: one step of negligible length (1e-6 Δt).
 
-    The inlet is held at the initial velocities for it, so that a step change of
+    The inlet is held at its initial velocity for it, so that a step change of
     the inlet at t = 0 does not show up as the pressure impulse of an
     instantaneous acceleration.
     """
-    new, _ = picard_step(_HeldEnds(model, state), state, 1e-6 * dt)
+    new, _ = picard_step(_held_ends(model, state), state, 1e-6 * dt)
     if new is not None:
         state = state.copy(P=new.P)
     return state
