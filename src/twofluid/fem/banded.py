@@ -51,6 +51,7 @@ class BandSolver:
         self.pos[self.perm] = np.arange(self.size)  # global -> band row
         self._fixed_of = None
         self._entries_of = (None, None)
+        self._index_of = None
 
     def _row_mask(self, idx: np.ndarray) -> np.ndarray:
         """1.0 on free rows, 0.0 on prescribed ones (cached for the last index set)."""
@@ -60,6 +61,18 @@ class BandSolver:
             keep[idx] = 0.0
             self._fixed_of = cached = (idx.copy(), keep)
         return cached[1]
+
+    def _band_index(self, rows: np.ndarray, cols: np.ndarray) -> tuple[int, int, np.ndarray]:
+        """(kl, ku, flat band-storage index of every triplet), kept while the triplets' positions repeat."""
+        last = self._index_of
+        if last is not None and np.array_equal(last[0], rows) and np.array_equal(last[1], cols):
+            return last[2]
+        pr, pc = self.pos[rows], self.pos[cols]
+        dist = pr - pc
+        kl, ku = max(int(dist.max()), 0), max(int(-dist.min()), 0)
+        out = (kl, ku, pc * (2 * kl + ku + 1) + (kl + ku + dist))
+        self._index_of = (rows, cols, out)
+        return out
 
     def _row_entries(self, pi: np.ndarray, kl: int, ku: int, ldab: int) -> np.ndarray:
         """Flat band-storage indices of all entries of band rows ``pi`` (cached for the last rows and band)."""
@@ -83,12 +96,10 @@ class BandSolver:
         keep = self._row_mask(idx)
         # minus the residual at a_k of the free rows; prescribed rows: the increment to val
         res = keep * (S.rhs - np.bincount(rows, vals * a_k[cols], minlength=N))
-        pr, pc = self.pos[rows], self.pos[cols]
-        dist = pr - pc
-        kl, ku = max(int(dist.max()), 0), max(int(-dist.min()), 0)
+        kl, ku, flat = self._band_index(rows, cols)
         ldab = 2 * kl + ku + 1
         diag = kl + ku
-        ab = np.bincount(pc * ldab + (diag + dist), vals, minlength=ldab * N)
+        ab = np.bincount(flat, vals, minlength=ldab * N)
         pi = self.pos[idx]
         dflat = pi * ldab + diag
         scale = np.abs(ab[dflat]) + 1.0  # keep the identity rows on the matrix's scale

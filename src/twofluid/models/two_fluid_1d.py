@@ -186,6 +186,10 @@ class TwoFluid1D:
         self._pattern = {}  # global indices of the element blocks, the same at every iterate
         self._step_full = None  # the terms of the current step that do not depend on the iterate
         self._B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1): −∫ ∇·N_i dΩ
+        e = self._elements = np.arange(ne)
+        vn = self.vert_node
+        self._flux_maps = (np.concatenate((e, e)), np.concatenate((vn[1:], vn[:-1])),  # n rows: V, W at vertices
+                           np.concatenate((e[1:], e, e[:-1])), np.concatenate((e[:-1], e, e[1:])))  # n_{e−1}, n_e, n_{e+1}
         self._band = BandSolver(np.concatenate([node, node, pos_p, ecentre]))
 
     # ------------------------------------------------------------------ setup
@@ -468,21 +472,27 @@ class TwoFluid1D:
         """
         ne = self.mesh.n_elements
         node = self.vert_node
-        e = np.arange(ne)
         Fk = 0.5 * (k.V[node] - k.W[node])
         if self.solids_flux == "upwind":
             r, dr_b, dr_a = self._upwind_ratio(k.n, Fk, getattr(self, "_below", None))
         else:
             r, dr_b, dr_a = np.ones(ne + 1), np.zeros(ne + 1), np.zeros(ne + 1)
         a = self.vert_area * r
-        for v, sgn in ((e + 1, -1.0), (e, 1.0)):  # top vertex, bottom vertex of element e
-            S.add_entries("n", "V", e, node[v], sgn * a[v])
-            S.add_entries("n", "W", e, node[v], -sgn * a[v])
-            g = 2.0 * sgn * self.vert_area[v] * Fk[v]
-            for dr, nb_el in ((dr_b[v], v - 1), (dr_a[v], v)):
-                inside = (nb_el >= 0) & (nb_el < ne) & (dr != 0.0)
-                S.add_entries("n", "n", e[inside], nb_el[inside], (g * dr)[inside])
-                S.add_rhs("n", e[inside], (g * dr * k.n[np.clip(nb_el, 0, ne - 1)])[inside])
+        # element e: + through its bottom vertex e, − through its top vertex e + 1 (static index maps)
+        rows2, cols2, rows3, cols3 = self._flux_maps
+        S.add_entries("n", "V", rows2, cols2, np.concatenate((-a[1:], a[:-1])))
+        S.add_entries("n", "W", rows2, cols2, np.concatenate((a[1:], -a[:-1])))
+        # Newton in r: g_v dr/dn of the elements either side of vertex v, g = ±2 A F (bottom +, top −)
+        g = 2.0 * self.vert_area * Fk
+        below = g[:-1] * dr_b[:-1]  # ∂/∂n_{e−1} (bottom vertex; dr_b[0] = 0 outside)
+        diag = g[:-1] * dr_a[:-1] - g[1:] * dr_b[1:]  # ∂/∂n_e
+        above = -g[1:] * dr_a[1:]  # ∂/∂n_{e+1} (top vertex; dr_a[ne] = 0 outside)
+        S.add_entries("n", "n", rows3, cols3, np.concatenate((below[1:], diag, above[:-1])))
+        n = k.n
+        rhs = diag * n
+        rhs[1:] += below[1:] * n[:-1]
+        rhs[:-1] += above[:-1] * n[1:]
+        S.add_rhs("n", self._elements, rhs)
 
     # ------------------------------------------------ interface to the stepper
     def solve(self, S: BlockSystem, t: float) -> np.ndarray:
