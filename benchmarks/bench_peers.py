@@ -12,7 +12,8 @@ Works (what is and is not the same work is said in each twofluid case file):
 - ``openfoam-fluidized-bed``, ``openfoam-sedimentation``: ``bash run.sh`` of a copy of
   ``../shared/peers/openfoam/<case>`` (twoPhaseEulerFoam, mesh generation included)
   against ``twofluid run benchmarks/peers/openfoam-*.toml --no-plots`` with the full
-  and the reduced 1D model. Skipped, and said so, if ``twoPhaseEulerFoam`` is not on
+  and the reduced 1D model, at the case files' step (0.02 s) and at the coarser step
+  of ``COARSE_STEP``. Skipped, and said so, if ``twoPhaseEulerFoam`` is not on
   the PATH (Debian: ``apt-get install -y openfoam``).
 - ``opensees-column``: ``python column.py --perm 1e-4 --quiet`` of a copy of
   ``../shared/peers/opensees/column.py`` (openseespy from the ``bench`` extra) against
@@ -42,6 +43,9 @@ ROOT = HERE.parent
 PEERS = Path(os.environ.get("TWOFLUID_PEERS", "")) if os.environ.get("TWOFLUID_PEERS") else next(
     (d for d in (ROOT.parent / "shared" / "peers", ROOT.parent.parent / "shared" / "peers") if d.is_dir()),
     ROOT.parent / "shared" / "peers")
+# the largest backward-Euler step whose interface heights stay within half an element of those at
+# Δt = 0.005 s (step study in docs/benchmarks.md); the case files' own step is 0.02 s
+COARSE_STEP = {"openfoam-fluidized-bed": 0.05, "openfoam-sedimentation": 0.1}
 MOTION = PEERS.parent / "data" / "ground-motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
 
 
@@ -83,9 +87,15 @@ def works(tmp: Path) -> dict:
         shutil.copytree(PEERS / "openfoam" / folder, peer_dir)
         text = (HERE / "peers" / f"{name}.toml").read_text()
         cfg = {}
-        for model in ("two_fluid_1d", "reduced_1d"):
-            path = _case_file(text, tmp / name / f"{model}.toml", {("case", "model"): model})
-            cfg[f"twofluid {model}"] = twofluid_cmd(path, tmp / name / f"out-{model}")
+        for dt in (None, COARSE_STEP[name]):
+            for model in ("two_fluid_1d", "reduced_1d"):
+                edits = {("case", "model"): model}
+                label = f"twofluid {model}"
+                if dt:
+                    edits[("time", "step")] = dt
+                    label += f", Δt = {dt:g} s"
+                path = _case_file(text, tmp / name / f"{model}-{dt}.toml", edits)
+                cfg[label] = twofluid_cmd(path, tmp / name / f"out-{model}-{dt}")
         out[name] = ("OpenFOAM v1912 twoPhaseEulerFoam (`bash run.sh`)", ["bash", "run.sh"], peer_dir, cfg)
     try:
         import openseespy  # noqa: F401

@@ -71,12 +71,14 @@ def main(argv=None) -> int:
     p.add_argument("--steps", type=int, default=30)
     p.add_argument("--warmup", type=int, default=5)
     p.add_argument("--no-column", action="store_true")
+    p.add_argument("--elements", type=int, nargs="+", default=list(ELEMENTS), help="mesh sizes of the 1D models")
+    p.add_argument("--models", nargs="+", default=["two_fluid_1d", "reduced_1d"])
     p.add_argument("--shaking", type=float, default=2.0, help="seconds of shaking of the column runs")
     a = p.parse_args(argv)
     print("| model | elements | Picard its/step | CPU per step [ms] | CPU per iterate [ms] | per iterate per 1000 elements [ms] |")
     print("|---|---|---|---|---|---|")
-    for model in ("two_fluid_1d", "reduced_1d"):
-        for ne in ELEMENTS:
+    for model in a.models:
+        for ne in a.elements:
             r = bed_row(model, ne, a.steps, a.warmup)
             print(f"| {model} | {ne} | {r['its']:.2f} | {r['per_step_ms']:.2f} | {r['per_iterate_ms']:.3f} | "
                   f"{1e3 * r['per_iterate_ms'] / ne:.3f} |", flush=True)

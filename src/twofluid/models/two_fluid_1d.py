@@ -505,6 +505,9 @@ class TwoFluid1D:
 
     def unpack(self, a: np.ndarray, like: State, t: float) -> State:
         nv, np_ = self.nv, self.np
+        if type(like) is State:  # the cheap path: V, W, P, n are fresh slices of the solve's output, n̄ the
+            # iterate's own (the stepper's copy of the old state)
+            return State(t, a[:nv], a[nv:2 * nv], a[2 * nv:2 * nv + np_], a[2 * nv + np_:], like.n_bar)
         return like.copy(t=t, V=a[:nv], W=a[nv:2 * nv], P=a[2 * nv:2 * nv + np_],
                          n=a[2 * nv + np_:])
 
