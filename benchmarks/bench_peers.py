@@ -11,15 +11,17 @@ Works (what is and is not the same work is said in each twofluid case file):
 
 - ``openfoam-fluidized-bed``, ``openfoam-sedimentation``: ``bash run.sh`` of a copy of
   ``../shared/peers/openfoam/<case>`` (twoPhaseEulerFoam, mesh generation included)
-  against ``twofluid run benchmarks/peers/openfoam-*.toml`` without plots with the full
+  against ``twofluid run benchmarks/peers/openfoam-*.toml`` (no plots) with the full
   and the reduced 1D model, at the case files' step (0.02 s) and at the coarser step
   of ``COARSE_STEP``. Skipped, and said so, if ``twoPhaseEulerFoam`` is not on
   the PATH (Debian: ``apt-get install -y openfoam``).
 - ``opensees-column``: ``python column.py --perm 1e-4 --quiet`` of a copy of
   ``../shared/peers/opensees/column.py`` (openseespy from the ``bench`` extra) against
   ``twofluid run`` of the bundled liquefaction-elcentro with 20 elements and 30 s of
-  shaking, without plots. (Plots are switched off in the case files, ``[output] plots =
-  false``, which is what ``--no-plots`` does, so that ``--src`` can run older versions.) Skipped if openseespy is not installed.
+  shaking (no plots). Skipped if openseespy is not installed.
+
+Plots are switched off in the twofluid case files (``[output] plots = false``, what
+``twofluid run --no-plots`` does), so that ``--src`` can also time older versions.
 
     python benchmarks/bench_peers.py                       # all works, 3 rounds
     python benchmarks/bench_peers.py --only openfoam-sedimentation --rounds 5
