@@ -78,7 +78,7 @@ def twofluid_cmd(case_path: Path, out: Path) -> list[str]:
     return [sys.executable, "-m", "twofluid.cli", "run", str(case_path), "--out", str(out), "--quiet"]
 
 
-def works(tmp: Path) -> dict:
+def works(tmp: Path, coarse: bool = True) -> dict:
     """{work: (peer description, peer command, peer cwd, {config: twofluid command}) or a reason to skip}."""
     out = {}
     foam = shutil.which("twoPhaseEulerFoam")
@@ -90,7 +90,7 @@ def works(tmp: Path) -> dict:
         shutil.copytree(PEERS / "openfoam" / folder, peer_dir)
         text = (HERE / "peers" / f"{name}.toml").read_text()
         cfg = {}
-        for dt in (None, COARSE_STEP[name]):
+        for dt in (None, COARSE_STEP[name]) if coarse else (None,):
             for model in ("two_fluid_1d", "reduced_1d"):
                 edits = {("case", "model"): model, ("output", "plots"): False}  # as --no-plots
                 label = f"twofluid {model}"
@@ -128,7 +128,8 @@ def main(argv=None) -> int:
     p.add_argument("--rounds", type=int, default=3, help="alternated rounds per work (default 3)")
     p.add_argument("--only", nargs="+", help="run only these works")
     p.add_argument("--src", help="run twofluid from this source folder (e.g. an export of an older "
-                   "commit, for a before/after table) instead of the installed package")
+                   "commit, for a before/after table) instead of the installed package; only the case "
+                   "files' own step then")
     a = p.parse_args(argv)
     env = None
     if a.src:
@@ -141,7 +142,7 @@ def main(argv=None) -> int:
              "| speed-up: peer / twofluid, median (min–max) | rounds |", "|---|---|---|---|---|---|---|"]
     notes = []
     with tempfile.TemporaryDirectory(prefix="twofluid-peers-") as td:
-        for name, w in works(Path(td)).items():
+        for name, w in works(Path(td), coarse=not a.src).items():
             if a.only and name not in a.only:
                 continue
             if isinstance(w, str):
