@@ -1,6 +1,7 @@
 """Turn a resolved case into a model, an initial state and run settings."""
 from __future__ import annotations
 
+import bisect
 import warnings
 from dataclasses import dataclass, replace
 
@@ -29,8 +30,8 @@ class Schedule:
     values: tuple
 
     def __call__(self, t: float) -> float:
-        ts, vs = np.asarray(self.times), np.asarray(self.values)
-        i = int(np.searchsorted(ts, t, side="left"))
+        ts, vs = self.times, self.values  # scalar work on tuples: called at every step and iterate
+        i = bisect.bisect_left(ts, t)
         if i == 0:
             return float(vs[0])
         if i >= len(ts):
