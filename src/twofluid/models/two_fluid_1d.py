@@ -295,15 +295,19 @@ class TwoFluid1D:
         if newton:
             dW_dn = (np.einsum("eij,ej->ei", M, k.V[vd] + k.W[vd]) - self._step_full["M_VWold"]) * (-h / n)[:, None]
         if clo.viscous:
-            mu_s = solid_viscosity(n, mat.mu_f, **clo.viscosity_params)
+            if newton:  # μ_s at n and n + δn in one call (δn away from n = 0 and 1)
+                dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
+                mu2 = solid_viscosity(np.concatenate((n, n + dn)), mat.mu_f, **clo.viscosity_params)
+                mu_s = mu2[:n.size]
+            else:
+                mu_s = solid_viscosity(n, mat.mu_f, **clo.viscosity_params)
             S.add("V", "V", vd, vd, 0.5 * (mat.mu_f + mu_s)[:, None, None] * Kv)
             S.add("V", "W", vd, vd, 0.5 * (mat.mu_f - mu_s)[:, None, None] * Kv)
             ml = (0.5 * mat.mu_f / n)[:, None, None] * Kv
             S.add("W", "V", vd, vd, ml)
             S.add("W", "W", vd, vd, ml)
-            if newton:  # μ_s(n) by a finite difference away from n = 0 and 1; the viscous 1/n exactly
-                dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
-                dmu = (solid_viscosity(n + dn, mat.mu_f, **clo.viscosity_params) - mu_s) / dn
+            if newton:  # μ_s(n) by the finite difference; the viscous 1/n exactly
+                dmu = (mu2[n.size:] - mu_s) / dn
                 Vk, Wk = k.V[vd], k.W[vd]
                 self._newton_in_n(S, "V", k, 0.5 * dmu[:, None] * np.einsum("eij,ej->ei", Kv, Vk - Wk))
                 dW_dn -= (0.5 * mat.mu_f / (n * n))[:, None] * np.einsum("eij,ej->ei", Kv, Vk + Wk)
