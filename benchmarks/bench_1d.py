@@ -7,7 +7,10 @@ wall time per simulated second and per step, steps, Picard iterations per step,
 peak traced Python/NumPy memory (tracemalloc, over 20 separate steps) and peak resident set size (ru_maxrss).
 
     python benchmarks/bench_1d.py                 # all configurations, table to stdout
-    python benchmarks/bench_1d.py --write docs/benchmarks.md
+    python benchmarks/bench_1d.py --write FILE    # the table with the machine description
+
+(docs/benchmarks.md keeps its 2026-11-26 output as history; the newer tables there come from
+bench_peers.py, bench_convergence.py, bench_scaling.py and bench_startup.py.)
 """
 from __future__ import annotations
 
