@@ -17,8 +17,8 @@ Works (what is and is not the same work is said in each twofluid case file):
   the PATH (Debian: ``apt-get install -y openfoam``).
 - ``opensees-column``: ``python column.py --perm 1e-4 --quiet`` of a copy of
   ``../shared/peers/opensees/column.py`` (openseespy from the ``bench`` extra) against
-  ``twofluid run`` of the bundled liquefaction-elcentro with 20 elements and 30 s of
-  shaking (no plots). Skipped if openseespy is not installed.
+  ``twofluid run`` of the bundled liquefaction-elcentro with 20 elements, 30 s of
+  shaking and run to 180 s as the peer (no dissipation stop, no plots). Skipped if openseespy is not installed.
 
 Plots are switched off in the twofluid case files (``[output] plots = false``, what
 ``twofluid run --no-plots`` does), so that ``--src`` can also time older versions.
@@ -74,6 +74,27 @@ def _case_file(text: str, path: Path, edits: dict) -> Path:
     return path
 
 
+def column_case(path: Path, elements: int, shaking: float, end: float) -> Path:
+    """The bundled liquefaction-elcentro (one layer) with ``elements``, ``shaking`` seconds of the
+    record and run to ``end`` [s] whatever the pore pressures (no dissipation stop), no plots."""
+    import tomli_w
+    from twofluid.casefile.loader import case_text
+
+    case = tomllib.loads(case_text("liquefaction-elcentro"))
+    if "layers" in case:
+        case["layers"][0]["elements"] = elements
+    else:  # before layered sites
+        case["deposit"]["elements"] = elements
+    case["ground_motion"]["duration"] = shaking
+    case["time"]["end"] = end
+    if "dissipated_r_u" in case.get("reconsolidation", {}):
+        case["reconsolidation"]["dissipated_r_u"] = 0.0
+    case["output"]["times"] = [t for t in case["output"].get("times", []) if t < end]
+    case["output"]["plots"] = False
+    path.write_text(tomli_w.dumps(case))
+    return path
+
+
 def twofluid_cmd(case_path: Path, out: Path) -> list[str]:
     return [sys.executable, "-m", "twofluid.cli", "run", str(case_path), "--out", str(out), "--quiet"]
 
@@ -109,17 +130,13 @@ def works(tmp: Path, coarse: bool = True) -> dict:
     if not has_ops:
         out[name] = "skipped: openseespy not installed (pip install -e '.[bench]')"
     else:
-        from twofluid.casefile.loader import case_text
-
         peer_dir = tmp / name
         peer_dir.mkdir()
         shutil.copy(PEERS / "opensees" / "column.py", peer_dir / "column.py")
-        path = _case_file(case_text("liquefaction-elcentro"), peer_dir / "column-20.toml",
-                          {("deposit", "elements"): 20, ("ground_motion", "duration"): 30.0,
-                           ("output", "plots"): False})
+        path = column_case(peer_dir / "column-20.toml", elements=20, shaking=30.0, end=180.0)
         peer = [sys.executable, "column.py", "--perm", "1e-4", "--quiet", "--out", "out", "--motion", str(MOTION)]
         out[name] = ("OpenSeesPy PDMY02 u-p column (`column.py --perm 1e-4`)", peer, peer_dir,
-                     {"twofluid liquefaction_1d, 20 elements, 30 s shaking": twofluid_cmd(path, peer_dir / "out-tf")})
+                     {"twofluid liquefaction_1d, 20 elements, 30 s shaking, to 180 s": twofluid_cmd(path, peer_dir / "out-tf")})
     return out
 
 

@@ -45,25 +45,16 @@ def bed_row(model: str, elements: int, steps: int, warmup: int) -> dict:
 
 
 def column_row(elements: int, seconds: float) -> dict:
-    import tomllib
+    from bench_peers import column_case
 
-    import tomli_w
-    from twofluid.casefile.loader import case_text
-
-    case = tomllib.loads(case_text("liquefaction-elcentro"))
-    case["deposit"]["elements"] = elements
-    case["ground_motion"]["duration"] = seconds
-    case["time"]["end"] = seconds
-    case["output"]["times"] = [seconds]
     with tempfile.TemporaryDirectory() as td:
-        path = Path(td) / "column.toml"
-        path.write_text(tomli_w.dumps(case))
+        path = column_case(Path(td) / "column.toml", elements=elements, shaking=seconds, end=seconds)
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         subprocess.run([sys.executable, "-m", "twofluid.cli", "run", str(path), "--out", str(Path(td) / "out"),
-                        "--quiet", "--no-plots"], check=True, stdout=subprocess.DEVNULL)
+                        "--quiet"], check=True, stdout=subprocess.DEVNULL)
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
-    return {"elements": elements, "cpu": cpu, "vertical_steps": round(seconds / case["time"]["step"])}
+    return {"elements": elements, "cpu": cpu}
 
 
 def main(argv=None) -> int:
@@ -83,11 +74,11 @@ def main(argv=None) -> int:
             print(f"| {model} | {ne} | {r['its']:.2f} | {r['per_step_ms']:.2f} | {r['per_iterate_ms']:.3f} | "
                   f"{1e3 * r['per_iterate_ms'] / ne:.3f} |", flush=True)
     if not a.no_column:
-        print(f"\n| liquefaction column, {a.shaking:g} s shaking | elements | vertical steps | CPU of the run [s] |")
-        print("|---|---|---|---|")
+        print(f"\n| liquefaction column, {a.shaking:g} s shaking | elements | CPU of the run [s] |")
+        print("|---|---|---|")
         for ne in COLUMN:
             r = column_row(ne, a.shaking)
-            print(f"| liquefaction-elcentro | {ne} | {r['vertical_steps']} | {r['cpu']:.2f} |", flush=True)
+            print(f"| liquefaction-elcentro | {ne} | {r['cpu']:.2f} |", flush=True)
     return 0
 
 
