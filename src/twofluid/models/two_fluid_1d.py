@@ -154,6 +154,11 @@ class State:
         return s
 
 
+def _times(params: dict, n: int, reps: int) -> dict:
+    """``params`` with every per-element array (size ``n``) repeated ``reps`` times (scalars kept)."""
+    return {k: np.tile(v, reps) if np.ndim(v) and np.size(v) == n else v for k, v in params.items()}
+
+
 class TwoFluid1D:
     """Assembles and solves the 1D two-component equations on a LineMesh."""
 
@@ -185,6 +190,7 @@ class TwoFluid1D:
         node = np.arange(self.nv) / p
         self._pattern = {}  # global indices of the element blocks, the same at every iterate
         self._step_full = None  # the terms of the current step that do not depend on the iterate
+        self._stacked_mat = None  # materials with per-element arrays repeated, for the fused closure calls
         self._B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1): −∫ ∇·N_i dΩ
         e = self._elements = np.arange(ne)
         vn = self.vert_node
@@ -297,7 +303,8 @@ class TwoFluid1D:
         if clo.viscous:
             if newton:  # μ_s at n and n + δn in one call (δn away from n = 0 and 1)
                 dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
-                mu2 = solid_viscosity(np.concatenate((n, n + dn)), mat.mu_f, **clo.viscosity_params)
+                mu2 = solid_viscosity(np.concatenate((n, n + dn)), self._materials_times(2).mu_f,
+                                      **_times(clo.viscosity_params, n.size, 2))
                 mu_s = mu2[:n.size]
             else:
                 mu_s = solid_viscosity(n, mat.mu_f, **clo.viscosity_params)
@@ -356,6 +363,17 @@ class TwoFluid1D:
                       "M_VWold": np.einsum("eij,ej->ei", M, Vold + Wold)}
         return S
 
+    def _materials_times(self, reps: int) -> Materials:
+        """The materials for a closure call on ``reps`` stacked copies of the element arrays
+        (per-element properties, e.g. of a layered site, repeated; kept while ``self.mat`` is)."""
+        key = (id(self.mat), reps)
+        cached = self._stacked_mat
+        if cached is None or cached[0] != key or cached[1] is not self.mat:
+            ne = self.mesh.n_elements
+            fields = {f: getattr(self.mat, f) for f in ("rho_f", "mu_f", "rho_s", "d_p", "sphericity", "g")}
+            cached = self._stacked_mat = (key, self.mat, replace(self.mat, **_times(fields, ne, reps)))
+        return cached[2]
+
     def _newton_in_n(self, S: BlockSystem, row: str, k: State, d: np.ndarray) -> None:
         """Add the Newton term d (n − nᵏ) of element vectors d = ∂R/∂n_e (n_el, nl) to rows ``row``."""
         S.add(row, "n", self.vdofs, self.edofs, d[:, :, None])
@@ -380,7 +398,7 @@ class TwoFluid1D:
         s_n = np.abs(np.einsum("ei,ie->e", qn, wts)) / (2.0 * nn * np.maximum(1.0 - nn, _CLEAR))
         ds = 1e-6 * np.maximum(s_abs, 1e-6)
         K3 = self.clo.beta_per_solids(np.concatenate((n, n, nn)), np.concatenate((s_abs, s_abs + ds, s_n)),
-                                      self.mat).reshape(3, -1)
+                                      self._materials_times(3)).reshape(3, -1)
         K0 = K3[0]
         dK = (K3[1] - K0) / ds * s_abs  # K'|s|
         gain = np.where(np.abs(qbar) > 0.0, dK / np.where(qbar != 0.0, qbar, 1.0), 0.0)
