@@ -135,8 +135,9 @@ def works(tmp: Path, coarse: bool = True) -> dict:
         shutil.copy(PEERS / "opensees" / "column.py", peer_dir / "column.py")
         path = column_case(peer_dir / "column-20.toml", elements=20, shaking=30.0, end=180.0)
         peer = [sys.executable, "column.py", "--perm", "1e-4", "--quiet", "--out", "out", "--motion", str(MOTION)]
+        label = "twofluid liquefaction_1d, 20 elements, 30 s shaking, to 180 s"
         out[name] = ("OpenSeesPy PDMY02 u-p column (`column.py --perm 1e-4`)", peer, peer_dir,
-                     {"twofluid liquefaction_1d, 20 elements, 30 s shaking, to 180 s": twofluid_cmd(path, peer_dir / "out-tf")})
+                     {label: twofluid_cmd(path, peer_dir / "out-tf")})
     return out
 
 
