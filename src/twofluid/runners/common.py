@@ -36,6 +36,9 @@ class _NoBar:
     def update(self, dn: float) -> None:
         self.n += dn
 
+    def reset(self, total=None) -> None:
+        self.n = 0.0
+
     def close(self) -> None:
         pass
 
