@@ -12,6 +12,7 @@ from ..closures.solids_pressure import reference_porosity_for
 from ..mesh.line import uniform_line
 from ..models.two_fluid_1d import Boundary, Closures, Materials, State, TwoFluid1D
 from ..timestepping.backward_euler import PicardSettings
+from .validity import drag_validity_warnings
 
 __all__ = ["Schedule", "Built", "build"]
 
@@ -110,6 +111,7 @@ def build(case: dict) -> Built:
     clo = closures(case, mat)
     bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
     top, vt = _boundary(case["boundary.top"], clo, mat)
+    drag_validity_warnings(case, clo, mat, vb + vt)
     cls = TwoFluid1D
     if case["case"]["model"] == "reduced_1d":
         from ..models.reduced_1d import Reduced1D as cls
