@@ -41,7 +41,7 @@ def drag_validity_warnings(case: dict, clo, mat, inlet_velocities) -> list[str]:
     key = f"[closures.drag] law = {d['law']!r}" + (", stokes = true" if d["stokes"] else "")
     out = []
     lo, hi = law.porosity_range
-    porosities = [case["initial"]["porosity"]]
+    porosities = [case["initial"]["porosity"]] if case["initial"]["state"] != "fluidized" else []
     for end in ("bottom", "top"):
         porosities += case[f"boundary.{end}"]["porosities"]
     bad = [n for n in porosities if not lo <= n <= hi]
