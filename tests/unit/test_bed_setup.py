@@ -126,3 +126,13 @@ def test_step_change_reports_t1_from_the_step_and_the_bed_pressure_drop(tmp_path
     assert "bed_pressure_drop_Pa" in probes.dtype.names
     assert s["bed_height_theory_final_m"] == pytest.approx(0.3 * 0.35 / (1 - s["bed_porosity_theory_final"]))
     assert (tmp_path / "bed_pressure_drop.png").exists()
+
+
+def test_bed_height_off_the_element_faces_says_where_the_surface_went():
+    with pytest.warns(CaseWarning, match=r"\[initial\] bed_height: 0.7054 m is not on an element face.*"
+                                         r"up to 0.71 m"):
+        b = built(bed(bed_height=0.7054))
+    assert (b.state.n[:71] == 0.65).all() and (b.state.n[71:] == 1.0).all()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CaseWarning)
+        built(bed(bed_height=0.7))  # on a face: no word

@@ -2,17 +2,22 @@
 
 ``[initial]`` sets the bed by its porosity (or ``state = "fluidized"``: the porosity at
 which the inlet velocity at t = 0 holds a uniform bed, from the case's own drag law)
-and by its height, its solids mass or its settled height at a packing porosity. The
-surface is placed exactly: the element it cuts holds the solids of the part below it,
-so the solids inventory is the one asked for and no height is rounded to a face.
+and by its height, its solids mass or its settled height at a packing porosity. A bed
+given by its solids inventory has its surface placed exactly: the element it cuts holds
+the solids of the part below it, so the inventory is the one asked for. A bed given by its
+height fills whole elements (those whose centres lie below it), with a one-line warning
+when that moves the surface: a cut element starts as a dilute layer out of balance on top
+of the bed, which shifts t1 by about 9 % on the Slis bed at 90 elements.
 """
 from __future__ import annotations
+
+import warnings
 
 import numpy as np
 from scipy.optimize import brentq
 
 from ..closures import drag as drag_laws
-from .schema import CaseError
+from .schema import CaseError, CaseWarning
 
 __all__ = ["volume_below", "height_of_volume", "bed_porosity", "fluidized_porosity", "initial_bed"]
 
@@ -46,8 +51,8 @@ def bed_porosity(mesh, n: float, h: float) -> np.ndarray:
     1 − n_e = (1 − n) × (its volume below h)/(its volume).
 
     >>> from twofluid.mesh.line import uniform_line
-    >>> bed_porosity(uniform_line(1.0, 4), 0.6, 0.6).round(12).tolist()
-    [0.6, 0.6, 0.92, 1.0]
+    >>> [round(float(x), 12) for x in bed_porosity(uniform_line(1.0, 4), 0.6, 0.6)]
+    [0.6, 0.6, 0.84, 1.0]
     """
     y = mesh.y - mesh.y[0]
     x = np.clip(h - y[:-1], 0.0, mesh.lengths)
@@ -100,6 +105,17 @@ def initial_bed(mesh, case: dict, clo, mat, u0: float) -> tuple[float, float, np
             raise CaseError(src, f"[initial] {key}", f"the solids ({vs:.4g} m³) do not fit in the column at "
                             f"porosity {n:.4g} (room for {(1.0 - n) * mesh.volumes.sum():.4g} m³)")
         h = height_of_volume(mesh, vs / (1.0 - n))
-    else:
-        h = init["bed_height"] if init["bed_height"] > 0 else length
-    return n, h, bed_porosity(mesh, n, h)
+        return n, h, bed_porosity(mesh, n, h)
+    if init["bed_height"] <= 0:
+        return n, length, np.full(mesh.n_elements, n)
+    # a height fills the elements whose centres lie below it (the surface on an element face:
+    # a cut element would start as a dilute layer out of balance on the bed), and says so
+    h = init["bed_height"]
+    inside = mesh.centres - mesh.y[0] < h
+    used = float(mesh.y[int(inside.sum())] - mesh.y[0])
+    if abs(used - h) > 1e-9 * max(h, 1e-3):
+        warnings.warn(CaseWarning(
+            f"{src}: [initial] bed_height: {h:g} m is not on an element face; the bed fills the elements "
+            f"whose centres lie below it, up to {used:g} m (solids_mass or settled_height place the "
+            "surface exactly)"), stacklevel=3)
+    return n, used, np.where(inside, n, 1.0)

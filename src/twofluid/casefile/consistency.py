@@ -60,14 +60,13 @@ def check_consistency(case: dict, source: str) -> None:
         raise CaseError(source, "[initial] porosity", f"{init['porosity']!r} is outside the valid range (0, 1] [-]")
     if case["numerics"]["solids_flux"] == "galerkin":
         # the Galerkin vertex flux (1 − n_f)U_s takes solids out of an element that has none (n > 1) as
-        # soon as clear liquid meets solids that move: at a bed surface, or where a suspension settles
-        full = init["solids_mass"] == -1.0 and init["settled_height"] == -1.0 and \
-            (h == -1.0 or h >= mesh["length"])
-        if not (full and init["state"] == "settled"):
-            raise CaseError(source, "[numerics] solids_flux", "'galerkin' holds only for a settled deposit "
-                            "filling the column ([initial] state = 'settled', no bed_height below the top): "
-                            "at a free surface it takes solids from the clear liquid (porosity > 1); "
-                            "use 'upwind'")
+        # soon as clear liquid meets solids that move: at a bed surface, or above a settling suspension
+        free = init["solids_mass"] != -1.0 or init["settled_height"] != -1.0 or \
+            (h != -1.0 and h < mesh["length"])
+        if free or case["case"]["study"] == "settling":
+            raise CaseError(source, "[numerics] solids_flux", "'galerkin' cannot follow a free surface "
+                            "(a bed below the column top, or a settling study): it takes solids from the "
+                            "clear liquid above it (porosity > 1); use 'upwind'")
     for end in ("bottom", "top"):
         _boundary(case, end, source)
     kinds = (case["boundary.bottom"]["kind"], case["boundary.top"]["kind"])

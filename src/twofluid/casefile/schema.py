@@ -150,10 +150,12 @@ INITIAL_1D: list[Key] = [
     K("porosity", float, -1.0, "-", "porosity of the bed, in (0, 1] (required unless state = \"fluidized\")",
       used_when=("state", ("uniform", "settled"))),
     K("bed_height", float, -1.0, "m", "height of the bed above the bottom; clear liquid (n = 1) "
-      "above it; the element the surface cuts holds the solids below it (-1: the whole column, "
-      "or the height that solids_mass or settled_height give)"),
+      "above it; the bed fills the elements whose centres lie below it (a warning says so when "
+      "that moves the surface) (-1: the whole column, or the height that solids_mass or "
+      "settled_height give)"),
     K("solids_mass", float, -1.0, "kg", "the bed given by its solids inventory instead of "
-      "bed_height: its height is the mass/(ρ_s (1 − n)) over the cross-section; > 0 (-1: not given)"),
+      "bed_height: its height is the mass/(ρ_s (1 − n)) over the cross-section, the element "
+      "the surface cuts holding the remainder; > 0 (-1: not given)"),
     K("settled_height", float, -1.0, "m", "the bed given by the height it settles to at "
       "settled_porosity instead of bed_height, in (0, length] (-1: not given)"),
     K("settled_porosity", float, 0.4, "-", "porosity of the settled bed of settled_height",

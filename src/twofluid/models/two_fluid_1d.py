@@ -151,7 +151,7 @@ class TwoFluid1D:
 
     def __init__(self, mesh: LineMesh, materials: Materials, closures: Closures,
                  bottom: Boundary, top: Boundary, element: str = "1VW/0P/0n",
-                 solids_flux: str = "upwind"):
+                 solids_flux: str = "upwind", bed_forces: str = "upwind"):
         if element not in ELEMENTS:
             raise ValueError(f"element must be one of {list(ELEMENTS)}")
         if "outlet" not in (bottom.kind, top.kind):
@@ -159,6 +159,9 @@ class TwoFluid1D:
         self.mesh, self.mat, self.clo = mesh, materials, closures
         self.bottom, self.top = bottom, top
         self.element, self.solids_flux = element, solids_flux
+        if bed_forces not in ("upwind", "galerkin"):
+            raise ValueError("bed_forces must be 'upwind' or 'galerkin'")
+        self.bed_forces = bed_forces  # "galerkin": hat-function tests (the 2D model's form), for comparisons
         self.basis, self.p_order = ELEMENTS[element]
         ne = mesh.n_elements
         self.nv = self.basis.n_nodes(ne)
@@ -352,7 +355,7 @@ class TwoFluid1D:
         >>> round(float(m.force_shift(0.716 * one, -2.9e4 * one, -4.3 * one)[0]), 4)  # fluidized: to the top
         0.4923
         """
-        if self.BN is None:
+        if self.BN is None or self.bed_forces == "galerkin":
             return np.zeros_like(n)
         h = self.mesh.lengths
         stiff = np.abs(dps) + 1e-3 * h * abs(self.mat.rho_s - self.mat.rho_f) * self.mat.g
@@ -513,7 +516,9 @@ class TwoFluid1D:
         if s.n.min() <= 0.0:
             return f"porosity {s.n.min():.6g} <= 0 in element {int(s.n.argmin())}"
         if s.n.max() > 1.0 + 1e-9:
-            return f"porosity {s.n.max():.12g} > 1 in element {int(s.n.argmax())}"
+            hint = " (the galerkin solids flux cannot follow a free surface; use 'upwind')" \
+                if self.solids_flux == "galerkin" else ""
+            return f"porosity {s.n.max():.12g} > 1 in element {int(s.n.argmax())}{hint}"
         return None
 
     def velocity_scale(self, s: State) -> float:
