@@ -42,5 +42,5 @@ def test_gauge_invariance_and_conservation():
 
 
 def test_observed_order_in_space_and_time():
-    _all_pass(order_check.space_rows(levels=(25, 50, 100), ref=800)[:1])
+    _all_pass(order_check.space_rows(levels=(50, 100, 200), ref=1600)[:1])
     _all_pass(order_check.time_rows(divs=(10, 20, 40), ref=320, elements=100)[:1])

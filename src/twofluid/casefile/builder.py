@@ -13,6 +13,8 @@ from ..closures.solids_pressure import reference_porosity_for
 from ..mesh.line import uniform_line
 from ..models.two_fluid_1d import Boundary, Closures, Materials, State, TwoFluid1D
 from ..timestepping.backward_euler import PicardSettings
+from .bed import initial_bed
+from .validity import drag_validity_warnings
 
 __all__ = ["Schedule", "Built", "build"]
 
@@ -111,6 +113,7 @@ def build(case: dict) -> Built:
     clo = closures(case, mat)
     bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
     top, vt = _boundary(case["boundary.top"], clo, mat)
+    drag_validity_warnings(case, clo, mat, vb + vt)
     cls = TwoFluid1D
     if case["case"]["model"] == "reduced_1d":
         from ..models.reduced_1d import Reduced1D as cls
@@ -151,16 +154,16 @@ def settled_reference_porosity(n_bar: np.ndarray, n: np.ndarray, ps: np.ndarray,
 
 
 def initial_state(model: TwoFluid1D, case: dict) -> State:
-    """Uniform bed (clear liquid above ``bed_height``) at rest in the initial inflow."""
+    """Uniform bed (clear liquid above its surface, :func:`~twofluid.casefile.bed.initial_bed`) at rest
+    in the initial inflow."""
     init = case["initial"]
     mesh = model.mesh
-    h = init["bed_height"] if init["bed_height"] > 0 else mesh.y[-1] - mesh.y[0]
-    n = np.where(mesh.centres - mesh.y[0] < h, init["porosity"], 1.0)
     u = 0.0
     if model.bottom.kind == "inlet":
         u = model.bottom.velocity(0.0)
     elif model.top.kind == "inlet":
         u = -model.top.velocity(0.0)
+    _, _, n = initial_bed(mesh, case, model.clo, model.mat, u)
     n_bar = np.full(mesh.n_elements, case["closures.solids_pressure"]["reference_porosity"])
     if init["state"] == "settled":
         settled_reference_porosity(n_bar, n, model.settled_solids_pressure(n), model.clo, model.mat)

@@ -1,7 +1,7 @@
 """Checks across keys of a resolved case (each key alone is checked by the schema)."""
 from __future__ import annotations
 
-from .schema import SCHEMA, CaseError, register_model
+from .schema import INITIAL_1D, SCHEMA, CaseError, register_model
 
 __all__ = ["check_consistency"]
 
@@ -39,6 +39,34 @@ def check_consistency(case: dict, source: str) -> None:
     if h != -1.0 and not 0.0 < h <= mesh["length"]:
         raise CaseError(source, "[initial] bed_height", f"must lie in (0, {mesh['length']:g}] [m] "
                         "(the column length), or be -1 for the whole column")
+    if init["solids_mass"] != -1.0 and not init["solids_mass"] > 0.0:
+        raise CaseError(source, "[initial] solids_mass", "must be > 0 [kg] (or -1: not given)")
+    if init["settled_height"] != -1.0 and not 0.0 < init["settled_height"] <= mesh["length"]:
+        raise CaseError(source, "[initial] settled_height", f"must lie in (0, {mesh['length']:g}] [m] "
+                        "(the column length), or be -1: not given")
+    given = [k for k in ("bed_height", "solids_mass", "settled_height") if init[k] != -1.0]
+    if len(given) > 1:
+        raise CaseError(source, "[initial] " + "/".join(given), "give the bed by one of bed_height [m], "
+                        "solids_mass [kg] or settled_height [m]")
+    if init["state"] == "fluidized":
+        b = case["boundary.bottom"]
+        if b["kind"] != "inlet":
+            raise CaseError(source, "[initial] state", "'fluidized' needs an inlet at the bottom (its "
+                            "velocity at t = 0 sets the porosity)")
+    elif init["porosity"] == -1.0:
+        raise CaseError(source, "[initial] porosity", "missing (required unless state = 'fluidized'; "
+                        "porosity of the bed, in (0, 1])")
+    elif not 0.0 < init["porosity"] <= 1.0:
+        raise CaseError(source, "[initial] porosity", f"{init['porosity']!r} is outside the valid range (0, 1] [-]")
+    if case["numerics"]["solids_flux"] == "galerkin":
+        # the Galerkin vertex flux (1 − n_f)U_s takes solids out of an element that has none (n > 1) as
+        # soon as clear liquid meets solids that move: at a bed surface, or above a settling suspension
+        free = init["solids_mass"] != -1.0 or init["settled_height"] != -1.0 or \
+            (h != -1.0 and h < mesh["length"])
+        if free or case["case"]["study"] == "settling":
+            raise CaseError(source, "[numerics] solids_flux", "'galerkin' cannot follow a free surface "
+                            "(a bed below the column top, or a settling study): it takes solids from the "
+                            "clear liquid above it (porosity > 1); use 'upwind'")
     for end in ("bottom", "top"):
         _boundary(case, end, source)
     kinds = (case["boundary.bottom"]["kind"], case["boundary.top"]["kind"])
@@ -66,5 +94,6 @@ def check_consistency(case: dict, source: str) -> None:
 
 _SECTIONS_1D = ("mesh", "closures.drag", "closures.solids_pressure", "closures.viscosity", "initial",
                 "boundary.bottom", "boundary.top", "numerics")
-register_model("two_fluid_1d", {k: SCHEMA[k] for k in _SECTIONS_1D}, check_consistency)
-register_model("reduced_1d", {k: SCHEMA[k] for k in _SECTIONS_1D}, check_consistency)
+_SCHEMA_1D = {k: INITIAL_1D if k == "initial" else SCHEMA[k] for k in _SECTIONS_1D}
+register_model("two_fluid_1d", _SCHEMA_1D, check_consistency)
+register_model("reduced_1d", _SCHEMA_1D, check_consistency)

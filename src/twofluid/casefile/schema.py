@@ -12,7 +12,7 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Key", "SCHEMA", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning", "validate",
+__all__ = ["Key", "SCHEMA", "INITIAL_1D", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning", "validate",
            "revalidate", "effective", "markdown"]
 
 REQUIRED = object()
@@ -142,6 +142,29 @@ SCHEMA: dict[str, list[Key]] = {
           "n ≤ 1 at a descending bed surface) or the thesis's galerkin form", choices=("upwind", "galerkin")),
     ],
 }
+
+
+# [initial] of the 1D column models: the bed by porosity or fluidized state, and by height,
+# solids mass or settled height (twofluid.casefile.bed)
+INITIAL_1D: list[Key] = [
+    K("porosity", float, -1.0, "-", "porosity of the bed, in (0, 1] (required unless state = \"fluidized\")",
+      used_when=("state", ("uniform", "settled"))),
+    K("bed_height", float, -1.0, "m", "height of the bed above the bottom; clear liquid (n = 1) "
+      "above it; the bed fills the elements whose centres lie below it (a warning says so when "
+      "that moves the surface) (-1: the whole column, or the height that solids_mass or "
+      "settled_height give)"),
+    K("solids_mass", float, -1.0, "kg", "the bed given by its solids inventory instead of "
+      "bed_height: its height is the mass/(ρ_s (1 − n)) over the cross-section, the element "
+      "the surface cuts holding the remainder; > 0 (-1: not given)"),
+    K("settled_height", float, -1.0, "m", "the bed given by the height it settles to at "
+      "settled_porosity instead of bed_height, in (0, length] (-1: not given)"),
+    K("settled_porosity", float, 0.4, "-", "porosity of the settled bed of settled_height",
+      lo=0.0, hi=1.0, lo_open=True, hi_open=True),
+    K("state", str, "uniform", "-", "uniform: n̄ from [closures.solids_pressure]; settled: n̄ such "
+      "that P_s carries the buoyant weight of the solids above (a deposit at rest); fluidized: "
+      "uniform at the porosity at which the inlet velocity at t = 0 holds the bed (the case's "
+      "drag law), porosity not given", choices=("uniform", "settled", "fluidized")),
+]
 
 
 # Sections every model shares; a model adds its own with ``register_model``.

@@ -6,8 +6,11 @@ registered under a *kind* (``"drag"``, ``"viscosity"``, ``"solids_pressure"``,
 *name* chosen by case files (``[closures.drag] law = "wen_yu"``).
 
 The registry records, per entry, the parameters the law accepts (with
-defaults), the porosity range where it is valid and a one-line summary taken
-from the docstring, so the CLI can list them and tests can exercise every entry.
+defaults), the porosity and particle Reynolds number ranges where it is valid
+(for a drag law also those of its Stokes limit, ``stokes = true``) and a one-line
+summary taken from the docstring, so the CLI can list them, tests can exercise
+every entry and a case used outside a law's range gets a warning
+(:mod:`twofluid.casefile.validity`).
 
 >>> from twofluid.closures import registry
 >>> "wen_yu" in registry.names("drag")
@@ -17,6 +20,7 @@ True
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -33,6 +37,19 @@ class Closure:
     params: dict[str, float] = field(default_factory=dict)
     porosity_range: tuple[float, float] = (0.0, 1.0)
     reference: str = ""
+    reynolds_range: tuple[float, float] = (0.0, math.inf)  # particle Re = ρ_f n |U_f − U_s| d/μ_f
+    stokes_reynolds_range: tuple[float, float] | None = None  # the same for the Stokes limit (drag)
+
+    def valid_reynolds(self, stokes: bool = False) -> tuple[float, float]:
+        """The particle Reynolds number range [-] of the law (of its Stokes limit if ``stokes``).
+
+        >>> from twofluid.closures import registry
+        >>> registry.get("drag", "wen_yu").valid_reynolds(stokes=True)
+        (0.0, 1.0)
+        """
+        if stokes and self.stokes_reynolds_range is not None:
+            return self.stokes_reynolds_range
+        return self.reynolds_range
 
     @property
     def summary(self) -> str:
@@ -44,15 +61,18 @@ _REGISTRY: dict[tuple[str, str], Closure] = {}
 
 
 def register(kind: str, name: str, *, params: dict[str, float] | None = None,
-             porosity_range: tuple[float, float] = (0.0, 1.0), reference: str = ""):
-    """Decorator adding ``func`` to the registry under ``(kind, name)``."""
+             porosity_range: tuple[float, float] = (0.0, 1.0), reference: str = "",
+             reynolds_range: tuple[float, float] = (0.0, math.inf),
+             stokes_reynolds_range: tuple[float, float] | None = None):
+    """Decorator adding ``func`` to the registry under ``(kind, name)`` with its validity ranges."""
 
     def deco(func):
         key = (kind, name)
         if key in _REGISTRY:
             raise ValueError(f"closure {kind}/{name} registered twice")
-        _REGISTRY[key] = Closure(kind, name, func, dict(params or {}),
-                                 porosity_range, reference)
+        _REGISTRY[key] = Closure(kind, name, func, dict(params or {}), porosity_range, reference,
+                                 tuple(map(float, reynolds_range)),
+                                 None if stokes_reynolds_range is None else tuple(map(float, stokes_reynolds_range)))
         return func
 
     return deco

@@ -16,6 +16,9 @@ pentadiagonal (banded) system in the vertex W and element n, interleaved
   (tested with δW/n), so mixture − liquid is free of P (the thesis's reduced model:
   solid − (1 − n)/n liquid); it couples W_{i−1}, W_i, W_{i+1}, n_{i−1}, n_i.
 
+The buoyant weight and the drag carry the full model's upwind test functions
+ψ = N ∓ αB of the step (:meth:`TwoFluid1D.force_shift`, taken at the old state).
+
 In the interleaved ordering both row kinds reach two unknowns either side of the
 diagonal: a band of half-width 2, solved by LAPACK ``dgbsv``. The system is
 written for the increment from iterate k (right-hand side = minus the residual).
@@ -91,12 +94,14 @@ class Reduced1D(TwoFluid1D):
             raise ValueError("reduced_1d: unexpected viscous element matrix for the linear element")
         self._wt = np.ascontiguousarray(self.avg_weights)  # (2, ne) element-mean weights
         self._w0, self._w1 = self._wt[0].copy(), self._wt[1].copy()
-        # constant pieces of the mixture-minus-liquid rows: −B0ᵀ P_s and the buoyant weight
+        # constant pieces of the mixture-minus-liquid rows: −B0ᵀ P_s (the buoyant weight, tested
+        # with the upwind ψ of the step like the drag, is per step: ``_prepare_step``)
         self._psA = np.stack([area[:-1], -area[1:]])
-        self._gs = np.ascontiguousarray(((mat.rho_s - mat.rho_f) * self.g_y * self.src).T)
         self._liq_src = np.ascontiguousarray((-mat.rho_f * self.g_y * self.src).T)
-        # minus the residual terms that do not depend on the iterate: −g_src (of g_src (n − 1)), surcharge
-        R0 = self._assemble_nodal(self._gs)
+        self._BNt = np.ascontiguousarray(self.BN.T)  # ∫ B N_j dΩ, (2, ne): the ψ − N part of the tests
+        self._sig = np.array([[-1.0], [1.0]])
+        # minus the residual terms that do not depend on the iterate (but for the weight): surcharge
+        R0 = np.zeros(nv)
         if top.kind == "outlet":
             R0[-1] -= self.surcharge * area[-1]
         self._mR0 = R0
@@ -166,11 +171,17 @@ class Reduced1D(TwoFluid1D):
         dn = np.where(old.n < 0.5, 1e-8, -1e-8)
         dn3 = np.zeros((3, dn.size))
         dn3[1] = dn
+        # bed forces tested with the upwind ψ = N ∓ αB of the step (TwoFluid1D.force_shift):
+        # Mψ x = M x + σ α (BN·x), σ = (−1, +1); buoyant weight g_src (n − 1) with ∫ψ
+        sa = self._sig * self.bed_force_shift(old)
+        gs = (mat.rho_s - mat.rho_f) * self.g_y * (self.src.T + sa * self._BNt.sum(axis=0))
+        saV = sa * (self._BNt[0] * V[:-1] + self._BNt[1] * V[1:])
         # inertia: M(ρ̂ΔV − ΔρΔW)/Δt = R_in + cw0 M W (R_in assembled into the constant rows);
         # liquid inertia h M(ΔV + ΔW) = h (U + M W)
         st = dict(dc, **vc)
         st.update(old=old, dt=dt, t=t_new, U=MdV - MWold, old_n=old.n, dn=dn, dn3=dn3, dq3=dn3 * vc["Vbar2"],
-                  mR=self._mR0 - self._assemble_nodal(dc["cv0"] * MdV - dc["cw0"] * MWold))
+                  gs=gs, sa=sa, saV=saV,
+                  mR=self._mR0 + self._assemble_nodal(gs) - self._assemble_nodal(dc["cv0"] * MdV - dc["cw0"] * MWold))
         self._step = st
         return st
 
@@ -235,17 +246,20 @@ class Reduced1D(TwoFluid1D):
         k0, kn = k3[0], k3[1]  # K/(2n²) at the iterate and at n + δn
         gain = (k3[2] - k0) * (np.sign(qb) * iden3[0] / ds)  # K'(|s|) |s|/q̄ /(2n²)
         kd = (kn - k0) / st["dn"]
-        Mq = omn * MVe + MWe
-        Jdn = kd * Mq - (kn + kn) * MVe  # ∂D/∂n = [D(n + δn) − D(n)]/δn, q(n + δn) = q − 2δn V
+        sa, saV = st["sa"], st["saV"]
+        cor = omn * saV + sa * (self._BNt[0] * Wb + self._BNt[1] * Wt)  # (Mψ − M) q
+        Mq = omn * MVe + MWe + cor  # Mψ q
+        Jdn = kd * Mq - (kn + kn) * (MVe + saV)  # ∂D/∂n = [D(n + δn) − D(n)]/δn, q(n + δn) = q − 2δn V
         ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
         h = st["hc"] / n  # liquid inertia per unit liquid volume
         al = (st["cw0"] - h) - k0
         kom = k0 * omn
         # mixture − liquid rows at iterate k (the constant terms are in st["mR"]):
         # (cw0 − h) M W − h U − k0 M q + B0ᵀ P_s + g_src n (+ viscous)
-        X = al * MWe - (h * st["U"] + kom * MVe) + (self._psA * ps + self._gs * n)
-        JW = al * self._Mt - (gain * Mq)[:, None, :] * self._wt
-        Jn = (self._gs + self._psA * dps) - Jdn + (h / n) * (st["U"] + MWe)  # + ∂/∂n of −h (U + M W)
+        gs = st["gs"]
+        X = al * MWe - (h * st["U"] + kom * MVe) - k0 * cor + (self._psA * ps + gs * n)
+        JW = al * self._Mt - (gain * Mq)[:, None, :] * self._wt - (k0 * sa)[:, None, :] * self._BNt[None, :, :]
+        Jn = (gs + self._psA * dps) - Jdn + (h / n) * (st["U"] + MWe)  # + ∂/∂n of −h (U + M W)
         if self.clo.viscous:  # μ_s at n and n + δn in one call; Newton in μ_s(n) and the 1/n of m_l
             dnv = st["dn"]
             mu2 = solid_viscosity(np.concatenate((n, n + dnv)), mat.mu_f, **self.clo.viscosity_params)
@@ -361,7 +375,8 @@ class Reduced1D(TwoFluid1D):
         Wb, Wt = W[:-1], W[1:]
         MW = self._M0 * Wb + self._M1 * Wt
         dWbar = (self._w0 * Wb + self._w1 * Wt) - Wbar
-        L = (h + k0) * MW + (h * st["U"] + kom * st["MVe"]) + self._liq_src + (gain * dWbar) * Mq \
+        cor = (1.0 - 2.0 * nk) * st["saV"] + st["sa"] * (self._BNt[0] * Wb + self._BNt[1] * Wt)  # (Mψ − M) q
+        L = (h + k0) * MW + (h * st["U"] + kom * st["MVe"]) + k0 * cor + self._liq_src + (gain * dWbar) * Mq \
             + Jdn * (new.n - nk)
         if m_l is not None:
             vl = m_l * (st["kv"] + self._kap * (Wb - Wt))
@@ -380,7 +395,8 @@ class Reduced1D(TwoFluid1D):
         K = self.clo.beta_per_solids(n, s_abs, mat)
         h = (0.5 * mat.rho_f / dt) / n
         dVW = V - old.V + W - old.W
-        L = h * (M0 * dVW[:-1] + M1 * dVW[1:]) + (K / (2.0 * n * n)) * (M0 * q[0] + M1 * q[1]) + self._liq_src
+        Mq = M0 * q[0] + M1 * q[1] + (self._sig * self.bed_force_shift(old)) * (self._BNt[0] * q[0] + self._BNt[1] * q[1])
+        L = h * (M0 * dVW[:-1] + M1 * dVW[1:]) + (K / (2.0 * n * n)) * Mq + self._liq_src
         if self.clo.viscous:
             VW = V + W
             L = L + (0.5 * mat.mu_f / n) * (self._kap * (VW[:-1] - VW[1:])) * np.array([[1.0], [-1.0]])

@@ -46,6 +46,11 @@ volume-weighted vertex average. It equals the Galerkin form where the porosity
 is uniform and keeps an element from giving away solids it does not hold
 (docs/model.md, "Numerical hygiene"), e.g. at a descending bed surface. ``"galerkin"`` is the thesis's form.
 
+Bed forces (``1VW/0P/0n``): the buoyant weight of the solids and the drag are tested
+with upwind functions ψ = N ∓ αB, not the hat functions (``force_shift``): with hat
+functions a vertex sees only the mean of its two elements' forces, which lets an
+odd–even porosity mode stand in a fluidized bed (docs/model.md).
+
 The model inherits the two-fluid model's instability of uniform fluidization
 (Jackson 1963): without granular-pressure elasticity (P_s ≈ 0 in a fluidized
 bed) small porosity disturbances grow, fastest at the shortest wavelengths the
@@ -164,7 +169,8 @@ class TwoFluid1D:
 
     def __init__(self, mesh: LineMesh, materials: Materials, closures: Closures,
                  bottom: Boundary, top: Boundary, element: str = "1VW/0P/0n",
-                 solids_flux: str = "upwind", linearisation: str = "newton"):
+                 solids_flux: str = "upwind", linearisation: str = "newton",
+                 bed_forces: str = "upwind"):
         if element not in ELEMENTS:
             raise ValueError(f"element must be one of {list(ELEMENTS)}")
         if linearisation not in ("newton", "picard"):
@@ -175,6 +181,9 @@ class TwoFluid1D:
         self.mesh, self.mat, self.clo = mesh, materials, closures
         self.bottom, self.top = bottom, top
         self.element, self.solids_flux = element, solids_flux
+        if bed_forces not in ("upwind", "galerkin"):
+            raise ValueError("bed_forces must be 'upwind' or 'galerkin'")
+        self.bed_forces = bed_forces  # "galerkin": hat-function tests (the 2D model's form), for comparisons
         self.basis, self.p_order = ELEMENTS[element]
         ne = mesh.n_elements
         self.nv = self.basis.n_nodes(ne)
@@ -237,6 +246,14 @@ class TwoFluid1D:
         else:
             self.p_below, self.p_above = np.arange(-1, 2 * ne, 2), np.arange(0, 2 * ne + 1, 2)
         self.volumes = mesh.volumes
+        if p == 1:
+            # upwind test functions ψ = N ∓ α B of the bed forces (``force_shift``): B = 6ξ(1 − ξ)
+            # integrates to one over the reference element; BN = ∫ B N_j dΩ (both halves: B q̄ vol)
+            xq, _ = np.polynomial.legendre.leggauss(4)
+            xq = 0.5 * (xq + 1.0)
+            self.BN = terms.source(ev, np.broadcast_to(6.0 * xq * (1.0 - xq), ev.JxW.shape))
+        else:
+            self.BN = None  # the quadratic element keeps the Galerkin forces
         self.avg_weights = ev.N.T @ (ev.JxW / ev.JxW.sum(axis=1, keepdims=True)).T  # (nl, ne)
 
     # --------------------------------------------------------------- helpers
@@ -324,7 +341,7 @@ class TwoFluid1D:
         B0T = self._B0T  # (ne, nl, 1)
         S.add("V", "n", vd, ed, B0T * dps[:, None, None])
         S.add_rhs("V", vd, -B0T[:, :, 0] * (ps - dps * n)[:, None])
-        self._drag(S, k)
+        self._drag(S, k, self._step_full["alpha"])
         self._liquid_pressure(S, n, k.P)
         self._solids_flux(S, k)
         return S
@@ -346,8 +363,13 @@ class TwoFluid1D:
         S.add("V", "W", vd, vd, -d_rho / dt * M)
         S.add_rhs("V", vd, np.einsum("eij,ej->ei", M, rho_hat * Vold - d_rho * Wold) / dt)
         S.add("V", "P", vd, pd, -np.swapaxes(self.Bp, 1, 2))
-        S.add("V", "n", vd, ed, ((mat.rho_s - mat.rho_f) * self.g_y * src)[:, :, None])
-        S.add_rhs("V", vd, mat.rho_s * self.g_y * src)
+        # weight: ρ_f g_y with N (hydrostatic), the buoyant weight (1 − n)(ρ_s − ρ_f) g_y with ψ like
+        # the drag; the upwind shares α are those of the step's old state (``bed_force_shift``)
+        alpha = self.bed_force_shift(old)
+        src_psi = self.psi_source(alpha)
+        S.add_rhs("V", vd, mat.rho_f * self.g_y * src)
+        S.add("V", "n", vd, ed, ((mat.rho_s - mat.rho_f) * self.g_y * src_psi)[:, :, None])
+        S.add_rhs("V", vd, (mat.rho_s - mat.rho_f) * self.g_y * src_psi)
         # liquid (rows W), per unit liquid volume: tested with δW/n (see module docstring)
         S.add_rhs("W", vd, mat.rho_f * self.g_y * src)
         # continuity (rows P) and porosity (rows n)
@@ -359,7 +381,7 @@ class TwoFluid1D:
             if b.kind == "outlet":
                 S.add_rhs("V", np.array([self.vert_node[v]]), np.array([-sign * b.pressure * self.vert_area[v]]))
         S.rhs  # scatter the right-hand side once
-        self._step_full = {"old": old, "dt": dt, "t": t_new, "S": S,
+        self._step_full = {"old": old, "dt": dt, "t": t_new, "S": S, "alpha": alpha,
                       "M_VWold": np.einsum("eij,ej->ei", M, Vold + Wold)}
         return S
 
@@ -379,15 +401,101 @@ class TwoFluid1D:
         S.add(row, "n", self.vdofs, self.edofs, d[:, :, None])
         S.add_rhs(row, self.vdofs, d * k.n[:, None])
 
-    def _drag(self, S: BlockSystem, k: State):
-        """β s tested with δW, Newton-linearised about iterate k.
+    def _drag_force(self, n, V, W, Mt=None):
+        """Element drag vectors ∫ ψ_i β s dΩ (n_el, nl) with β from the element-mean slip.
 
-        D = K(n, |s̄|) M q / (2n²), K = β/(1−n), q = (1−2n)V + W, s̄ = q̄/(2n(1−n)) the
+        ``Mt`` = ∫ ψ_i N_j dΩ (default the mass matrix: Galerkin, ψ = N).
+        """
+        q = (1.0 - 2.0 * n)[:, None] * V[self.vdofs] + W[self.vdofs]
+        s_abs = np.abs(self.slip(V, W, n))
+        K = self.clo.beta_per_solids(n, s_abs, self.mat)
+        Mt = self.M if Mt is None else Mt
+        return (K / (2.0 * n * n))[:, None] * np.einsum("eij,ej->ei", Mt, q), K, s_abs, q
+
+    def force_shift(self, n: np.ndarray, phi_n: np.ndarray, dps: np.ndarray) -> np.ndarray:
+        """Shift α_e ∈ (−½, ½) of element e's bed forces towards its top vertex (``1VW/0P/0n``).
+
+        The buoyant weight and the drag of the solids, φ = (1 − n)(ρ_s − ρ_f) g_y + βs/n
+        per unit volume, balance the granular pressure gradient in a bed at rest,
+        ∂P_s/∂y = φ. Tested with the hat functions, a vertex sees the mean of its two
+        elements' φ: linearised about a uniform bed, the steady vertex balance
+        P_s'(δ_i − δ_{i−1}) = h φ'(δ_{i−1} + δ_i)/2 propagates a porosity disturbance by
+        λ = (2 + Pe)/(2 − Pe) per element, Pe = h φ'/P_s' (φ' = ∂φ/∂n at fixed V, W), which
+        is negative for |Pe| > 2 and −1 as P_s' → 0: an odd–even porosity mode that the
+        bed surface feeds and nothing damps (docs/model.md). The test functions
+        ψ_bottom = N_bottom − α B, ψ_top = N_top + α B (B = 6ξ(1 − ξ); upwind
+        Petrov–Galerkin, Christie et al. 1976) give the element's forces the shares
+        (½ − α, ½ + α) instead, and λ = (1 + Pe w_t)/(1 − Pe w_b). With the share of the
+        vertex against the wave w = min(½, 1/(2|Pe|)), λ = 2|Pe| + 1 > 0 when |Pe| > 1
+        and the scheme is the Galerkin one where it is already monotone (|Pe| ≤ 1, e.g.
+        every settled deposit, whose P_s' is large: there α = 0 exactly). Upwind is
+        towards the top vertex when Pe > 0 (a fluidized bed: porosity waves rise), the
+        bottom one when Pe < 0 (a deposit at rest, dilute settling). P_s' gets a floor of
+        10⁻³ h |ρ_s − ρ_f| g so that α is continuous where φ' changes sign with P_s' = 0.
+        Clear liquid (1 − n ≤ 10⁻⁶) keeps the Galerkin tests: it has no solids whose forces
+        could be upwinded, and its drag only ties W to V, at every vertex alike.
+
+        >>> from twofluid.casefile.builder import build
+        >>> from twofluid.casefile.loader import load_case
+        >>> m = build(load_case("fluidized-bed-step")).model
+        >>> one = np.ones(m.mesh.n_elements)
+        >>> float(m.force_shift(0.4 * one, 1.6e4 * one, -1e5 * one)[0])  # a deposit: Galerkin
+        0.0
+        >>> round(float(m.force_shift(0.716 * one, -2.9e4 * one, -4.3 * one)[0]), 4)  # fluidized: to the top
+        0.4923
+        """
+        if self.BN is None or self.bed_forces == "galerkin":
+            return np.zeros_like(n)
+        h = self.mesh.lengths
+        stiff = np.abs(dps) + 1e-3 * h * abs(self.mat.rho_s - self.mat.rho_f) * self.mat.g
+        against = np.minimum(0.5, stiff / np.maximum(2.0 * h * np.abs(phi_n), 1e-300))
+        alpha = np.where(phi_n < 0.0, 0.5 - against, against - 0.5)  # P_s' ≤ 0: Pe > 0 where φ' < 0
+        return np.where(1.0 - n > _CLEAR, alpha, 0.0)  # clear liquid: no solids, the drag only ties V to W
+
+    def psi_source(self, alpha: np.ndarray) -> np.ndarray:
+        """∫ ψ_i dΩ (n_el, nl) of the upwind test functions with shift ``alpha``."""
+        if self.BN is None:
+            return self.src
+        b = self.BN.sum(axis=1) * alpha
+        return self.src + np.stack([-b, b], axis=1)
+
+    def psi_mass(self, alpha: np.ndarray) -> np.ndarray:
+        """∫ ψ_i N_j dΩ (n_el, nl, nl) of the upwind test functions with shift ``alpha``."""
+        if self.BN is None:
+            return self.M
+        sig = np.array([-1.0, 1.0])
+        return self.M + alpha[:, None, None] * sig[None, :, None] * self.BN[:, None, :]
+
+    def bed_force_shift(self, s: State) -> np.ndarray:
+        """:meth:`force_shift` at state ``s`` (the start of a step; cached for the step).
+
+        Taken at the old state of each step, the shift is the same for every Picard
+        iterate and for the full and the reduced model, and the Newton linearisation
+        of the step is unchanged.
+        """
+        fields = (s.n, s.n_bar, s.V, s.W)
+        c = getattr(self, "_shift_cache", None)
+        if c is not None and c[0] is s and c[1] == s.t and all(np.array_equal(a, b) for a, b in zip(c[2], fields)):
+            return c[3]
+        n = s.n
+        _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
+        dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
+        total = [self._drag_force(x, s.V, s.W)[0].sum(axis=1) for x in (n, n + dn)]
+        phi_n = (total[1] - total[0]) / dn / self.volumes - (self.mat.rho_s - self.mat.rho_f) * self.g_y
+        alpha = self.force_shift(n, phi_n, dps)
+        self._shift_cache = (s, s.t, tuple(np.array(x, copy=True) for x in fields), alpha)
+        return alpha
+
+    def _drag(self, S: BlockSystem, k: State, alpha: np.ndarray):
+        """β s tested with δW (upwind ψ of shift ``alpha``), Newton-linearised about iterate k.
+
+        D = K(n, |s̄|) Mψ q / (2n²), Mψ = ∫ ψ_i N_j dΩ, K = β/(1−n), q = (1−2n)V + W, s̄ = q̄/(2n(1−n)) the
         element-mean slip. The V, W derivatives are exact (with the element mean
         q̄ = w·q); the n derivative is a finite difference per element. The drag law is
         called once, at (n, |s|), (n, |s| + δs) and (n + δn, |s(n + δn)|).
         """
-        vd, ed, n, M, wts = self.vdofs, self.edofs, k.n, self.M, self.avg_weights
+        vd, ed, n, wts = self.vdofs, self.edofs, k.n, self.avg_weights
+        M = self.psi_mass(alpha)  # ∫ ψ_i N_j dΩ: upwind tests of the drag (``force_shift``)
         V = k.V[vd]
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
         qk = (1.0 - 2.0 * n)[:, None] * V + k.W[vd]
@@ -437,15 +545,18 @@ class TwoFluid1D:
                 S.add_rhs("W", np.array([node[v]]), np.array([sign * coef[v] * b.pressure]))
 
     def begin_iteration(self, it: int, k: State) -> None:
-        """Picard hook: extrapolated first iterate; fix the upwind side after the second iteration.
+        """Picard hook: extrapolated first iterate; fix the upwind side after the third iteration.
 
-        Deciding the upwind side from the iterates of iterations 1 and 2 (``it <= 2``) and
+        Deciding the upwind side from the iterates of iterations 1 to 3 (``it <= 3``) and
         keeping it for the rest of the step stops a flux that is nearly zero from flipping
-        the upwind side at every iteration.
+        the upwind side at every iteration. The third iterate, not the second: at the
+        surface of an expanding bed the small solids flux into the dilute element above
+        it can still have the wrong sign in the second iterate, and differently so in
+        the full model's Picard iterates and the reduced model's Newton iterates.
         """
         if it == 1 and self.linearisation == "newton":
             self._first_iterate(k)
-        if it <= 2:
+        if it <= 3:
             node = self.vert_node
             self._below = (k.V[node] - k.W[node]) >= 0.0
 
@@ -540,7 +651,9 @@ class TwoFluid1D:
         if s.n.min() <= 0.0:
             return f"porosity {s.n.min():.6g} <= 0 in element {int(s.n.argmin())}"
         if s.n.max() > 1.0 + 1e-9:
-            return f"porosity {s.n.max():.12g} > 1 in element {int(s.n.argmax())}"
+            hint = " (the galerkin solids flux cannot follow a free surface; use 'upwind')" \
+                if self.solids_flux == "galerkin" else ""
+            return f"porosity {s.n.max():.12g} > 1 in element {int(s.n.argmax())}{hint}"
         return None
 
     def velocity_scale(self, s: State) -> float:

@@ -29,38 +29,46 @@ def _edges(y: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * y[0] - mid[0]], mid, [2 * y[-1] - mid[-1]]])
 
 
+def _time_bar(fig, ax, cmap, norm):
+    """A colour bar for the output time of the curves [s]."""
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=norm)
+    fig.colorbar(sm, ax=ax, label="time t [s]")
+
+
 def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> list[Path]:
     """porosity.png (n against height at each output time) and pressure.png (P, P_s)."""
     out = []
-    fig, ax = plt.subplots(figsize=(5.5, 6))
+    fig, ax = plt.subplots(figsize=(6.2, 6))
     cmap = plt.get_cmap("viridis")
     items = _by_time(profiles)
-    for i, (t, f) in enumerate(items):
+    times = [t for t, _ in items]
+    norm = plt.Normalize(min(times), max(max(times), min(times) + 1e-12))
+    for t, f in items:  # one curve per output time, its colour on the time bar (no legend of 30 entries)
         ax.stairs(f["porosity"], _edges(np.asarray(f["y_m"])), orientation="horizontal", baseline=None,
-                  color=cmap(i / max(len(items) - 1, 1)), label=f"t = {t:g} s")
+                  color=cmap(norm(t)))
     ax.set_xlabel("porosity n [-]")
     ax.set_ylabel("height y [m]")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.subplots_adjust(left=0.15, right=0.96, bottom=0.09, top=0.94)
+    fig.subplots_adjust(left=0.15, right=0.96, bottom=0.09, top=0.94)  # fixed margins: tight_layout is slow
+    _time_bar(fig, ax, cmap, norm)
     out.append(Path(out_dir) / "porosity.png")
     fig.savefig(out[-1], dpi=120)
     plt.close(fig)
 
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 5.5), sharey=True)
-    for i, (t, f) in enumerate(items):
-        c = cmap(i / max(len(items) - 1, 1))
-        a1.plot(f["P_Pa"], f["y_m"], color=c, label=f"t = {t:g} s")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 5.5), sharey=True)
+    for t, f in items:
+        c = cmap(norm(t))
+        a1.plot(f["P_Pa"], f["y_m"], color=c)
         a2.plot(f["Ps_Pa"], f["y_m"], color=c)
     a1.set_xlabel("liquid pressure P [Pa]")
     a2.set_xlabel("granular pressure P_s [Pa]")
     a1.set_ylabel("height y [m]")
     for a in (a1, a2):
         a.grid(alpha=0.3)
-    a1.legend(fontsize=8)
-    fig.suptitle(title)
     fig.subplots_adjust(left=0.09, right=0.98, bottom=0.1, top=0.92, wspace=0.06)
+    _time_bar(fig, [a1, a2], cmap, norm)
+    fig.suptitle(title)
     out.append(Path(out_dir) / "pressure.png")
     fig.savefig(out[-1], dpi=120)
     plt.close(fig)
@@ -68,15 +76,24 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
 
 
 def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, title: str,
-                 ylabel: str = "height [m]", marks: dict[str, float] | None = None) -> Path:
-    """Curves against time (e.g. bed height, interface heights) with optional vertical marks."""
+                 ylabel: str = "height [m]", marks: dict | None = None,
+                 levels: dict[str, float] | None = None) -> Path:
+    """Curves against time (e.g. bed height, interface heights) with optional marks.
+
+    ``marks``: vertical lines, name -> time [s] or (time [s], label); ``levels``:
+    horizontal dashed lines, label -> value (e.g. a theoretical final height).
+    """
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     for name, y in series.items():
         ax.plot(t, y, label=name)
+    for label, value in (levels or {}).items():
+        if np.isfinite(value):
+            ax.axhline(value, ls=":", color="0.3", lw=1.0, label=f"{label}: {value:.4g}")
     for name, tm in (marks or {}).items():
+        tm, text = tm if isinstance(tm, tuple) else (tm, f"{name} = {tm:.3g} s")
         if np.isfinite(tm):
             ax.axvline(tm, ls="--", color="k", lw=0.8)
-            ax.text(tm, ax.get_ylim()[1], f" {name} = {tm:.3g} s", va="top", fontsize=8)
+            ax.text(tm, ax.get_ylim()[1], f" {text}", va="top", fontsize=8)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(ylabel)
     ax.set_title(title)

@@ -57,15 +57,15 @@ class _Figures:
 
     def __init__(self, case, model, state):
         self.study = case["case"]["study"]
-        self.model = model
+        self.model, self.state0 = model, state
         self.y = model.mesh.centres
         self.y0 = model.mesh.y[0]
         n_bed = state.n[state.n < 1.0]
-        self.n0 = float(n_bed.mean()) if n_bed.size else 1.0
+        self.n0 = float(np.median(n_bed)) if n_bed.size else 1.0  # the bed, not its cut surface element
         self.thr = 0.5 * (1.0 + self.n0)
         if self.study == "step_change" and case["boundary.bottom"]["porosities"]:
             self.thr = 0.5 * (1.0 + max(case["boundary.bottom"]["porosities"]))
-        self.t, self.rows = [], []
+        self.t, self.rows, self.dp = [], [], []
 
     def heights(self, s) -> dict[str, float]:
         top = pp.surface_height(self.y, s.n, self.thr, self.y0)
@@ -77,6 +77,7 @@ class _Figures:
     def record(self, s):
         self.t.append(s.t)
         self.rows.append(self.heights(s))
+        self.dp.append(bed_pressure_drop(self.model, s))
 
     def series(self) -> dict[str, np.ndarray]:
         if not self.rows:
@@ -84,8 +85,23 @@ class _Figures:
         return {k: np.array([r[k] for r in self.rows]) for k in self.rows[0]}
 
 
+def bed_pressure_drop(model, s) -> float:
+    """Liquid pressure drop over the bed beyond hydrostatic [Pa], from the lowest element to the outlet.
+
+    P at the centre of the lowest element minus the outlet pressure and the liquid's
+    hydrostatic head between them; in a fluidized bed it equals the buoyant weight of the
+    solids per unit area, (ρ_s − ρ_f) g cos θ V_s/A. NaN when the outlet is not at the top.
+    """
+    if model.top.kind != "outlet":
+        return float("nan")
+    P0 = float(model.element_fields(s)["P_Pa"][0])
+    head = -model.mat.rho_f * model.g_y * (model.mesh.y[-1] - model.mesh.centres[0])
+    return P0 - model.top.pressure - head
+
+
 def _probe_values(model, s, probes, heights):
     vals = dict(heights)
+    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s)
     f = model.element_fields(s)
     e_of = np.clip(np.searchsorted(model.mesh.y, np.asarray(probes) + model.mesh.y[0], side="right") - 1,
                    0, model.mesh.n_elements - 1)
@@ -160,21 +176,29 @@ def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, 
         "solids_volume_balance_error": balance,
         "solids_volume_balance_error_definition":
             "(solids volume now − initial + solids that left through the ends) / initial",
-        "porosity_range": [float(last.n.min()), float(last.n.max())],
+        # the stepper admits n up to 1 + 1e-9 (round-off of an emptied element): clear liquid is n = 1
+        "porosity_range": [float(last.n.min()), min(float(last.n.max()), 1.0)],
     }
     ser, t = fig.series(), np.array(fig.t)
     if fig.study == "step_change" and len(t) > 1:
         h = ser["bed_height_m"]
-        por = case["boundary.bottom"]["porosities"]
         s["inlet_velocities_m_s"] = list(b.inlet_velocities)
         s["bed_height_initial_m"] = float(h[0])
         s["bed_height_final_m"] = float(h[-1])
-        if por:
-            s["bed_height_theory_final_m"] = float(h[0] * (1 - por[0]) / (1 - por[-1]))
-        s["t1_s"] = pp.t1_from_history(t, h) if status == "completed" else None
-        s["t1_definition"] = ("first time after which the bed surface height stays within 2 % of "
+        theory = theoretical_final_height(case, model, solids0)
+        if theory is not None:
+            s["bed_height_theory_final_m"], s["bed_porosity_theory_final"] = theory
+        t_step = step_time(case)
+        s["step_time_s"] = t_step
+        s["t1_s"] = pp.t1_from_history(t, h) - t_step if status == "completed" else None
+        s["t1_definition"] = ("time from the step (step_time_s: when the inlet schedule starts to change) "
+                              "after which the bed surface height stays within 2 % of "
                               "|H_final − H_initial| of its final height; the surface is where the "
                               "porosity first falls below (1 + max(n_before, n_after))/2 scanning down from the top")
+        dp = np.asarray(fig.dp)
+        if np.isfinite(dp).all():
+            s["bed_pressure_drop_Pa"] = {"initial": float(dp[0]), "final": float(dp[-1]),
+                                         "buoyant_weight_per_area": buoyant_weight_per_area(model, solids0)}
     if fig.study == "settling":
         times = sorted(set(case["output"]["times"]) | {0.0, last.t})
         idx = [int(np.argmin(np.abs(t - tt))) for tt in times]
@@ -188,15 +212,64 @@ def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, 
     return s
 
 
+def step_time(case) -> float:
+    """When the bottom inlet's schedule starts to change [s] (the step of a step-change study)."""
+    b = case["boundary.bottom"]
+    values = b["velocities"] or b["porosities"]
+    for i in range(len(values) - 1):
+        if values[i + 1] != values[i]:
+            return float(b["times"][i])
+    return float(b["times"][0]) if b["times"] else 0.0
+
+
+def buoyant_weight_per_area(model, solids_volume: float) -> float:
+    """(ρ_s − ρ_f) g cos θ V_s / A_bottom [Pa]: the pressure drop a fluidized bed of the solids has."""
+    return float((model.mat.rho_s - model.mat.rho_f) * -model.g_y * solids_volume / model.mesh.area[0])
+
+
+def theoretical_final_height(case, model, solids_volume: float):
+    """(height [m], porosity) of the uniform bed the final inlet velocity fluidizes, or None.
+
+    The porosity is the inlet schedule's last porosity, or the one its last velocity holds
+    (the case's drag law); the height holds the solids volume at that porosity.
+    """
+    from ..casefile.bed import fluidized_porosity, height_of_volume
+    from ..casefile.schema import CaseError
+
+    b = case["boundary.bottom"]
+    if b["kind"] != "inlet":
+        return None
+    if b["porosities"]:
+        n = b["porosities"][-1]
+    else:
+        try:
+            n = fluidized_porosity(model.clo, model.mat, b["velocities"][-1])
+        except CaseError:  # the last velocity does not fluidize a bed (packed, or carried away)
+            return None
+    return height_of_volume(model.mesh, solids_volume / (1.0 - n)), float(n)
+
+
 def _plots(case, fig, profiles, out, summary):
     from ..plots.profiles import history_plot, profile_plots
 
     title = case["case"]["name"]
     profile_plots(profiles, out, title)
     ser = fig.series()
+    t = np.array(fig.t)
     if ser:
         labels = {"bed_height_m": "bed surface" if fig.study != "settling" else "top interface",
                   "sediment_height_m": "sediment interface"}
-        marks = {"t1": summary["t1_s"]} if summary.get("t1_s") is not None else None
-        history_plot(np.array(fig.t), {labels[k]: v for k, v in ser.items()},
-                     out / "heights.png", title, marks=marks)
+        marks = None
+        if summary.get("t1_s") is not None:
+            marks = {"t1": (summary["step_time_s"] + summary["t1_s"], f"t1 = {summary['t1_s']:.3g} s after the step")}
+        levels = {}
+        if summary.get("bed_height_theory_final_m") is not None:
+            levels["uniform bed at the final inlet velocity (theory)"] = summary["bed_height_theory_final_m"]
+        history_plot(t, {labels[k]: v for k, v in ser.items()}, out / "heights.png", title,
+                     ylabel="height above the bottom [m]", marks=marks, levels=levels)
+    dp = np.asarray(fig.dp)
+    if dp.size and np.isfinite(dp).all():
+        history_plot(t, {"bed pressure drop ΔP": dp}, out / "bed_pressure_drop.png", title,
+                     ylabel="bed pressure drop beyond hydrostatic ΔP [Pa]",
+                     levels={"buoyant weight of the solids per area": buoyant_weight_per_area(
+                         fig.model, float(fig.model.solids_volume(fig.state0)))})

@@ -1,7 +1,7 @@
 """The thesis's validation table 5.2: the twelve step changes of Slis, Willemse & Kramers (1959).
 
 Each row runs the bundled case ``slis-step-change`` (nylon in tap water, bed
-0.275 m high in a 0.9 m column; see its README.md) with the row's particle
+0.27 m high, the thesis's 0.275 m on the 1 cm mesh, in a 0.9 m column; see its README.md) with the row's particle
 diameter, initial porosity n0 and final porosity n1 (the inlet velocity is the one
 that holds a uniform bed fluidized at n0, then at n1, with the case's drag law),
 until three times the measured t1 (at least 20 s). t1 is the run summary's
