@@ -9,7 +9,8 @@ The public facade. A script usually needs only these::
 
 then ``twofluid.run_case(case, out_dir)`` to run it (results and summary as
 ``twofluid run`` writes them) or ``twofluid.build(case)`` for the model and
-initial state to drive ``twofluid.integrate`` yourself.
+initial state to drive ``twofluid.integrate`` yourself; ``twofluid.run_ensemble(path)``
+runs an ensemble file's members on Dask and returns their results table.
 """
 __version__ = "0.1.0"
 
@@ -20,6 +21,7 @@ _EXPORTS = {
     "CaseError": "twofluid.casefile.schema",
     "RunResult": "twofluid.runners",
     "run_case": "twofluid.runners",
+    "run_ensemble": "twofluid.ensemble",
     "PicardSettings": "twofluid.timestepping.backward_euler",
     "StepFailure": "twofluid.timestepping.backward_euler",
     "integrate": "twofluid.timestepping.backward_euler",

@@ -94,12 +94,42 @@ def _cmd_sensitivity(args) -> int:
     if len(by) not in (1, len(args.vary)):
         raise CaseError("command line", "--by", f"give one change for all parameters or one per --vary "
                         f"parameter ({len(args.vary)}), not {len(by)}")
+    _check_workers(args)
     changes = [parse_change(v, b) for v, b in zip(args.vary, by * len(args.vary) if len(by) == 1 else by)]
-    res = sensitivity_study(args.case, changes, figure=args.figure, csv_path=args.csv)
+    res = sensitivity_study(args.case, changes, figure=args.figure, csv_path=args.csv, workers=args.workers,
+                            scheduler=args.scheduler, out_dir=args.out, progress=sys.stderr.isatty())
     print(res.markdown())
     if args.csv:
         print(f"table written to {args.csv}", file=sys.stderr)
     return 0
+
+
+def _check_workers(args) -> None:
+    from .casefile.schema import CaseError
+
+    if args.workers is not None and not 1 <= args.workers <= 1024:
+        raise CaseError("command line", "--workers", f"{args.workers} is outside the valid range [1, 1024]")
+
+
+def _cmd_ensemble(args) -> int:
+    from .ensemble import load_ensemble, run_ensemble
+
+    _check_workers(args)
+    spec = load_ensemble(args.file)  # every error of the file before a cluster starts
+    out = args.out or f"twofluid-out/{spec.name}"
+    try:
+        rows = run_ensemble(spec, out, workers=args.workers, scheduler=args.scheduler,
+                            progress=not args.quiet and sys.stderr.isatty())
+    except KeyboardInterrupt:
+        print(f"twofluid: interrupted; the finished members are in {out}/members.csv (run again to "
+              "run the rest)", file=sys.stderr)
+        return 130
+    done = sum(r["status"] == "completed" for r in rows)
+    print(f"{spec.name}: {done} of {len(rows)} members completed; results in {out}")
+    for r in rows:
+        if r["status"] != "completed":
+            print(f"  member {r['member']} {r['status']}: {r['reason']}", file=sys.stderr)
+    return 0 if done == len(rows) else 1
 
 
 def _cmd_element_test(args) -> int:
@@ -127,6 +157,12 @@ def _cmd_element_test(args) -> int:
     if args.out:
         print(f"results and plot written to {args.out}")
     return 0
+
+
+def _cluster_options(p) -> None:
+    p.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the CPU count)")
+    p.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://head:8786 "
+                   "(instead of a local cluster)")
 
 
 def parser() -> argparse.ArgumentParser:
@@ -160,15 +196,27 @@ def parser() -> argparse.ArgumentParser:
     v.add_argument("--no-slis", action="store_true", help="skip the twelve Slis et al. runs")
     v.add_argument("--only", nargs="+", help="run only the checks whose name contains one of these words")
     v.set_defaults(func=_cmd_verify)
-    se = sub.add_parser("sensitivity", help="change parameters by a fraction and report the key figure")
+    se = sub.add_parser("sensitivity", help="change parameters by a fraction and report figures "
+                        "(any model; members run in parallel on Dask)")
     se.add_argument("case", help="bundled case name or TOML file")
     se.add_argument("--vary", nargs="+", required=True,
                     help="parameters as section.key, e.g. materials.particle_diameter (short: particle.diameter)")
     se.add_argument("--by", nargs="+", help="relative change per parameter (one for all), e.g. 10%% or 0.05; "
                     "write a negative change as --by=-5%%")
-    se.add_argument("--figure", help="key figure: t1 (step_change) or porosity_error@T (default from the study)")
+    se.add_argument("--figure", nargs="+", help="figures: t1 (step_change), porosity_error@T (T in s, or @end) "
+                    "or dotted paths into summary.json (default from the model)")
     se.add_argument("--csv", help="also write the table as CSV")
+    se.add_argument("--out", help="keep the members' table here (a rerun reuses completed members)")
+    _cluster_options(se)
     se.set_defaults(func=_cmd_sensitivity)
+    en = sub.add_parser("ensemble", help="run an ensemble file (grid, zipped lists, samples, ground-motion "
+                        "suites, PGA sweeps) on Dask; see docs/ensembles.md")
+    en.add_argument("file", help="ensemble TOML file (or a bundled example: elcentro-pga-sweep)")
+    en.add_argument("--out", help="results folder (default: twofluid-out/<ensemble name>); a rerun into the "
+                    "same folder skips completed members")
+    en.add_argument("--quiet", action="store_true", help="no progress bar")
+    _cluster_options(en)
+    en.set_defaults(func=_cmd_ensemble)
     et = sub.add_parser("element-test", help="undrained cyclic simple shear of one element: cycles to "
                         "liquefaction (defaults: the calibrated loose sand at CSR 0.12, 100 kPa)")
     load = et.add_mutually_exclusive_group()

@@ -1,0 +1,220 @@
+"""The driver: runs an ensemble's members on ``dask.distributed`` and streams their rows.
+
+A LocalCluster of ``workers`` processes with one thread each is started on this machine
+unless ``scheduler`` names an existing cluster. The driver submits a bounded window of
+members (a few per worker thread), so its memory does not grow with the ensemble; a
+worker runs :func:`run_member` in a temporary folder (or the member's kept folder) and
+returns only the collected figures and its status. Members whose resolved case was
+completed before (same hash, in ``members.csv``) are not run again.
+"""
+from __future__ import annotations
+
+import logging
+import os
+import signal
+import tempfile
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+from tqdm import tqdm
+
+from .results import ResultsTable, figure_at, figure_stats
+
+__all__ = ["run_member", "run_members", "run_ensemble", "cluster_client"]
+
+
+def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> dict:
+    """Run one member (on a worker); return {status, reason, wall_time_s, figures}.
+
+    ``run_dir`` keeps the member's run folder; None runs it in a temporary folder that is
+    removed. A failed step, an invalid case found while building, or any other error of the
+    run is a failed member with its reason (one line), not an exception.
+    """
+    from ..runners import run_case
+
+    t0 = time.perf_counter()
+
+    def go(out):
+        res = run_case(case, out)
+        figures = {c: figure_at(res.summary, res.profiles, c) for c in collect}
+        return res.summary.get("status", res.status), str(res.summary.get("reason", "")), figures
+
+    try:
+        if run_dir:
+            status, reason, figures = go(run_dir)
+        else:
+            with tempfile.TemporaryDirectory(prefix="twofluid-member-") as out:
+                status, reason, figures = go(out)
+    except Exception as exc:  # a member's failure must not stop the ensemble; its reason is kept
+        status, reason, figures = "failed", f"{type(exc).__name__}: {exc}", {}
+    reason = " ".join(reason.split())
+    return {"status": status, "reason": reason, "wall_time_s": time.perf_counter() - t0, "figures": figures}
+
+
+@contextmanager
+def cluster_client(workers: int | None = None, scheduler: str | None = None):
+    """A ``distributed.Client``: to the cluster at ``scheduler``, or to a new LocalCluster of
+    ``workers`` processes (default: the CPU count) with one thread each."""
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        client = Client(scheduler, timeout="30s")
+        try:
+            yield client
+        finally:
+            client.close()
+        return
+    n = workers or os.cpu_count() or 1
+    with LocalCluster(n_workers=n, processes=True, threads_per_worker=1, dashboard_address=None,
+                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        yield client
+
+
+@contextmanager
+def _sigterm_as_interrupt():
+    """SIGTERM stops the ensemble as Ctrl-C does (finished rows are kept)."""
+    def handler(signum, frame):
+        raise KeyboardInterrupt
+
+    try:
+        old = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread: leave the signal alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def _label(v):
+    """A parameter as its table shows it: a record file by its name."""
+    return Path(v).name if isinstance(v, str) and os.sep in v else v
+
+
+def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False, workers: int | None = None,
+                scheduler: str | None = None, progress: bool = False, client=None) -> tuple[list[dict], dict]:
+    """Run ``members`` (see :mod:`.members`); return (rows in member order, run record).
+
+    ``members.csv`` in ``out_dir`` gets a row as each member finishes. On Ctrl-C or SIGTERM
+    the running members are cancelled, the record says ``interrupted`` and the
+    ``KeyboardInterrupt`` propagates after the finished rows are written.
+    """
+    from distributed import as_completed
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    params = list(dict.fromkeys(k for m in members for k in m.params))
+    table = ResultsTable(out / "members.csv", params, collect, {m.hash for m in members if m.hash})
+    rows: dict[int, dict] = {}
+
+    def row_of(m, status, reason, wall, figures):
+        return {"member": m.index, "hash": m.hash, "status": status, "reason": reason, "wall_time_s": wall,
+                **{k: _label(v) for k, v in m.params.items()}, **{c: figures.get(c) for c in collect}}
+
+    todo = []
+    for m in members:
+        if m.error:
+            rows[m.index] = row_of(m, "failed", m.error, 0.0, {})
+            table.write(rows[m.index])
+        elif m.hash in table.kept:
+            kept = table.kept_row(m.hash)
+            rows[m.index] = row_of(m, "completed", "", kept["wall_time_s"], kept)
+        else:
+            todo.append(m)
+    record = {"members": len(members), "kept_from_before": len(members) - len(todo) - sum(bool(m.error) for m in members),
+              "invalid": sum(bool(m.error) for m in members), "ran": 0, "status": "completed"}
+    bar = tqdm(total=len(members), initial=len(members) - len(todo), unit="member", disable=not progress,
+               desc="members", dynamic_ncols=True)
+    t0 = time.perf_counter()
+    try:
+        with _sigterm_as_interrupt(), (_given(client) if client else cluster_client(workers, scheduler)) as cl:
+            window = max(2, 4 * sum(cl.nthreads().values()))  # enough to keep every thread busy
+            record["workers"] = len(cl.nthreads())
+            pending = iter(todo)
+            by_key, running = {}, {}
+
+            def submit(m):
+                run_dir = str(out / "runs" / f"member-{m.index:05d}-{m.hash[:12]}") if keep_runs else None
+                f = cl.submit(run_member, m.case, collect, run_dir, key=f"member-{m.index}-{m.hash[:16]}",
+                              pure=False)
+                by_key[f.key], running[f.key] = m, f
+                return f
+
+            queue = as_completed([submit(m) for m, _ in zip(pending, range(window))])
+            try:
+                for fut in queue:
+                    m = by_key.pop(fut.key)
+                    running.pop(fut.key)
+                    try:
+                        res = fut.result()
+                    except Exception as exc:  # the worker died (KilledWorker) or the task could not run
+                        res = {"status": "failed", "reason": f"{type(exc).__name__}: {exc}", "wall_time_s": 0.0,
+                               "figures": {}}
+                    fut.release()
+                    if res["status"] != "interrupted":  # a member stopped by Ctrl-C runs again next time
+                        rows[m.index] = row_of(m, res["status"], res["reason"], res["wall_time_s"], res["figures"])
+                        table.write(rows[m.index])
+                        record["ran"] += 1
+                    bar.update(1)
+                    bar.set_postfix(failed=sum(r["status"] != "completed" for r in rows.values()), refresh=False)
+                    nxt = next(pending, None)
+                    if nxt is not None:
+                        queue.add(submit(nxt))
+            except KeyboardInterrupt:
+                record["status"] = "interrupted"
+                cl.cancel(list(running.values()))
+                raise
+    finally:
+        bar.close()
+        table.close()
+        record["wall_time_s"] = time.perf_counter() - t0
+    return [rows[i] for i in sorted(rows)], record
+
+
+@contextmanager
+def _given(client):
+    yield client
+
+
+def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, scheduler: str | None = None,
+                 progress: bool = False, plots: bool = True, client=None) -> list[dict]:
+    """Run an ensemble (an :class:`~twofluid.ensemble.EnsembleSpec` or the path of its file).
+
+    Writes ``members.csv``, ``ensemble.json`` and the plots to ``out_dir`` (default
+    ``twofluid-out/<ensemble name>``) and returns the results table: one dict per member
+    with ``member``, ``hash``, ``status``, ``reason``, ``wall_time_s``, the varied
+    parameters and the collected figures. ``workers`` processes on this machine, or the
+    cluster at ``scheduler`` (or an open ``distributed.Client``).
+    """
+    from . import plots as ens_plots
+    from .members import members as make_members
+    from .spec import load_ensemble
+    from ..io.results import write_json
+
+    spec = spec_or_path if hasattr(spec_or_path, "collect") else load_ensemble(spec_or_path)
+    out = Path(out_dir or f"twofluid-out/{spec.name}")
+    ms = make_members(spec)
+    summary = {"ensemble": spec.name, "description": spec.description, "file": spec.source,
+               "base_case": spec.base.get("_source", ""), "varied": spec.varied(), "collect": spec.collect,
+               "scheduler": scheduler or "LocalCluster"}
+    try:
+        rows, record = run_members(ms, spec.collect, out, keep_runs=spec.keep_runs, workers=workers,
+                                   scheduler=scheduler, progress=progress, client=client)
+    except KeyboardInterrupt:
+        write_json(out / "ensemble.json", {**summary, "status": "interrupted",
+                                           "note": "members.csv holds every member that finished; run the "
+                                                   "same ensemble again to run the rest"})
+        raise
+    summary.update(record)
+    summary["completed"] = sum(r["status"] == "completed" for r in rows)
+    summary["failed"] = [{"member": r["member"], "reason": r["reason"]} for r in rows if r["status"] != "completed"]
+    summary["figures"] = figure_stats(rows, spec.collect)
+    if spec.fragility:
+        summary["fragility"] = ens_plots.fragility_fits(rows, spec.fragility)
+    write_json(out / "ensemble.json", summary)
+    if plots:
+        summary["plots"] = [p.name for p in ens_plots.ensemble_plots(rows, spec, out, summary.get("fragility"))]
+        write_json(out / "ensemble.json", summary)
+    return rows

@@ -1,0 +1,125 @@
+"""Figures of an ensemble: each figure against the varied parameters, histograms of a
+Monte Carlo, and the fragility curves of a PGA sweep."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .fragility import fit_lognormal_fragility, fragility_by_level
+from .results import unit_of
+
+__all__ = ["ensemble_plots", "fragility_fits"]
+
+
+def _scalar(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def fragility_fits(rows: list[dict], frag: dict) -> dict:
+    """One lognormal fit per entry of the fragility figure (per depth when it is a list)."""
+    done = [r for r in rows if r["status"] == "completed" and r.get(frag["figure"]) is not None
+            and _scalar(r.get(frag["intensity"]))]
+    out = {**frag, "unit": unit_of(frag["intensity"]), "curves": []}
+    if not done:
+        return {**out, "note": "no completed member"}
+    values = [np.atleast_1d(np.asarray(r[frag["figure"]], float)) for r in done]
+    width = min(len(v) for v in values)
+    labels = done[0].get(frag["labels"]) if frag["labels"] else None
+    labels = list(np.atleast_1d(labels))[:width] if labels is not None else list(range(width))
+    x = np.array([r[frag["intensity"]] for r in done], float)
+    for j in range(width):
+        hit = np.array([v[j] >= frag["threshold"] for v in values])
+        levels, counts, frac = fragility_by_level(x, hit)
+        out["curves"].append({"label": labels[j], **fit_lognormal_fragility(x, hit), "levels": levels.tolist(),
+                              "members": counts.tolist(), "fraction": frac.tolist()})
+    return out
+
+
+def _fragility_plot(fits: dict, path: Path, title: str) -> Path:
+    import matplotlib.pyplot as plt
+    from scipy import stats
+
+    curves = fits["curves"]
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.5))
+    colours = plt.cm.viridis(np.linspace(0, 0.9, max(len(curves), 1)))
+    xs = np.array(curves[0]["levels"]) if curves else np.array([1.0])
+    grid = np.linspace(0.0, 1.1 * xs.max(), 200)[1:]
+    for c, col in zip(curves, colours):
+        name = f"{c['label']:g} m" if _scalar(c["label"]) else str(c["label"])
+        ax.plot(c["levels"], c["fraction"], "o", color=col, ms=4)
+        if c["theta"] is not None:
+            ax.plot(grid, stats.norm.cdf(np.log(grid / c["theta"]) / c["beta"]), "-", color=col,
+                    label=f"{name}: θ = {c['theta']:.3g}, β = {c['beta']:.2f}")
+        else:
+            ax.plot(c["levels"], c["fraction"], ":", color=col, label=f"{name}: {c['note'].split(':')[0]}")
+    ax.set_xlabel(f"{fits['intensity']} [{fits['unit']}]")
+    ax.set_ylabel(f"P({fits['figure']} ≥ {fits['threshold']:g})")
+    ax.set_ylim(-0.03, 1.03)
+    ax.legend(fontsize=6, loc="lower right")
+    ax.set_title("fragility: members (dots), lognormal MLE (lines)", fontsize=9)
+    if curves and all(_scalar(c["label"]) for c in curves):
+        depth = np.array([c["label"] for c in curves], float)
+        prob = np.array([c["fraction"] for c in curves])  # depth × level
+        for k, (lev, col) in enumerate(zip(xs, plt.cm.plasma(np.linspace(0, 0.85, xs.size)))):
+            bx.plot(prob[:, k], depth, "o-", color=col, ms=3, label=f"{lev:g} {fits['unit']}")
+        bx.invert_yaxis()
+        bx.set_xlabel("probability over the members")
+        bx.set_ylabel(f"{fits['labels'] or 'entry'} (depth from the surface) [m]")
+        bx.set_xlim(-0.03, 1.03)
+        bx.legend(fontsize=7, title=fits["intensity"], title_fontsize=7)
+        bx.set_title("probability by depth at each level", fontsize=9)
+    else:
+        bx.axis("off")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = None) -> list[Path]:
+    """Write the study's figures into ``out``; return their paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    done = [r for r in rows if r["status"] == "completed"]
+    varied = spec.varied()
+    numeric = [k for k in varied if done and all(_scalar(r.get(k)) for r in done)]
+    groups = [k for k in varied if k not in numeric]  # e.g. the record: one colour each
+    scalars = [f for f in spec.collect if done and all(_scalar(r.get(f)) for r in done)]
+    paths = []
+    for f in scalars:
+        if numeric:
+            fig, axes = plt.subplots(1, len(numeric), figsize=(4.2 * len(numeric), 3.6), squeeze=False)
+            keys = sorted({str(r.get(groups[0])) for r in done}) if groups else [None]
+            for ax, k in zip(axes[0], numeric):
+                for g in keys:
+                    sub = [r for r in done if g is None or str(r.get(groups[0])) == g]
+                    sub.sort(key=lambda r: r[k])
+                    style = "o" if varied[k] == "sample" else "o-"
+                    ax.plot([r[k] for r in sub], [r[f] for r in sub], style, ms=3, label=g)
+                ax.set_xlabel(f"{k} [{unit_of(k)}]")
+                ax.set_ylabel(f"{f} [{unit_of(f)}]")
+                if groups and len(keys) <= 12:
+                    ax.legend(fontsize=6)
+            fig.suptitle(f"{spec.name}: {f}", fontsize=10)
+            fig.tight_layout()
+            paths.append(out / f"figure_{f.replace('.', '_')}.png")
+            fig.savefig(paths[-1], dpi=100)
+            plt.close(fig)
+        if spec.sample:
+            fig, ax = plt.subplots(figsize=(4.5, 3.5))
+            ax.hist([r[f] for r in done], bins="auto")
+            ax.set_xlabel(f"{f} [{unit_of(f)}]")
+            ax.set_ylabel("members")
+            ax.set_title(f"{spec.name}: {len(done)} members", fontsize=9)
+            fig.tight_layout()
+            paths.append(out / f"histogram_{f.replace('.', '_')}.png")
+            fig.savefig(paths[-1], dpi=100)
+            plt.close(fig)
+    if fragility and fragility.get("curves"):
+        paths.append(_fragility_plot(fragility, out / "fragility.png", f"{spec.name}: {len(done)} members"))
+    return paths

@@ -1,0 +1,171 @@
+"""The results of an ensemble: ``members.csv`` streamed row by row, and ``ensemble.json``.
+
+One row per member: ``member`` (its index), ``hash`` (of its resolved case), ``status``
+(completed or failed), ``reason``, ``wall_time_s``, the varied parameters and the
+collected figures. A figure that is a list or a table is written as JSON in its cell.
+Rows are flushed as members finish, so an interrupted ensemble keeps every finished row.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "encode", "decode", "FIXED"]
+
+FIXED = ["member", "hash", "status", "reason", "wall_time_s"]
+
+# unit of a figure from the end of its name (summary.json's naming habit), longest first
+_SUFFIX_UNITS = [("_m3_s", "m³/s"), ("_m2_s", "m²/s"), ("_m_s2", "m/s²"), ("_m_s", "m/s"), ("_1_s", "1/s"),
+                 ("_m3", "m³"), ("_kPa", "kPa"), ("_Pa", "Pa"), ("_percent_of_depth", "% of depth"),
+                 ("_percent", "%"), ("_m", "m"), ("_s", "s"), ("_g", "g")]
+
+
+def unit_of(path: str) -> str:
+    """The unit of a figure from its dotted name; "-" when the name carries none.
+
+    >>> unit_of("settlement_end_m"), unit_of("base_excess_pore_pressure.peak_Pa"), unit_of("t1_s")
+    ('m', 'Pa', 's')
+    >>> unit_of("solids_volume_m3.final"), unit_of("peak_r_u_top_element"), unit_of("porosity_error@5")
+    ('m³', '-', '-')
+    """
+    if "@" in path:
+        return "-" if path.startswith("porosity_error") else unit_of(path.split("@")[0])
+    for part in reversed(path.split(".")):
+        for suffix, unit in _SUFFIX_UNITS:
+            if part.endswith(suffix):
+                return unit
+    return "-"
+
+
+def _plain(v):
+    """JSON-ready: numpy arrays and scalars as lists and numbers, NaN/inf as None."""
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return [_plain(x) for x in v]
+    if isinstance(v, (float, np.floating)):
+        return float(v) if math.isfinite(v) else None
+    if isinstance(v, np.integer):
+        return int(v)
+    return v
+
+
+def figure_at(summary: dict, profiles: dict, path: str):
+    """The figure ``path`` of one run: a dotted path into its summary, or ``profile.FIELD@T``
+    (the element field at output time T [s]; ``@end``: the last profile) as a list.
+
+    >>> figure_at({"a": {"b_m": 2.0}}, {}, "a.b_m")
+    2.0
+    >>> figure_at({}, {0.0: {"porosity": [0.5]}, 4.0: {"porosity": [0.4]}}, "profile.porosity@end")
+    [0.4]
+    >>> figure_at({"a": 1}, {}, "b") is None
+    True
+    """
+    if path.startswith("profile.") and "@" in path:
+        name, when = path[len("profile."):].split("@", 1)
+        if not profiles:
+            return None
+        times = sorted(profiles)
+        t = times[-1] if when == "end" else next((s for s in times if abs(s - float(when)) <= 1e-9 * max(1.0, s)),
+                                                 None)
+        return None if t is None or name not in profiles[t] else _plain(profiles[t][name])
+    node = summary
+    for part in path.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return None
+        node = node[part]
+    return _plain(node)
+
+
+def encode(v) -> str:
+    """A cell: "" for None, numbers and strings as they are, lists and tables as JSON."""
+    if v is None:
+        return ""
+    if isinstance(v, (list, dict)):
+        return json.dumps(v, separators=(",", ":"))
+    if isinstance(v, float):
+        return repr(v)
+    return str(v)
+
+
+def decode(text: str):
+    """Inverse of :func:`encode` (numbers, JSON, else the text).
+
+    >>> decode(encode([1.0, None])), decode(encode(0.1)), decode(""), decode("x.AT2")
+    ([1.0, None], 0.1, None, 'x.AT2')
+    """
+    if text == "":
+        return None
+    try:
+        return json.loads(text)
+    except ValueError:
+        return text
+
+
+class ResultsTable:
+    """``members.csv``: the rows kept from an earlier run of the same ensemble, then new rows.
+
+    Opening it keeps the completed rows whose hash is a current member's (and that hold
+    every collected figure) and moves any other earlier rows to ``members.previous.csv``.
+    """
+
+    def __init__(self, path: Path, params: list[str], figures: list[str], hashes: set[str]):
+        self.path = Path(path)
+        self.columns = FIXED + params + figures
+        self.kept: dict[str, dict] = {}
+        dropped = []
+        if self.path.is_file():
+            with open(self.path, newline="", encoding="utf-8") as fh:
+                reader = csv.DictReader(fh)
+                has_all = set(figures) <= set(reader.fieldnames or [])
+                for raw in reader:
+                    if has_all and raw["status"] == "completed" and raw["hash"] in hashes:
+                        self.kept[raw["hash"]] = raw
+                    elif raw["status"] != "completed" or raw["hash"] in hashes:
+                        continue  # a failed member or a figure not collected then: run again
+                    else:
+                        dropped.append(raw)
+            if dropped:
+                with open(self.path.with_name("members.previous.csv"), "w", newline="", encoding="utf-8") as fh:
+                    w = csv.DictWriter(fh, list(dropped[0]))
+                    w.writeheader()
+                    w.writerows(dropped)
+        tmp = self.path.with_suffix(".csv.tmp")
+        with open(tmp, "w", newline="", encoding="utf-8") as fh:
+            w = csv.DictWriter(fh, self.columns, extrasaction="ignore")
+            w.writeheader()
+            w.writerows(self.kept.values())
+        os.replace(tmp, self.path)  # the kept rows first, atomically
+        self._fh = open(self.path, "a", newline="", encoding="utf-8")
+        self._w = csv.DictWriter(self._fh, self.columns, extrasaction="ignore")
+
+    def kept_row(self, h: str) -> dict:
+        """A kept row decoded (numbers and lists back from the text)."""
+        raw = self.kept[h]
+        return {k: (raw[k] if k in ("hash", "status", "reason") else decode(raw.get(k, ""))) for k in self.columns}
+
+    def write(self, row: dict) -> None:
+        self._w.writerow({k: encode(row.get(k)) for k in self.columns})
+        self._fh.flush()
+
+    def close(self) -> None:
+        self._fh.close()
+
+
+def figure_stats(rows: list[dict], figures: list[str]) -> dict:
+    """{figure: {unit, count, min, mean, std, max}} over the completed members' scalar values."""
+    out = {}
+    for f in figures:
+        vals = np.array([r[f] for r in rows if r["status"] == "completed"
+                         and isinstance(r.get(f), (int, float)) and not isinstance(r.get(f), bool)], float)
+        entry = {"unit": unit_of(f), "count": int(vals.size)}
+        if vals.size:
+            entry.update(min=float(vals.min()), mean=float(vals.mean()), std=float(vals.std()),
+                         max=float(vals.max()))
+        out[f] = entry
+    return out
