@@ -9,6 +9,7 @@ completed before (same hash, in ``members.csv``) are not run again.
 """
 from __future__ import annotations
 
+import itertools
 import logging
 import os
 import signal
@@ -66,7 +67,7 @@ def cluster_client(workers: int | None = None, scheduler: str | None = None):
             client.close()
         return
     n = workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=n, processes=True, threads_per_worker=1, dashboard_address=None,
+    with LocalCluster(n_workers=n, processes=True, threads_per_worker=1, dashboard_address=":0",
                       silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
         yield client
 
@@ -142,7 +143,7 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                 by_key[f.key], running[f.key] = m, f
                 return f
 
-            queue = as_completed([submit(m) for m, _ in zip(pending, range(window))])
+            queue = as_completed([submit(m) for m in itertools.islice(pending, window)])
             try:
                 for fut in queue:
                     m = by_key.pop(fut.key)
@@ -157,6 +158,8 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                         rows[m.index] = row_of(m, res["status"], res["reason"], res["wall_time_s"], res["figures"])
                         table.write(rows[m.index])
                         record["ran"] += 1
+                    else:
+                        record.setdefault("interrupted_members", []).append(m.index)
                     bar.update(1)
                     bar.set_postfix(failed=sum(r["status"] != "completed" for r in rows.values()), refresh=False)
                     nxt = next(pending, None)

@@ -120,10 +120,6 @@ def members(spec) -> list[Member]:
     base = apply(spec.base, spec.set)
     if not spec.keep_runs:
         base["output"]["plots"] = False  # nobody looks at a discarded member's figures
-    try:  # a bad [set] would fail every member: it is an error of the ensemble file
-        revalidate(base, base.get("_source", spec.source))
-    except CaseError as exc:
-        raise CaseError(spec.source, "[set]", f"makes the base case invalid: {exc}") from None
     out = []
     for i, combo in enumerate(itertools.product(*_blocks(spec))):
         params = {k: v for block in combo for k, v in block.items()}

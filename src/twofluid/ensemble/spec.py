@@ -221,6 +221,19 @@ def _fragility(source: str, table: dict, spec: EnsembleSpec) -> dict:
     return {"figure": fig, "threshold": thr, "labels": labels, "intensity": intensity}
 
 
+def _check_set(spec: EnsembleSpec) -> None:
+    """A bad ``[set]`` would fail every member: it is an error of the ensemble file."""
+    from ..casefile.schema import revalidate
+    from .members import apply
+
+    try:
+        revalidate(apply(spec.base, spec.set), spec.base.get("_source", spec.source))
+    except CaseError as exc:
+        raise CaseError(spec.source, "[set]", f"makes the base case invalid: {exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise CaseError(spec.source, "[set]", f"makes the base case invalid: {exc}") from None
+
+
 def parse_ensemble(doc: dict, source: str = "<ensemble>", folder: Path | None = None) -> EnsembleSpec:
     """Check an ensemble document (the parsed TOML); return the :class:`EnsembleSpec`.
 
@@ -257,9 +270,10 @@ def parse_ensemble(doc: dict, source: str = "<ensemble>", folder: Path | None = 
         raise CaseError(source, "[ensemble] keep_runs", f"must be true or false, got {keep!r}")
     spec = EnsembleSpec(name=str(ens.get("name", Path(source).stem)), base=base, source=source,
                         collect=list(collect), keep_runs=keep, description=str(ens.get("description", "")))
-    for key in _flat(doc.get("set", {})):
-        _case_key(base, source, "set", key)
     spec.set = _flat(doc.get("set", {}))
+    for key in spec.set:
+        _case_key(base, source, "set", key)
+    _check_set(spec)
     spec.grid = _lists(source, "grid", doc.get("grid", {}), base)
     spec.zip = _lists(source, "zip", doc.get("zip", {}), base)
     if len({len(v) for v in spec.zip.values()}) > 1:
