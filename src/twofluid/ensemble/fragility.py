@@ -21,13 +21,18 @@ def fit_lognormal_fragility(x, failed) -> dict:
     every failure above every survivor (perfect separation, β → 0) no (θ, β) is returned,
     but ``note`` says why and ``bounds`` brackets θ.
 
-    >>> x = np.repeat([0.05, 0.1, 0.2, 0.4], 50)
-    >>> y = np.concatenate([np.arange(50) < k for k in (2, 15, 35, 48)])
+    Members whose failures follow Φ(ln(x/0.15)/0.5) (1000 at each of 5 levels, the count of
+    failures rounded) give back θ = 0.15 g and β = 0.5:
+
+    >>> levels = np.array([0.05, 0.1, 0.15, 0.2, 0.4])
+    >>> k = np.round(1000 * stats.norm.cdf(np.log(levels / 0.15) / 0.5)).astype(int)
+    >>> x = np.repeat(levels, 1000)
+    >>> y = np.concatenate([np.arange(1000) < ki for ki in k])
     >>> fit = fit_lognormal_fragility(x, y)
-    >>> round(fit["theta"], 2), round(fit["beta"], 1)
-    (0.13, 0.7)
+    >>> round(fit["theta"], 3), round(fit["beta"], 2)
+    (0.15, 0.5)
     >>> fit_lognormal_fragility([0.1, 0.2], [False, True])["note"]
-    'perfectly separated: no member fails below 0.1 and every one fails from 0.2 on (beta -> 0)'
+    'perfectly separated: every member up to 0.1 survives and every one from 0.2 fails (beta -> 0)'
     """
     x = np.asarray(x, float)
     y = np.asarray(failed, bool)
@@ -40,8 +45,8 @@ def fit_lognormal_fragility(x, failed) -> dict:
     lo_fail, hi_safe = x[y].min(), x[~y].max()
     if lo_fail > hi_safe:
         return {**out, "bounds": [float(hi_safe), float(lo_fail)],
-                "note": f"perfectly separated: no member fails below {lo_fail:g} and every one fails from "
-                        f"{lo_fail:g} on (beta -> 0)"}
+                "note": f"perfectly separated: every member up to {hi_safe:g} survives and every one from "
+                        f"{lo_fail:g} fails (beta -> 0)"}
     lnx = np.log(x)
 
     def nll(p):

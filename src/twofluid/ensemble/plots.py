@@ -16,11 +16,26 @@ def _scalar(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
+def key_unit(model: str, key: str) -> str:
+    """The unit of a case key ``section.key`` from the case schema ("-" if it has none).
+
+    >>> key_unit("liquefaction_1d", "sand.relative_density"), key_unit("liquefaction_1d", "ground_motion.pga_g")
+    ('%', 'g')
+    """
+    from ..casefile.schema import _model_schema
+
+    section, _, name = key.rpartition(".")
+    try:
+        return next(k.unit for k in _model_schema(model).get(section, []) if k.name == name) or "-"
+    except (StopIteration, KeyError, ValueError):
+        return unit_of(key)
+
+
 def fragility_fits(rows: list[dict], frag: dict) -> dict:
     """One lognormal fit per entry of the fragility figure (per depth when it is a list)."""
     done = [r for r in rows if r["status"] == "completed" and r.get(frag["figure"]) is not None
             and _scalar(r.get(frag["intensity"]))]
-    out = {**frag, "unit": unit_of(frag["intensity"]), "curves": []}
+    out = {**frag, "unit": unit_of(frag["intensity"]), "curves": []}  # ground motion in g
     if not done:
         return {**out, "note": "no completed member"}
     values = [np.atleast_1d(np.asarray(r[frag["figure"]], float)) for r in done]
@@ -67,7 +82,7 @@ def _fragility_plot(fits: dict, path: Path, title: str) -> Path:
         bx.set_xlabel("probability over the members")
         bx.set_ylabel(f"{fits['labels'] or 'entry'} (depth from the surface) [m]")
         bx.set_xlim(-0.03, 1.03)
-        bx.legend(fontsize=7, title=fits["intensity"], title_fontsize=7)
+        bx.legend(fontsize=7, title=fits["intensity"], title_fontsize=7, loc="best")
         bx.set_title("probability by depth at each level", fontsize=9)
     else:
         bx.axis("off")
@@ -86,6 +101,7 @@ def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = N
     import matplotlib.pyplot as plt
 
     done = [r for r in rows if r["status"] == "completed"]
+    model = spec.base["case"]["model"]
     varied = spec.varied()
     numeric = [k for k in varied if done and all(_scalar(r.get(k)) for r in done)]
     groups = [k for k in varied if k not in numeric]  # e.g. the record: one colour each
@@ -99,9 +115,11 @@ def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = N
                 for g in keys:
                     sub = [r for r in done if g is None or str(r.get(groups[0])) == g]
                     sub.sort(key=lambda r: r[k])
-                    style = "o" if varied[k] == "sample" else "o-"
-                    ax.plot([r[k] for r in sub], [r[f] for r in sub], style, ms=3, label=g)
-                ax.set_xlabel(f"{k} [{unit_of(k)}]")
+                    xs = [r[k] for r in sub]
+                    # a line only when it is a curve: one member per value (else other keys vary too)
+                    style = "o-" if varied[k] != "sample" and len(set(xs)) == len(xs) else "o"
+                    ax.plot(xs, [r[f] for r in sub], style, ms=3, label=g)
+                ax.set_xlabel(f"{k} [{key_unit(model, k)}]")
                 ax.set_ylabel(f"{f} [{unit_of(f)}]")
                 if groups and len(keys) <= 12:
                     ax.legend(fontsize=6)

@@ -301,7 +301,7 @@ def load_ensemble(path: str | Path) -> EnsembleSpec:
     """Read and check an ensemble file (a path, or the name of a bundled example).
 
     >>> load_ensemble("elcentro-pga-sweep").varied()
-    {'ground_motion.file': 'record', 'ground_motion.pga_g': 'pga'}
+    {'sand.relative_density': 'sample', 'ground_motion.file': 'record', 'ground_motion.pga_g': 'pga'}
     """
     from importlib import resources
 
