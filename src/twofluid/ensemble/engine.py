@@ -60,16 +60,40 @@ def cluster_client(workers: int | None = None, scheduler: str | None = None):
     from distributed import Client, LocalCluster
 
     if scheduler:
-        client = Client(scheduler, timeout="30s")
+        try:
+            client = Client(scheduler, timeout="30s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            from ..casefile.schema import CaseError
+
+            raise CaseError("command line", "--scheduler", f"no Dask scheduler answered at {scheduler!r} "
+                            f"({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); valid: the address "
+                            "a running scheduler prints, e.g. tcp://head-node:8786") from None
         try:
             yield client
         finally:
             client.close()
         return
     n = workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=n, processes=True, threads_per_worker=1, dashboard_address=":0",
-                      silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+    with _workers_ignore_ctrl_c():
+        cluster = LocalCluster(n_workers=n, processes=True, threads_per_worker=1, dashboard_address=":0",
+                               silence_logs=logging.ERROR)
+    with cluster, Client(cluster) as client:
         yield client
+
+
+@contextmanager
+def _workers_ignore_ctrl_c():
+    """Start the worker processes with SIGINT ignored (they inherit it): a Ctrl-C in the terminal
+    reaches the whole process group, and only the driver should act on it, by closing the cluster."""
+    try:
+        old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 @contextmanager
