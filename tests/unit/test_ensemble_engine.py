@@ -161,3 +161,19 @@ def test_sigterm_stops_the_ensemble_keeping_every_finished_member(tmp_path, clie
     twofluid.run_ensemble(str(path), out, client=client, plots=False)
     summary = json.loads((out / "ensemble.json").read_text())
     assert summary["kept_from_before"] == len(finished) and summary["completed"] == 12
+
+
+def test_the_bundled_example_runs_briefly_with_its_fragility(tmp_path, client):
+    """The bundled PGA sweep at coarse settings (2 PGAs × 2 draws, 1.5 s of shaking): it runs,
+    and ensemble.json holds one fragility entry per report depth, fitted or with its note."""
+    spec = load_ensemble("elcentro-pga-sweep")
+    spec.set.update({"time.end": 1.5, "output.times": [1.5], "ground_motion.duration": 1.5})
+    spec.motions["pga_g"] = [0.05, 0.3]
+    spec.sample["count"] = 2
+    rows = twofluid.run_ensemble(spec, tmp_path, client=client)
+    assert len(rows) == 4 and all(r["status"] == "completed" for r in rows), [r["reason"] for r in rows]
+    summary = json.loads((tmp_path / "ensemble.json").read_text())
+    curves = summary["fragility"]["curves"]
+    assert [c["label"] for c in curves] == rows[0]["report_depths.depth_m"]
+    assert all((c["theta"] is None) == (c["note"] != "maximum likelihood") for c in curves)
+    assert (tmp_path / "fragility.png").stat().st_size > 10_000

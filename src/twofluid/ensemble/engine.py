@@ -26,7 +26,7 @@ __all__ = ["run_member", "run_members", "run_ensemble", "cluster_client"]
 
 
 def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> dict:
-    """Run one member (on a worker); return {status, reason, wall_time_s, figures}.
+    """Run one member (on a worker); return {status, reason, wall_time_s, cpu_time_s, figures}.
 
     ``run_dir`` keeps the member's run folder; None runs it in a temporary folder that is
     removed. A failed step, an invalid case found while building, or any other error of the
@@ -34,7 +34,7 @@ def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> di
     """
     from ..runners import run_case
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
 
     def go(out):
         res = run_case(case, out)
@@ -50,7 +50,8 @@ def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> di
     except Exception as exc:  # a member's failure must not stop the ensemble; its reason is kept
         status, reason, figures = "failed", f"{type(exc).__name__}: {exc}", {}
     reason = " ".join(reason.split())
-    return {"status": status, "reason": reason, "wall_time_s": time.perf_counter() - t0, "figures": figures}
+    return {"status": status, "reason": reason, "wall_time_s": time.perf_counter() - t0,
+            "cpu_time_s": time.process_time() - c0, "figures": figures}
 
 
 @contextmanager
@@ -134,8 +135,9 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
     table = ResultsTable(out / "members.csv", params, collect, {m.hash for m in members if m.hash})
     rows: dict[int, dict] = {}
 
-    def row_of(m, status, reason, wall, figures):
+    def row_of(m, status, reason, wall, figures, cpu=None):
         return {"member": m.index, "hash": m.hash, "status": status, "reason": reason, "wall_time_s": wall,
+                "cpu_time_s": cpu,
                 **{k: _label(v) for k, v in m.params.items()}, **{c: figures.get(c) for c in collect}}
 
     todo = []
@@ -145,7 +147,7 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
             table.write(rows[m.index])
         elif m.hash in table.kept:
             kept = table.kept_row(m.hash)
-            rows[m.index] = row_of(m, "completed", "", kept["wall_time_s"], kept)
+            rows[m.index] = row_of(m, "completed", "", kept["wall_time_s"], kept, kept["cpu_time_s"])
         else:
             todo.append(m)
     record = {"members": len(members), "kept_from_before": len(members) - len(todo) - sum(bool(m.error) for m in members),
@@ -179,7 +181,8 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                                "figures": {}}
                     fut.release()
                     if res["status"] != "interrupted":  # a member stopped by Ctrl-C runs again next time
-                        rows[m.index] = row_of(m, res["status"], res["reason"], res["wall_time_s"], res["figures"])
+                        rows[m.index] = row_of(m, res["status"], res["reason"], res["wall_time_s"], res["figures"],
+                                               res.get("cpu_time_s"))
                         table.write(rows[m.index])
                         record["ran"] += 1
                     else:

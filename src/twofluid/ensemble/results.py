@@ -1,7 +1,8 @@
 """The results of an ensemble: ``members.csv`` streamed row by row, and ``ensemble.json``.
 
 One row per member: ``member`` (its index), ``hash`` (of its resolved case), ``status``
-(completed or failed), ``reason``, ``wall_time_s``, the varied parameters and the
+(completed or failed), ``reason``, ``wall_time_s`` and ``cpu_time_s`` (of the member's
+process while it ran: less than the wall time when the CPU is shared), the varied parameters and the
 collected figures. A figure that is a list or a table is written as JSON in its cell.
 Rows are flushed as members finish, so an interrupted ensemble keeps every finished row.
 """
@@ -17,7 +18,7 @@ import numpy as np
 
 __all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "encode", "decode", "FIXED"]
 
-FIXED = ["member", "hash", "status", "reason", "wall_time_s"]
+FIXED = ["member", "hash", "status", "reason", "wall_time_s", "cpu_time_s"]
 
 # unit of a figure from the end of its name (summary.json's naming habit), longest first
 _SUFFIX_UNITS = [("_m3_s", "m³/s"), ("_m2_s", "m²/s"), ("_m_s2", "m/s²"), ("_m_s", "m/s"), ("_1_s", "1/s"),
