@@ -191,7 +191,10 @@ class Sensitivity:
 
 
 def _also_changes(base: dict, case: dict, links: dict, base_row: dict, row: dict) -> list[str]:
-    out = [f"[{k.rpartition('.')[0]}] {k.rpartition('.')[2]} = {v}" for k, v in links.items()]
+    def text(v):
+        return "[" + ", ".join(f"{x:.6g}" for x in v) + "]" if isinstance(v, list) else f"{v:.6g}"
+
+    out = [f"[{k.rpartition('.')[0]}] {k.rpartition('.')[2]} = {text(v)}" for k, v in links.items()]
     vb, vc = _inlet_velocities(base), _inlet_velocities(case)
     for where in vc:
         if where in vb and not np.allclose(vb[where], vc[where], rtol=1e-12, atol=0.0):
