@@ -82,6 +82,7 @@ def throughput() -> tuple[list[str], dict]:
 
 def memory() -> tuple[list[str], dict]:
     spec = short_1d_spec()
+    load0 = os.getloadavg()[0]
     proc = psutil.Process()
     samples, stop = [], threading.Event()
     with tempfile.TemporaryDirectory() as out:
@@ -110,10 +111,16 @@ def memory() -> tuple[list[str], dict]:
         i = int(np.argmax(done >= frac * len(rows))) if (done >= frac * len(rows)).any() else len(s) - 1
         marks.append((frac, int(done[i]), s[i, 2]))
     rss = [m[2] for m in marks]
+    ok = [r for r in rows if r["status"] == "completed"]
+    inside = sum(r["wall_time_s"] for r in ok)
+    overhead = (wall * 2 - inside) / len(ok)
     lines = ["| members finished | driver RSS [MiB] |", "|---|---|"]
     lines += [f"| {n} ({100 * f:.0f} %) | {r:.1f} |" for f, n, r in marks]
-    lines += ["", f"{len(rows)} members ({sum(r['status'] == 'completed' for r in rows)} completed) in {wall:.0f} s "
-              f"on 2 workers; driver RSS from {rss[0]:.1f} MiB at 1 % to {rss[-1]:.1f} MiB at 100 % "
+    lines += ["", f"{len(rows)} members ({len(ok)} completed) in {wall:.0f} s on 2 workers (load average "
+              f"{load0:.2f} before, {os.getloadavg()[0]:.2f} after); mean member wall {inside / len(ok) * 1e3:.0f} ms, "
+              f"CPU {sum(r['cpu_time_s'] for r in ok) / len(ok) * 1e3:.0f} ms; time outside the members "
+              f"(scheduling, transfer, the cluster's start and close) {overhead * 1e3:.0f} ms per member and worker. "
+              f"Driver RSS from {rss[0]:.1f} MiB at 1 % to {rss[-1]:.1f} MiB at 100 % "
               f"(peak {s[:, 2].max():.1f} MiB); growth per member: "
               + ", ".join(f"{(b[2] - a[2]) / max(b[1] - a[1], 1) * 1024:.1f} KiB over members {a[1]}-{b[1]}"
                           for a, b in ((marks[1], marks[3]), (marks[3], marks[6]))) + "."]

@@ -31,6 +31,17 @@ def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> di
     ``run_dir`` keeps the member's run folder; None runs it in a temporary folder that is
     removed. A failed step, an invalid case found while building, or any other error of the
     run is a failed member with its reason (one line), not an exception.
+
+    >>> import twofluid
+    >>> case = twofluid.load_case("settling-illite")
+    >>> case["time"]["end"], case["output"]["times"], case["output"]["plots"] = 0.2, [0.2], False
+    >>> res = run_member(case, ["steps", "nothing.here"])
+    >>> res["status"], res["figures"]
+    ('completed', {'steps': 2, 'nothing.here': None})
+    >>> case["materials"]["particle_density"] = "heavy"   # an error of the run, not of the driver
+    >>> res = run_member(case, ["steps"])
+    >>> res["status"], res["reason"][:9]
+    ('failed', 'TypeError')
     """
     from ..runners import run_case
 

@@ -9,6 +9,7 @@ Rows are flushed as members finish, so an interrupted ensemble keeps every finis
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import os
@@ -143,7 +144,8 @@ class ResultsTable:
             w.writerows(self.kept.values())
         os.replace(tmp, self.path)  # the kept rows first, atomically
         self._fh = open(self.path, "a", newline="", encoding="utf-8")
-        self._w = csv.DictWriter(self._fh, self.columns, extrasaction="ignore")
+        self._buf = io.StringIO()
+        self._w = csv.DictWriter(self._buf, self.columns, extrasaction="ignore")
 
     def kept_row(self, h: str) -> dict:
         """A kept row decoded (numbers and lists back from the text)."""
@@ -151,7 +153,12 @@ class ResultsTable:
         return {k: (raw[k] if k in ("hash", "status", "reason") else decode(raw.get(k, ""))) for k in self.columns}
 
     def write(self, row: dict) -> None:
+        """Append one row and flush it: one write of the whole line (a Ctrl-C or SIGTERM, raised
+        between Python operations, cannot leave half a row)."""
+        self._buf.seek(0)
+        self._buf.truncate()
         self._w.writerow({k: encode(row.get(k)) for k in self.columns})
+        self._fh.write(self._buf.getvalue())
         self._fh.flush()
 
     def close(self) -> None:
@@ -159,7 +166,13 @@ class ResultsTable:
 
 
 def figure_stats(rows: list[dict], figures: list[str]) -> dict:
-    """{figure: {unit, count, min, mean, std, max}} over the completed members' scalar values."""
+    """{figure: {unit, count, min, mean, std, max}} over the completed members' scalar values.
+
+    >>> rows = [{"status": "completed", "h_m": 1.0}, {"status": "completed", "h_m": 3.0},
+    ...         {"status": "failed", "h_m": None}]
+    >>> figure_stats(rows, ["h_m"])
+    {'h_m': {'unit': 'm', 'count': 2, 'min': 1.0, 'mean': 2.0, 'std': 1.0, 'max': 3.0}}
+    """
     out = {}
     for f in figures:
         vals = np.array([r[f] for r in rows if r["status"] == "completed"
