@@ -137,18 +137,22 @@ def _perturbed(base: dict, source: str, section: str, key: str, frac: float) -> 
     """(the case with [section] key times 1 + frac, re-validated; the base value; the linked changes)."""
     import copy
 
+    from .ensemble.members import locate
+
     case = copy.deepcopy(base)
-    if section not in case or not isinstance(case[section], dict) or key not in case[section]:
-        raise CaseError(source, f"[{section}] {key}", "no such parameter in this case (--vary)")
-    v0 = case[section][key]
+    try:
+        node, name = locate(case, f"{section}.{key}")
+    except LookupError as exc:
+        raise CaseError(source, f"[{section}] {key}", f"no such parameter in this case (--vary): {exc}") from None
+    v0 = node[name]
     if isinstance(v0, bool) or not isinstance(v0, (int, float)):
         raise CaseError(source, f"[{section}] {key}", f"is not a number ({v0!r}): it cannot be varied")
     value = v0 * (1.0 + frac)
-    case[section][key] = int(round(value)) if isinstance(v0, int) else value
+    node[name] = int(round(value)) if isinstance(v0, int) else value
     links = _linked(case, section, key)
     for k, v in links.items():
-        s, _, n = k.rpartition(".")
-        case[s][n] = v
+        node, name = locate(case, k)
+        node[name] = v
     try:
         return revalidate(case, source), v0, links
     except CaseError as exc:
@@ -217,6 +221,7 @@ def sensitivity_study(case_name: str, changes: list[tuple[str, str, float]], fig
     ``out_dir`` the members' table is kept there (and a rerun reuses completed members).
     """
     from .ensemble.engine import run_members
+    from .ensemble.members import locate
 
     base = load_case(case_name)
     source = base.get("_source", case_name)
@@ -257,7 +262,8 @@ def sensitivity_study(case_name: str, changes: list[tuple[str, str, float]], fig
             else:
                 change = (val - f0) / f0 if isinstance(val, (int, float)) and isinstance(f0, (int, float)) \
                     and f0 != 0 else None
-            res.rows.append({"parameter": f"{s}.{k}", "base_value": v0, "value": case[s][k], "fraction": frac,
+            node, name = locate(case, f"{s}.{k}")
+            res.rows.append({"parameter": f"{s}.{k}", "base_value": v0, "value": node[name], "fraction": frac,
                              "figure": f, "unit": unit_of(paths[f] if f != "t1" else "t1_s"), "figure_base": f0,
                              "figure_value": val, "figure_change": change, "status": row["status"],
                              "also_changes": "; ".join(also)})

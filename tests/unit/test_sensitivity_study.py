@@ -83,15 +83,15 @@ def test_t1_falls_as_the_particles_grow(tmp_path, client):
 
 
 def test_liquefaction_sensitivity_reports_units_and_the_conductivity(tmp_path, client):
-    """A liquefaction case runs too: its figures carry units, and a grain-size change says it
-    changes the hydraulic conductivity (Ergun: k ∝ d² at a porosity)."""
+    """A liquefaction case runs too: its figures carry units, and a grain-size change of its
+    layer says it changes the hydraulic conductivity (Ergun: k ∝ d² at a porosity)."""
     from twofluid.casefile.loader import case_text
 
     path = tmp_path / "liq.toml"
     text = case_text("liquefaction-elcentro")
-    path.write_text(text.replace("end = 180.0", "end = 1.0").replace(
+    path.write_text(text.replace("end = 3600.0", "end = 1.0").replace(
         "times = [6.0, 10.0, 20.0, 30.0, 60.0, 120.0]", "times = [1.0]").replace("duration = 6.0", "duration = 1.0"))
-    res = sensitivity_study(str(path), [parse_change("particle.diameter", "10%")],
+    res = sensitivity_study(str(path), [parse_change("layers.1.particle_diameter", "10%")],
                             figure=["settlement_end_m", "base_excess_pore_pressure.peak_Pa"], client=client)
     units = {r["figure"]: r["unit"] for r in res.rows}
     assert units == {"settlement_end_m": "m", "base_excess_pore_pressure.peak_Pa": "Pa"}

@@ -19,7 +19,7 @@ from scipy import stats
 
 from ..casefile.schema import CaseError, revalidate
 
-__all__ = ["Member", "members", "samples", "case_hash", "apply"]
+__all__ = ["Member", "members", "samples", "case_hash", "apply", "locate"]
 
 
 @dataclass
@@ -55,16 +55,51 @@ def _as_base_type(old, value):
     return value
 
 
+def locate(case: dict, key: str) -> tuple:
+    """(container, name or index) of the dotted ``key`` in a resolved case; LookupError saying
+    what is valid. A section may hold dots (``closures.drag.law``); an entry of an array of
+    tables is its 1-based position (``layers.2.relative_density``: the second layer from the top).
+
+    >>> case = {"closures.drag": {"law": "ergun"}, "layers": [{"porosity": 0.4}, {"porosity": 0.38}]}
+    >>> locate(case, "closures.drag.law")
+    ({'law': 'ergun'}, 'law')
+    >>> locate(case, "layers.2.porosity")
+    ({'porosity': 0.38}, 'porosity')
+    >>> locate(case, "layers.3.porosity")
+    Traceback (most recent call last):
+    ...
+    LookupError: [[layers]] has 2 entries: give layers.1 .. layers.2
+    """
+    parts = key.split(".")
+    cut = next((i for i in range(len(parts) - 1, 0, -1) if ".".join(parts[:i]) in case), None)
+    if cut is None:
+        valid = ", ".join(s for s in case if not s.startswith("_"))
+        raise LookupError(f"no section [{'.'.join(parts[:-1]) or key}] in the case; valid sections: {valid}")
+    where, node, rest = ".".join(parts[:cut]), case[".".join(parts[:cut])], parts[cut:]
+    for j, p in enumerate(rest):
+        if isinstance(node, list):
+            if not (p.isdigit() and 1 <= int(p) <= len(node)):
+                raise LookupError(f"[[{where}]] has {len(node)} entries: give {where}.1 .. {where}.{len(node)}")
+            p = int(p) - 1
+        elif not isinstance(node, dict) or p not in node:
+            valid = ", ".join(node) if isinstance(node, dict) else "none (it is a value)"
+            raise LookupError(f"no key {p!r} in [{where}]; valid: {valid}")
+        if j == len(rest) - 1:
+            return node, p
+        node, where = node[p], f"{where}.{rest[j]}"
+    raise LookupError(f"{key!r} names a section, not a key")
+
+
 def apply(case: dict, changes: dict) -> dict:
-    """A copy of ``case`` with each dotted ``section.key`` set to its value (not re-checked).
+    """A copy of ``case`` with each dotted key (:func:`locate`) set to its value (not re-checked).
 
     >>> apply({"time": {"end": 1.0}}, {"time.end": 2.0})
     {'time': {'end': 2.0}}
     """
     out = copy.deepcopy(case)
     for key, value in changes.items():
-        section, _, name = key.rpartition(".")
-        out[section][name] = _as_base_type(out[section][name], value)
+        node, name = locate(out, key)
+        node[name] = _as_base_type(node[name], value)
     return out
 
 

@@ -19,16 +19,15 @@ def _scalar(v) -> bool:
 def key_unit(model: str, key: str) -> str:
     """The unit of a case key ``section.key`` from the case schema ("-" if it has none).
 
-    >>> key_unit("liquefaction_1d", "sand.relative_density"), key_unit("liquefaction_1d", "ground_motion.pga_g")
+    >>> key_unit("liquefaction_1d", "layers.1.relative_density"), key_unit("liquefaction_1d", "ground_motion.pga_g")
     ('%', 'g')
     """
-    from ..casefile.schema import _model_schema
+    from ..casefile import schema
 
-    section, _, name = key.rpartition(".")
-    try:
-        return next(k.unit for k in _model_schema(model).get(section, []) if k.name == name) or "-"
-    except (StopIteration, KeyError, ValueError):
-        return unit_of(key)
+    parts = [p for p in key.split(".") if not p.isdigit()]  # layers.2.porosity: the layers' key
+    section, name = ".".join(parts[:-1]), parts[-1]
+    keys = schema._model_schema(model).get(section) or getattr(schema, "ARRAYS", {}).get(model, {}).get(section, [])
+    return next((k.unit for k in keys if k.name == name and k.unit), unit_of(key))
 
 
 def fragility_fits(rows: list[dict], frag: dict) -> dict:

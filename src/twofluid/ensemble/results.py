@@ -58,7 +58,7 @@ def _plain(v):
 
 
 def figure_at(summary: dict, profiles: dict, path: str):
-    """The figure ``path`` of one run: a dotted path into its summary, or ``profile.FIELD@T``
+    """The figure ``path`` of one run: a dotted path into its summary (list entries 1-based), or ``profile.FIELD@T``
     (the element field at output time T [s]; ``@end``: the last profile) as a list.
 
     >>> figure_at({"a": {"b_m": 2.0}}, {}, "a.b_m")
@@ -67,6 +67,8 @@ def figure_at(summary: dict, profiles: dict, path: str):
     [0.4]
     >>> figure_at({"a": 1}, {}, "b") is None
     True
+    >>> figure_at({"layers": [{"h_m": 1.0}, {"h_m": 2.0}]}, {}, "layers.2.h_m")
+    2.0
     """
     if path.startswith("profile.") and "@" in path:
         name, when = path[len("profile."):].split("@", 1)
@@ -78,9 +80,12 @@ def figure_at(summary: dict, profiles: dict, path: str):
         return None if t is None or name not in profiles[t] else _plain(profiles[t][name])
     node = summary
     for part in path.split("."):
-        if not isinstance(node, dict) or part not in node:
+        if isinstance(node, list) and part.isdigit() and 1 <= int(part) <= len(node):
+            node = node[int(part) - 1]  # an entry of a list, 1-based: layers.2.settlement_end_m
+        elif isinstance(node, dict) and part in node:
+            node = node[part]
+        else:
             return None
-        node = node[part]
     return _plain(node)
 
 

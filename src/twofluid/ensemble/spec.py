@@ -12,16 +12,16 @@ An ensemble file is TOML::
     "time.end" = 30.0
 
     [grid]                              # every combination of these lists
-    "materials.particle_diameter" = [0.5e-3, 0.8e-3]
+    "layers.1.particle_diameter" = [0.5e-3, 0.8e-3]
 
     [zip]                               # lists taken side by side (all one length)
-    "deposit.porosity" = [0.46, 0.44]
-    "sand.relative_density" = [40.0, 47.0]
+    "layers.1.porosity" = [0.46, 0.44]
+    "layers.1.relative_density" = [40.0, 47.0]
 
     [sample]                            # Monte Carlo: `count` draws with `seed`
     seed = 1
     count = 20
-    "sand.relative_density" = { distribution = "normal", mean = 47.0, std = 5.0 }
+    "layers.1.gamma_ref" = { distribution = "lognormal", median = 1e-3, log_std = 0.3 }
 
     [ground_motions]                    # each record (folder, glob or list) at each PGA
     files = "motions/*.AT2"
@@ -32,9 +32,10 @@ An ensemble file is TOML::
     threshold = 0.95
     labels = "report_depths.depth_m"
 
-Keys of the case are dotted, ``section.key`` (``closures.drag.law``): the engine works
-on any resolved case. The blocks that are present multiply: members are the product
-of the grid, the zipped lists, the samples and the records × PGAs (see
+Keys of the case are dotted, ``section.key`` (``closures.drag.law``; ``layers.2.porosity``
+for an entry of an array of tables, counted from 1): the engine works on any resolved case.
+The blocks that are present multiply: members are the product of the grid, the zipped
+lists, the samples and the records × PGAs (see
 :mod:`twofluid.ensemble.members`).
 """
 from __future__ import annotations
@@ -100,17 +101,14 @@ def _flat(table: dict, prefix: str = "", leaf=lambda v: not isinstance(v, dict))
     return out
 
 
-def _case_key(base: dict, source: str, where: str, key: str) -> tuple[str, str]:
-    """(section, name) of a dotted key of the base case, or a CaseError naming what is valid."""
-    section, _, name = key.rpartition(".")
-    if section not in base or not isinstance(base[section], dict):
-        valid = ", ".join(s for s in base if not s.startswith("_"))
-        raise CaseError(source, f"[{where}] {key}", f"no section [{section}] in the base case; valid "
-                        f"sections: {valid}")
-    if name not in base[section]:
-        raise CaseError(source, f"[{where}] {key}", f"no key {name!r} in [{section}] of the base case; valid: "
-                        + ", ".join(base[section]))
-    return section, name
+def _case_key(base: dict, source: str, where: str, key: str) -> None:
+    """Check that a dotted key names a value of the base case (CaseError naming what is valid)."""
+    from .members import locate
+
+    try:
+        locate(base, key)
+    except LookupError as exc:
+        raise CaseError(source, f"[{where}] {key}", f"{exc} (of the base case)") from None
 
 
 def _number(source: str, where: str, v, positive: bool = False) -> float:
@@ -139,7 +137,7 @@ def _sample(source: str, table: dict, base: dict) -> dict:
     dists = _flat({k: v for k, v in table.items() if k not in ("seed", "count")},
                   leaf=lambda v: not isinstance(v, dict) or "distribution" in v)
     if not dists:
-        raise CaseError(source, "[sample]", "no distributions; give e.g. \"sand.relative_density\" = "
+        raise CaseError(source, "[sample]", "no distributions; give e.g. \"layers.1.relative_density\" = "
                         "{ distribution = \"normal\", mean = 47.0, std = 5.0 }")
     out = {}
     for key, d in dists.items():
@@ -301,7 +299,7 @@ def load_ensemble(path: str | Path) -> EnsembleSpec:
     """Read and check an ensemble file (a path, or the name of a bundled example).
 
     >>> load_ensemble("elcentro-pga-sweep").varied()
-    {'sand.relative_density': 'sample', 'ground_motion.file': 'record', 'ground_motion.pga_g': 'pga'}
+    {'layers.1.relative_density': 'sample', 'ground_motion.file': 'record', 'ground_motion.pga_g': 'pga'}
     """
     from importlib import resources
 
