@@ -148,3 +148,19 @@ def test_cli_rejects_a_count_of_changes_that_fits_no_parameter_list(capsys):
                  "--by", "10%", "5%", "3%"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--by" in err
+
+
+def test_a_2d_case_runs_on_the_same_engine(tmp_path, client):
+    """The 2D pipe flow on a coarse mesh: the default figure (mean |Δn| of the last state) and
+    a summary figure; a larger grain settles faster, so the riser's porosity changes."""
+    from twofluid.casefile.loader import case_text
+
+    text = case_text("pipe-flow")
+    path = tmp_path / "pipe.toml"
+    path.write_text(text.replace("nx = 50 ", "nx = 4 ").replace("ny = 100 ", "ny = 8 "))
+    res = sensitivity_study(str(path), [parse_change("particle.diameter", "10%")],
+                            figure=["porosity_error@end", "porosity_range.1"], client=client)
+    err, low = res.rows
+    assert err["status"] == "completed" and err["unit"] == "-"
+    assert 0.0 < err["figure_value"] < 0.2  # a mean porosity change: between none and the range of n
+    assert low["figure_base"] is not None and low["figure_value"] != low["figure_base"]
