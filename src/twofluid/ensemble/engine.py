@@ -2,7 +2,7 @@
 
 A LocalCluster of ``workers`` processes with one thread each is started on this machine
 unless ``scheduler`` names an existing cluster. The driver submits a bounded window of
-members (a few per worker thread), so its memory does not grow with the ensemble; a
+members (a few per worker thread, at least 8), so its memory does not grow with the ensemble; a
 worker runs :func:`run_member` in a temporary folder (or the member's kept folder) and
 returns only the collected figures and its status. Members whose resolved case was
 completed before (same hash, in ``members.csv``) are not run again.
@@ -168,10 +168,10 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
     t0 = time.perf_counter()
     try:
         with _sigterm_as_interrupt(), (_given(client) if client else cluster_client(workers, scheduler)) as cl:
-            window = max(2, 4 * sum(cl.nthreads().values()))  # enough to keep every thread busy
             record["workers"] = len(cl.nthreads())
             pending = iter(todo)
             by_key, running = {}, {}
+            failed = sum(r["status"] != "completed" for r in rows.values())
 
             def submit(m):
                 run_dir = str(out / "runs" / f"member-{m.index:05d}-{m.hash[:12]}") if keep_runs else None
@@ -180,7 +180,17 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                 by_key[f.key], running[f.key] = m, f
                 return f
 
-            queue = as_completed([submit(m) for m in itertools.islice(pending, window)])
+            threads = {"n": sum(cl.nthreads().values()), "asked": time.monotonic()}
+
+            def top_up():
+                """Members in flight: 4 per worker thread (at least 8), as the cluster is now (a
+                batch-system cluster may still be growing; asked at most every 2 s)."""
+                if time.monotonic() - threads["asked"] > 2.0:
+                    threads.update(n=sum(cl.nthreads().values()), asked=time.monotonic())
+                window = max(8, 4 * threads["n"])
+                return [submit(m) for m in itertools.islice(pending, max(window - len(running), 0))]
+
+            queue = as_completed(top_up())
             try:
                 for fut in queue:
                     m = by_key.pop(fut.key)
@@ -188,21 +198,20 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                     try:
                         res = fut.result()
                     except Exception as exc:  # the worker died (KilledWorker) or the task could not run
-                        res = {"status": "failed", "reason": f"{type(exc).__name__}: {exc}", "wall_time_s": 0.0,
-                               "figures": {}}
+                        res = {"status": "failed", "reason": " ".join(f"{type(exc).__name__}: {exc}".split()),
+                               "wall_time_s": 0.0, "figures": {}}
                     fut.release()
                     if res["status"] != "interrupted":  # a member stopped by Ctrl-C runs again next time
                         rows[m.index] = row_of(m, res["status"], res["reason"], res["wall_time_s"], res["figures"],
                                                res.get("cpu_time_s"))
                         table.write(rows[m.index])
                         record["ran"] += 1
+                        failed += res["status"] != "completed"
                     else:
                         record.setdefault("interrupted_members", []).append(m.index)
                     bar.update(1)
-                    bar.set_postfix(failed=sum(r["status"] != "completed" for r in rows.values()), refresh=False)
-                    nxt = next(pending, None)
-                    if nxt is not None:
-                        queue.add(submit(nxt))
+                    bar.set_postfix(failed=failed, refresh=False)
+                    queue.update(top_up())
             except KeyboardInterrupt:
                 record["status"] = "interrupted"
                 cl.cancel(list(running.values()))
