@@ -83,6 +83,7 @@ from ..closures.shear_modulus import seed_idriss_gmax
 from ..closures.solids_pressure import reference_porosity_for
 from ..closures.viscosity import mooney_pringle
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
+from . import shear_kernel as _shear_kernel
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
 from .two_fluid_1d import State, TwoFluid1D
 
@@ -276,6 +277,8 @@ class LiquefactionColumn:
     base_impedance : None (rigid base) or c = ρ_r V_r [Pa·s/m] of a compliant base
         (:class:`~twofluid.models.shear_column.ShearColumn`); the vertical model's base stays
         an impervious wall either way.
+    fast_shear : the shear sub-steps by the compiled kernel (:mod:`~twofluid.models.shear_kernel`)
+        where numba is installed and the case is one it covers; False: always the reference path.
     """
 
     def __init__(self, vertical: VerticalColumn, sand: Sand = Sand(),
@@ -283,7 +286,8 @@ class LiquefactionColumn:
                  shaking_end: float = 0.0, shear_step: float = 0.005,
                  damping_ratio: float = 0.05, damping_frequencies=(1.0, 10.0),
                  free_vibration: float = 5.0, settings: PicardSettings = PicardSettings(),
-                 base_impedance: float | None = None, crust: Crust | None = None):
+                 base_impedance: float | None = None, crust: Crust | None = None,
+                 fast_shear: bool = True):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand, self.crust = vertical, sand, crust
@@ -318,6 +322,7 @@ class LiquefactionColumn:
         self.p_hydro = vertical.top.pressure - mat.rho_f * vertical.g_y * (mesh.y[-1] - mesh.centres)
         self.sigma_v0 = None  # set by initial_state
         self.n0 = None
+        self._kernel = self._kernel_arguments() if fast_shear else None
 
     # ------------------------------------------------------------ state
     def initial_state(self, porosity, excess_ratio: float = 0.0) -> ColumnState:
@@ -419,6 +424,10 @@ class LiquefactionColumn:
         span = t_new - s.t
         m = max(1, int(np.ceil(span / self.shear_step - 1e-9)))
         dt = span / m
+        if self._kernel is not None and not power:
+            fast = self._shear_compiled(s, w, n, n_bar, hist, m, dt)
+            if fast is not None:
+                return fast
         surface = []
         for i in range(1, m + 1):
             t = s.t + i * dt
@@ -433,6 +442,51 @@ class LiquefactionColumn:
             if power:  # shear thinning: η_s from the rate of the last sub-step
                 wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / h)
         return w, n_bar, hist, m, surface
+
+    def _kernel_arguments(self):
+        """The fixed arguments of the compiled shear kernel, or None where the case needs the
+        reference path (module :mod:`~twofluid.models.shear_kernel`)."""
+        sand, v, wave, ns = self.sand, self.v, self.wave, self.n_sat
+        p = dict(sand.law_params)
+        if (sand.law != "byrne" or sand.law_groups or sand.reduction is not None or set(p) - {"c1", "c2", "dr"}
+                or (self.crust is not None and self.crust.reduction is not None)
+                or getattr(wave, "gamma_ref", None) is None or v.clo.fluidized_pressure is not None
+                or not _shear_kernel.available()):
+            return None
+        full = lambda x, k=ns: np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (k,)))
+        c1 = full(p["c1"] if "c1" in p else 7600.0 * np.asarray(sand.dr, dtype=float) ** -2.5)
+        c2 = full(p["c2"]) if "c2" in p else 0.4 / c1
+        ne = wave.h.size
+        g_crust = np.zeros(0) if self.crust is None else full(self.crust.g_max, ne - ns)
+        return dict(A=full(v.clo.A), p_ref=full(v.clo.p_ref), k2max=full(sand.k2max), g_crust=g_crust,
+                    gamma_ref=full(wave.gamma_ref, ne), c1=c1, c2=c2,
+                    liq=full(np.asarray(sand.liquefiable, dtype=float)), cap=full(sand.gamma_law_max),
+                    first=0 if wave.base_impedance is not None else 1,
+                    impedance=0.0 if wave.base_impedance is None else wave.base_impedance)
+
+    def _shear_compiled(self, s, w, n, n_bar, hist, m, dt):
+        """The sub-steps of :meth:`_shear` by the compiled kernel; None if it hands back (the caller
+        then takes the reference path from the same start)."""
+        k, wave = self._kernel, self.wave
+        times = [s.t + i * dt for i in range(1, m + 1)]
+        a_in = np.array([self.a_g(t) for t in times], dtype=float)
+        u, vel, acc, gam, tau = w.u.copy(), w.v.copy(), w.a.copy(), w.gamma.copy(), w.tau.copy()
+        nb = np.array(n_bar, dtype=float)
+        eps_v, g_a, g_h, dirn, path = (np.array(x, dtype=float) for x in
+                                       (hist.eps_v, hist.gamma_a, hist.gamma, hist.direction, hist.path))
+        surface = np.empty(m)
+        code = _shear_kernel.shear_substeps(
+            u, vel, acc, gam, tau, nb, eps_v, g_a, g_h, dirn, path, np.ascontiguousarray(n, dtype=float),
+            k["A"], k["p_ref"], k["k2max"], k["g_crust"], wave.rho, wave.eta, wave.h, k["gamma_ref"], k["c1"],
+            k["c2"], k["liq"], k["cap"], wave.a0, wave.a1, k["impedance"], k["first"], wave.tol, wave.max_iter,
+            s.t, dt, a_in, self.shaking_end, surface)
+        if code != 0:
+            return None
+        t_w = w.t
+        for _ in range(m):  # the wave's clock, summed as the reference path sums it
+            t_w = t_w + dt
+        out = WaveState(t_w, u, vel, acc, gam, tau)
+        return out, nb, ShearState(eps_v, g_a, g_h, dirn, path), m, list(zip(times, surface.tolist()))
 
     def _wave_step(self, w, h, a_g, g_max, depth=0):
         if not (np.all(np.isfinite(g_max)) and np.isfinite(a_g)):  # halving cannot help

@@ -192,6 +192,7 @@ class ShearColumn:
             self.backbone = lambda g: (np.asarray(g, float), np.ones_like(g, dtype=float))
         elif reduction is None:
             self.backbone = _hyperbolic_backbone(gamma_ref)
+            self.gamma_ref = gamma_ref  # the compiled shear kernel evaluates this backbone itself
         else:
             self.backbone = _generic_backbone(reduction)
         if damping_ratio > 0.0:

@@ -1,0 +1,219 @@
+"""The shear sub-steps of one vertical step of the liquefaction column as one compiled kernel.
+
+Same arithmetic as the reference path (:meth:`LiquefactionColumn._shear` calling
+:meth:`ShearColumn.step` and the ``byrne`` law per sub-step): per sub-step G_max from
+P_s(n, n̄) (Seed & Idriss 1970, the exponential law of Pringle 2001 eq. 4.30), Newmark
+average acceleration with Newton iterations on the hyperbolic backbone, then Byrne's (1991)
+densification of n̄ on the clipped strain. Only the tridiagonal solve differs: a Thomas
+elimination here, LAPACK's banded LU with partial pivoting there (the Newmark matrix is
+diagonally dominant, so both are backward stable and agree to round-off).
+
+Compiled with numba when it is installed (the ``fast`` extra; ``cache=True``, so only the
+first run on a machine compiles); without numba the column keeps the reference path, whose
+cost is the Python and NumPy call overhead on arrays of 20–80 entries (docs/benchmarks.md).
+The kernel covers the common case — hyperbolic G/G_max (per-element reference strain),
+Byrne's law, Newtonian liquefied-soil viscosity, the exponential P_s without a
+fluidized-bed term — and reports anything else it meets (a Newton failure, a non-finite
+value) so that the caller repeats the step on the reference path, which halves or raises.
+
+>>> import numpy as np
+>>> ok = available()  # numba installed?
+>>> isinstance(ok, bool)
+True
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["available", "shear_substeps"]
+
+_MAX_EXPONENT = 700.0  # as closures.solids_pressure
+_KPA = 1000.0  # as closures.shear_modulus
+
+
+def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path,  # state (in/out)
+              n, A, p_ref, k2max, g_crust, rho, eta, h, gamma_ref, c1, c2, liq, cap,
+              a0, a1, impedance, first, tol, max_iter, t0, dt, a_in, shaking_end, surface):
+    """Advance len(a_in) sub-steps in place; returns 0, or 1 where the reference path must take over."""
+    ne = h.size
+    ns = n.size
+    nv = ne + 1
+    m = a_in.size
+    md = np.zeros(nv)
+    mo = np.empty(ne)
+    for e in range(ne):
+        me = rho[e] * h[e]
+        md[e] += me / 3.0
+        md[e + 1] += me / 3.0
+        mo[e] = me / 6.0
+    m1 = md.copy()  # M 1
+    for e in range(ne):
+        m1[e] += mo[e]
+        m1[e + 1] += mo[e]
+    gmax = np.empty(ne)
+    cd = np.empty(nv)
+    co = np.empty(ne)
+    un = np.empty(nv)
+    acc = np.empty(nv)
+    vel = np.empty(nv)
+    res = np.empty(nv)
+    jd = np.empty(nv)
+    jo = np.empty(ne)
+    kk = np.empty(ne)
+    tn = np.empty(ne)
+    cp = np.empty(nv)
+    dp = np.empty(nv)
+    du = np.zeros(nv)
+    gt0 = np.empty(ne)
+    c0 = 1.0 / (0.25 * dt * dt)
+    cc1 = 0.5 / (0.25 * dt)
+    for i in range(m):
+        t = t0 + (i + 1) * dt
+        # G_max from P_s(n, n̄) of the saturated elements; the crust's is fixed
+        for e in range(ns):
+            one_m = 1.0 - n[e]
+            if one_m > 0.0:
+                ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
+            else:
+                ps = 0.0
+            gmax[e] = 218.8 * _KPA * k2max[e] * math.sqrt(max(ps, 0.0) / _KPA)
+        for e in range(ns, ne):
+            gmax[e] = g_crust[e - ns]
+        for e in range(ne):
+            if not (math.isfinite(gmax[e]) and gmax[e] >= 0.0):
+                return 1
+        ag = a_in[i]
+        if not math.isfinite(ag):
+            return 1
+        # damping bands with the tangent modulus at the start of the step
+        for e in range(ne):
+            x = 1.0 + abs(gamma[e]) / gamma_ref[e]
+            gt0[e] = 1.0 / (x * x)
+        for j in range(nv):
+            cd[j] = a0 * md[j]
+        cd[0] += impedance
+        for e in range(ne):
+            ke = (eta[e] + a1 * gmax[e] * gt0[e]) / h[e]
+            cd[e] += ke
+            cd[e + 1] += ke
+            co[e] = -ke + a0 * mo[e]
+        for j in range(nv):
+            un[j] = u[j] + dt * v[j] + 0.5 * dt * dt * a[j]
+        if first == 1:
+            un[0] = 0.0
+        converged = False
+        for _ in range(max_iter):
+            for j in range(nv):
+                acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + (0.5 / 0.25 - 1.0) * a[j])
+                vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
+            for j in range(nv):
+                res[j] = md[j] * acc[j] + cd[j] * vel[j] + m1[j] * ag
+            for e in range(ne):
+                res[e] += mo[e] * acc[e + 1] + co[e] * vel[e + 1]
+                res[e + 1] += mo[e] * acc[e] + co[e] * vel[e]
+                g = (un[e + 1] - un[e]) / h[e]
+                x = 1.0 + abs(g) / gamma_ref[e]
+                te = gmax[e] * (g / x)
+                res[e] -= te
+                res[e + 1] += te
+                kk[e] = gmax[e] * (1.0 / (x * x)) / h[e]
+            for j in range(nv):
+                jd[j] = c0 * md[j] + cc1 * cd[j]
+            for e in range(ne):
+                jd[e] += kk[e]
+                jd[e + 1] += kk[e]
+                jo[e] = c0 * mo[e] + cc1 * co[e] - kk[e]
+            # Thomas elimination on the free nodes first..ne: J du = −res
+            cp[first] = jo[first] / jd[first] if first < ne else 0.0
+            dp[first] = -res[first] / jd[first]
+            for j in range(first + 1, nv):
+                den = jd[j] - jo[j - 1] * cp[j - 1]
+                if j < ne:
+                    cp[j] = jo[j] / den
+                dp[j] = (-res[j] - jo[j - 1] * dp[j - 1]) / den
+            du[ne] = dp[ne]
+            for j in range(ne - 1, first - 1, -1):
+                du[j] = dp[j] - cp[j] * du[j + 1]
+            dmax = 0.0
+            umax = 0.0
+            for j in range(first, nv):
+                if not math.isfinite(du[j]):
+                    return 1
+                un[j] += du[j]
+                dmax = max(dmax, abs(du[j]))
+            for j in range(nv):
+                umax = max(umax, abs(un[j]))
+            if dmax <= tol * max(umax, 1e-9):
+                converged = True
+                break
+        if not converged:
+            return 1
+        for j in range(nv):
+            acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + (0.5 / 0.25 - 1.0) * a[j])
+            vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
+        for e in range(ne):
+            g = (un[e + 1] - un[e]) / h[e]
+            x = 1.0 + abs(g) / gamma_ref[e]
+            gamma[e] = g
+            tau[e] = gmax[e] * (g / x) + (eta[e] + a1 * gmax[e] * gt0[e]) * ((vel[e + 1] - vel[e]) / h[e])
+        for j in range(nv):
+            u[j] = un[j]
+            v[j] = vel[j]
+            a[j] = acc[j]
+        surface[i] = (ag if t <= shaking_end + 1e-12 else 0.0) + a[ne]
+        # Byrne's densification on the clipped strain of the saturated elements
+        for e in range(ns):
+            gl = min(max(gamma[e], -cap[e]), cap[e])
+            dg = gl - hist_g[e]
+            sgn = 1.0 if dg > 0.0 else (-1.0 if dg < 0.0 else 0.0)
+            if sgn != 0.0 and direction[e] != 0.0 and sgn != direction[e]:
+                peak = abs(gl - dg)
+            else:
+                peak = gamma_a[e]
+            peak = max(peak, abs(gl))
+            step = abs(dg)
+            if peak > 0.0 and step > 0.0:
+                growth = 0.25 * c1[e] * c2[e] * (step / peak) * math.exp(-c2[e] * eps_v[e] / peak)
+                deps = peak / c2[e] * math.log1p(growth)
+            else:
+                deps = 0.0
+            if liq[e]:
+                nb[e] = nb[e] - (1.0 - nb[e]) * math.expm1(deps)
+            eps_v[e] += deps
+            gamma_a[e] = peak
+            hist_g[e] = gl
+            if sgn != 0.0:
+                direction[e] = sgn
+            path[e] += step
+    return 0
+
+
+_COMPILED = None
+_TRIED = False
+
+
+def available() -> bool:
+    """Whether the compiled kernel can be used (numba importable and the kernel compiled)."""
+    return _kernel() is not None
+
+
+def _kernel():
+    global _COMPILED, _TRIED
+    if not _TRIED:
+        _TRIED = True
+        try:
+            import numba
+        except ImportError:
+            return None
+        _COMPILED = numba.njit(cache=True, fastmath=False, nogil=True)(_substeps)
+    return _COMPILED
+
+
+def shear_substeps(*args) -> int:
+    """Run the compiled kernel (arguments as ``_substeps``); 1 if it is not available."""
+    k = _kernel()
+    if k is None:
+        return 1
+    return int(k(*args))
