@@ -513,6 +513,8 @@ class LiquefactionColumn:
                 raise StepFailure(s.t, dt, "shear sub-steps gave a non-finite reference porosity or "
                                   "displacement", s)
         vert = s.vertical.copy(n_bar=n_bar)
+        if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
+            self.v.continue_from(s.vertical, vert)
         its, inflow = 0, 0.0
         for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
             vert, its = st.state, st.iterations

@@ -47,6 +47,7 @@ from ..closures.shear_modulus import seed_idriss_gmax
 from ..io import ground_motion as gm
 from ..io.results import ResultWriter, write_json, write_resolved_case
 from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalColumn
+from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings
 from ..verification.terzaghi import consolidation_coefficient
@@ -90,11 +91,15 @@ def validated(case: dict) -> dict:
     return revalidate(case, source)
 
 
-def build_column(case: dict) -> Built:
+def build_column(case: dict, reference: bool = False) -> Built:
     """Column, geostatic initial state and stepping of a resolved ``liquefaction_1d`` case.
 
     Reads the record, the ANN weights and the G/G_max tables (CaseError if they cannot be used);
-    writes nothing.
+    writes nothing. The vertical model is the reduced (W, n) formulation of the same discrete
+    equations (:mod:`twofluid.models.reduced_column`) and the shear sub-steps run as a compiled
+    kernel where numba is installed (:mod:`twofluid.models.shear_kernel`); ``reference=True``
+    takes the full V, W, P, n model and the NumPy shear path instead (the reference the fast
+    paths are tested against).
     """
     sw, st = case["shear_wave"], case["site"]
     source = _source(case)
@@ -102,9 +107,10 @@ def build_column(case: dict) -> Built:
     tm = case["time"]
     settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
                               dt_min=min(1e-7, tm["step"] * 1e-4))
-    vertical = VerticalColumn(site.mesh, site.mat, site.clo, Boundary("wall"),
-                              Boundary("outlet", pressure=st["water_table_pressure"]),
-                              surcharge=st["surcharge"] + site.crust_weight)
+    model = VerticalColumn if reference else ReducedVerticalColumn
+    vertical = model(site.mesh, site.mat, site.clo, Boundary("wall"),
+                     Boundary("outlet", pressure=st["water_table_pressure"]),
+                     surcharge=st["surcharge"] + site.crust_weight)
     sigma_v0 = vertical.settled_solids_pressure(site.porosity) + vertical.surcharge
     sand = sand_for(case, source, site, sigma_v0)
     motion = schema_liquefaction.load_motion(case, source)
@@ -114,7 +120,7 @@ def build_column(case: dict) -> Built:
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
                                 free_vibration=sw["free_vibration"], settings=settings,
                                 base_impedance=schema_liquefaction.base_impedance(case),
-                                crust=crust_for(case, source, site))
+                                crust=crust_for(case, source, site), fast_shear=not reference)
     state = column.initial_state(site.porosity, st["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
@@ -239,12 +245,13 @@ def _zone(mask, col) -> list | None:
     return [float(H - y[e.max() + 1]), float(H - y[e.min()])]
 
 
-def run_liquefaction(case, out_dir=None, progress: bool = False):
-    """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path)."""
+def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool = False):
+    """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path); ``reference``: the
+    full vertical model and the NumPy shear path (:func:`build_column`)."""
     from .common import RunResult, run_guard
 
     case = load_case(case) if not isinstance(case, dict) else validated(case)
-    b = build_column(case)  # reads the record and weights: a bad one stops here, nothing written
+    b = build_column(case, reference)  # reads the record and weights: a bad one stops here, nothing written
     name = case["case"]["name"]
     out = Path(out_dir or f"twofluid-out/{name}")
     out.mkdir(parents=True, exist_ok=True)
