@@ -215,6 +215,8 @@ def test_non_finite_shear_step_is_a_failed_run_with_its_results(folder, monkeypa
         return g if calls["n"] <= 6 else np.full_like(g, np.nan)
 
     monkeypatch.setattr(liquefaction_1d, "seed_idriss_gmax", gmax)
+    # the reference shear path calls seed_idriss_gmax; the compiled kernel evaluates G_max itself
+    monkeypatch.setattr(liquefaction_1d._shear_kernel, "available", lambda: False)
     path = folder / "ok.toml"
     path.write_text(_case())
     out = folder / "out"

@@ -251,7 +251,8 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
     from .common import RunResult, run_guard
 
     case = load_case(case) if not isinstance(case, dict) else validated(case)
-    b = build_column(case, reference)  # reads the record and weights: a bad one stops here, nothing written
+    # reads the record and weights: a bad one stops here, nothing written
+    b = build_column(case, reference=True) if reference else build_column(case)
     name = case["case"]["name"]
     out = Path(out_dir or f"twofluid-out/{name}")
     out.mkdir(parents=True, exist_ok=True)
