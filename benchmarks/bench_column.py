@@ -94,15 +94,16 @@ def ratio_row(work, base, cpu, other) -> str:
             f"**{statistics.median(ratios):.2f}×** ({min(ratios):.2f}–{max(ratios):.2f}) | {len(ratios)} |")
 
 
-def scaling(elements: int, t_end: float) -> tuple[float, float, int, int, float]:
-    """(ms per vertical step, µs per shear sub-step, steps, sub-steps, Picard its/step) of the fast
-    column, timed on its own: the vertical model and the shear kernel separately (process time)."""
+def scaling(elements: int, t_end: float, reference: bool = False) -> tuple[float, float, int, int, float]:
+    """(ms per vertical step, µs per shear sub-step, steps, sub-steps, Picard its/step) of the
+    column (fast or reference paths), in-process: the vertical model and the shear sub-steps
+    (with the per-step Python around them) timed separately (process time)."""
     from twofluid.casefile.loader import load_case
     from twofluid.runners.liquefaction import build_column
 
     with tempfile.TemporaryDirectory() as td:
         case = load_case(str(case_file("liquefaction-elcentro", Path(td) / "c.toml", elements, 30.0)))
-    b = build_column(case)
+    b = build_column(case, reference=True) if reference else build_column(case)
     col = b.column
     shear_t, total_t, steps, subs, its = 0.0, 0.0, 0, 0, 0
     real = col._shear
@@ -189,13 +190,13 @@ def main(argv=None) -> int:
           f"{os.getloadavg()[0]:.2f} after (shared machine)")
     print("\n".join(lines + notes))
     if "scaling" in only:
-        print(f"\nScaling (liquefaction-elcentro, 30 s record, first {a.scaling_time:g} s, fast paths):\n")
-        print("| elements | vertical steps | shear sub-steps | Picard its/step | vertical [ms/step] | "
+        print(f"\nScaling (liquefaction-elcentro, 30 s record, first {a.scaling_time:g} s):\n")
+        print("| paths | elements | vertical steps | shear sub-steps | Picard its/step | vertical [ms/step] | "
               "shear [µs/sub-step] | vertical per element [µs] | shear per element [µs] |")
-        print("|---|---|---|---|---|---|---|---|")
-        for ne in (20, 80, 320):
-            v, sh, n, m, its = scaling(ne, a.scaling_time)
-            print(f"| {ne} | {n} | {m} | {its:.2f} | {v:.3f} | {sh:.1f} | {1e3 * v / ne:.2f} | {sh / ne:.3f} |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        for ref, ne in [(r, ne) for r in (False, True) for ne in (20, 80, 320)]:
+            v, sh, n, m, its = scaling(ne, a.scaling_time, ref)
+            print(f"| {'reference' if ref else 'fast'} | {ne} | {n} | {m} | {its:.2f} | {v:.3f} | {sh:.1f} | {1e3 * v / ne:.2f} | {sh / ne:.3f} |")
     return 0
 
 
