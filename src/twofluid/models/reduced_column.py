@@ -33,12 +33,23 @@ class _LayeredClosures(Closures):
     element in one array) when the particle diameter is an array per element (layered site)."""
 
     def beta_per_solids(self, n, slip, mat):
-        d_p = np.asarray(mat.d_p)
-        if d_p.ndim and np.size(n) != d_p.size:
-            k = np.size(n) // d_p.size
-            mat = replace(mat, d_p=np.tile(d_p, k),
-                          sphericity=np.tile(mat.sphericity, k) if np.ndim(mat.sphericity) else mat.sphericity)
+        if np.ndim(mat.d_p) and np.size(n) != np.size(mat.d_p):
+            mat = _tiled(mat, np.size(n) // np.size(mat.d_p))
         return super().beta_per_solids(n, slip, mat)
+
+
+_TILED: dict = {}  # (id(materials), k) -> (materials, materials with d_p tiled k times)
+
+
+def _tiled(mat, k: int):
+    hit = _TILED.get((id(mat), k))
+    if hit is None or hit[0] is not mat:
+        if len(_TILED) > 64:
+            _TILED.clear()
+        sph = mat.sphericity
+        hit = (mat, replace(mat, d_p=np.tile(mat.d_p, k), sphericity=np.tile(sph, k) if np.ndim(sph) else sph))
+        _TILED[(id(mat), k)] = hit
+    return hit[1]
 
 
 class ReducedVerticalColumn(Reduced1D):
