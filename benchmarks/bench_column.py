@@ -196,7 +196,8 @@ def main(argv=None) -> int:
         print("|---|---|---|---|---|---|---|---|---|")
         for ref, ne in [(r, ne) for r in (False, True) for ne in (20, 80, 320)]:
             v, sh, n, m, its = scaling(ne, a.scaling_time, ref)
-            print(f"| {'reference' if ref else 'fast'} | {ne} | {n} | {m} | {its:.2f} | {v:.3f} | {sh:.1f} | {1e3 * v / ne:.2f} | {sh / ne:.3f} |")
+            print(f"| {'reference' if ref else 'fast'} | {ne} | {n} | {m} | {its:.2f} | {v:.3f} | {sh:.1f} | "
+                  f"{1e3 * v / ne:.2f} | {sh / ne:.3f} |")
     return 0
 
 
