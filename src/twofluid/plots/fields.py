@@ -20,6 +20,16 @@ PERCENTILES = (1.0, 99.0)
 MAX_RATIO = 4.0
 
 
+def _save(fig, path: Path, title: str | None = None) -> Path:
+    """Title (if any), layout, write ``path`` at 130 dpi and free the figure."""
+    if title is not None:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
 def _labels(axi: bool) -> tuple[str, str]:
     return ("r [m]", "z [m]") if axi else ("x [m]", "y [m]")
 
@@ -93,10 +103,7 @@ def field_plot(mesh, values, path: Path, title: str, label: str, cmap="viridis_r
     fig.colorbar(pc, ax=ax, label=label, extend=extend)
     _axis_labels(ax, mesh)
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 #: arrow length ∝ |U|^ARROW_POWER: slow regions (speeds over decades) keep visible arrows
@@ -147,11 +154,7 @@ def velocity_plot(mesh, fields: dict, path: Path, title: str) -> Path:
         _axis_labels(ax, mesh)
         ax.set_title((f"{name} (blank: clear liquid)" if key == "Us_m_s" else name)
                      + "\narrows: direction, length ∝ √|U|", fontsize=9)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return _save(fig, path, title)
 
 
 def profile_plot(profiles: dict, path: Path, title: str, axi: bool, extra: dict | None = None) -> Path:
@@ -179,11 +182,7 @@ def profile_plot(profiles: dict, path: Path, title: str, axi: bool, extra: dict 
         ax.set_xlabel(xl)
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return _save(fig, path, title)
 
 
 def single_fluid_plot(r, uz, ut, r_exact, uz_exact, ut_exact, path: Path, title: str) -> Path:
@@ -199,8 +198,4 @@ def single_fluid_plot(r, uz, ut, r_exact, uz_exact, ut_exact, path: Path, title:
         ax.set_ylabel(name)
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return _save(fig, path, title)
