@@ -14,7 +14,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from scipy.optimize import brentq
+from ..scipy_kernels import brentq  # scipy.optimize's, without importing scipy.optimize (0.35 s)
 
 from ..closures import drag as drag_laws
 from .schema import CaseError, CaseWarning
