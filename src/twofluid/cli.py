@@ -8,9 +8,12 @@ __all__ = ["main"]
 
 
 def _cmd_run(args) -> int:
+    from .io.folders import default_out_dir
     from .runners import run_case
+    from .runners.common import validated_case
 
-    res = run_case(args.case, args.out, progress=not args.quiet and sys.stderr.isatty(),
+    case = validated_case(args.case)
+    res = run_case(case, args.out or default_out_dir(case), progress=not args.quiet and sys.stderr.isatty(),
                    plots=False if args.no_plots else None)
     s = res.summary
     clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" and not s.get("stepping_fallback") \
@@ -19,7 +22,9 @@ def _cmd_run(args) -> int:
           f"in {s['wall_time_s']:.1f} s; results in {res.out_dir}")
     if s["status"] != "completed":
         print(f"  {s['reason']}; everything written so far is in {res.out_dir}", file=sys.stderr)
-        return 130 if s["status"] == "interrupted" else 1
+        if s["status"] == "interrupted":
+            return 143 if "SIGTERM" in str(s.get("reason", "")) else 130
+        return 1
     if str(s.get("reason", "")).startswith(("steady", "dissipated", "stopped at the end time")):
         print(f"  {s['reason']}")  # why a completed run ended: steady state, dissipation, or its end time
     for key in ("t1_s", "bed_height_initial_m", "bed_height_final_m", "liquefied_thickness_m",
@@ -57,30 +62,46 @@ def _cmd_simplified(args) -> int:
 
 
 def _cmd_cases(args) -> int:
-    from .casefile.loader import bundled_cases
+    from .casefile.loader import bundled_cases, case_readme
 
     cases = bundled_cases()
     width = max(map(len, cases)) if cases else 0
     for name, desc in cases.items():
-        print(f"{name:<{width}}  {desc}")
+        mark = "  [README: twofluid show --readme " + name + "]" if case_readme(name) else ""
+        print(f"{name:<{width}}  {desc}{mark}")
     return 0
 
 
 def _cmd_show(args) -> int:
-    from .casefile.loader import case_text
+    from .casefile.loader import case_readme, case_text, copyable
 
-    sys.stdout.write(case_text(args.case))
+    if args.readme:
+        text = case_readme(args.case)
+        if text is None:
+            from .casefile.schema import CaseError
+
+            raise CaseError(args.case, "README.md", "this case has no README")
+        sys.stdout.write(text)
+        return 0
+    sys.stdout.write(copyable(case_text(args.case)))
     return 0
 
 
 def _cmd_verify(args) -> int:
-    from .verification.suite import format_table, verify
+    from .verification.slis_check import slis_markdown
+    from .verification.suite import format_table, validation_summary, verify
 
     print("twofluid verify: running the checks ...", file=sys.stderr)
+    tables: dict = {}
     rows, _ = verify(out=None if args.no_write else args.out, quick=args.quick, slis=not args.no_slis,
-                     only=args.only, log=lambda m: print(m, file=sys.stderr))
+                     only=args.only, log=lambda m: print(m, file=sys.stderr), tables=tables)
     print(format_table(rows))
-    if not args.no_write:
+    if tables.get("slis") is not None:
+        print("\nValidation: Slis, Willemse & Kramers (1959), thesis table 5.2 (errors relative to the "
+              "experiment)\n")
+        print(slis_markdown(tables["slis"]))
+        print("\n" + validation_summary(tables["slis"]))
+    if args.out and not args.no_write:
         print(f"report written to {args.out}", file=sys.stderr)
     return 0 if all(r["pass"] for r in rows) else 1
 
@@ -96,6 +117,14 @@ def _cmd_sensitivity(args) -> int:
                         f"parameter ({len(args.vary)}), not {len(by)}")
     _check_workers(args)
     changes = [parse_change(v, b) for v, b in zip(args.vary, by * len(args.vary) if len(by) == 1 else by)]
+    if args.csv:  # before computing
+        from .io.folders import check_out_file
+
+        check_out_file(args.csv, "sensitivity --csv")
+    if args.out:
+        from .io.folders import check_out_dir
+
+        check_out_dir(args.out, "sensitivity --out", own=False)
     res = sensitivity_study(args.case, changes, figure=args.figure, csv_path=args.csv, workers=args.workers,
                             scheduler=args.scheduler, out_dir=args.out, progress=sys.stderr.isatty())
     print(res.markdown())
@@ -139,6 +168,10 @@ def _cmd_element_test(args) -> int:
                    "--porosity": args.porosity, "--A": args.A, "--k2max": args.k2max,
                    "--gamma-ref": args.gamma_ref, "--max-cycles": args.max_cycles,
                    "--steps-per-cycle": args.steps_per_cycle})
+    if args.out:  # before computing
+        from .io.folders import check_out_dir
+
+        check_out_dir(args.out, "element-test --out", own=False)
     res = run_element_test(csr=args.csr, gamma_amplitude=args.gamma, sigma_v0=args.sigma_v0 * 1e3,
                            dr=args.dr, porosity=args.porosity, A=args.A, k2max=args.k2max,
                            gamma_ref=args.gamma_ref, drained=args.drained, law=args.law,
@@ -186,12 +219,15 @@ def parser() -> argparse.ArgumentParser:
     sp.set_defaults(func=_cmd_simplified)
     c = sub.add_parser("cases", help="list the bundled cases")
     c.set_defaults(func=_cmd_cases)
-    s = sub.add_parser("show", help="print a case's TOML (copy it to edit)")
+    s = sub.add_parser("show", help="print a case's TOML (copy it to edit: `twofluid show NAME > my.toml` "
+                       "runs as \"my\"), or its README")
     s.add_argument("case")
+    s.add_argument("--readme", action="store_true", help="print the case's README.md instead")
     s.set_defaults(func=_cmd_show)
     v = sub.add_parser("verify", help="run the verification checks and the Slis validation table")
-    v.add_argument("--out", default="docs/verification.md", help="report file (default: docs/verification.md)")
-    v.add_argument("--no-write", action="store_true", help="print the table only")
+    v.add_argument("--out", help="also write the full report (tables, definitions, tolerances) to this "
+                   "file, e.g. docs/verification.md (default: print the tables only, write nothing)")
+    v.add_argument("--no-write", action="store_true", help="write nothing even with --out")
     v.add_argument("--quick", action="store_true", help="cheaper settings and a subset (as in the tests)")
     v.add_argument("--no-slis", action="store_true", help="skip the twelve Slis et al. runs")
     v.add_argument("--only", nargs="+", help="run only the checks whose name contains one of these words")
@@ -260,6 +296,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("twofluid: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # a file that could be checked but not written (disk full, removed meanwhile)
+        print(f"twofluid: error: {exc}", file=sys.stderr)
+        return 1
     finally:
         warnings.showwarning = default_show
 

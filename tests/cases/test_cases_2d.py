@@ -301,7 +301,7 @@ def test_pseudo_transient_stepping_refuses_a_time_dependent_inlet():
            "materials": {"liquid_density": 1000.0, "liquid_viscosity": 1e-3, "particle_density": 2600.0,
                          "particle_diameter": 1e-3},
            "initial": {"porosity": 0.5}, "time": {"end": 10.0, "step": 0.1, "stepping": "pseudo_transient"},
-           "boundary": {"top": {"kind": "outlet"},
+           "boundary": {"top": {"kind": "outlet"}, "left": {"kind": "wall"}, "right": {"kind": "wall"},
                         "bottom": {"kind": "inlet", "times": [0.0, 5.0], "porosities": [0.6, 0.7]}}}
     with pytest.raises(CaseError, match=r"\[boundary.bottom\] porosities.*one value"):
         validate(doc, "c.toml")

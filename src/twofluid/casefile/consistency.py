@@ -1,7 +1,7 @@
 """Checks across keys of a resolved case (each key alone is checked by the schema)."""
 from __future__ import annotations
 
-from .schema import INITIAL_1D, SCHEMA, CaseError, register_model
+from .schema import INITIAL_1D, SCHEMA, CaseError, check_schedule, register_model
 
 __all__ = ["check_consistency"]
 
@@ -9,26 +9,13 @@ __all__ = ["check_consistency"]
 def _boundary(case: dict, end: str, source: str) -> None:
     b = case[f"boundary.{end}"]
     where = f"[boundary.{end}]"
-    times, vel, por = b["times"], b["velocities"], b["porosities"]
+    vel, por = b["velocities"], b["porosities"]
     if b["kind"] != "inlet":
         for key, val in (("velocities", vel), ("porosities", por)):
             if val:
                 raise CaseError(source, f"{where} {key}", f"only an inlet takes a schedule (kind = {b['kind']!r})")
         return
-    if bool(vel) == bool(por):
-        raise CaseError(source, f"{where} velocities/porosities",
-                        "an inlet needs exactly one of velocities [m/s] or porosities [-]")
-    values = vel or por
-    name = "velocities" if vel else "porosities"
-    if len(values) != len(times):
-        raise CaseError(source, f"{where} {name}", f"needs one value per entry of times ({len(times)}), "
-                        f"got {len(values)}")
-    if any(t2 < t1 for t1, t2 in zip(times, times[1:])):
-        raise CaseError(source, f"{where} times", "must be non-decreasing")
-    if any(t1 == t2 == t3 for t1, t2, t3 in zip(times, times[1:], times[2:])):
-        raise CaseError(source, f"{where} times", "a time may appear at most twice (a step)")
-    if por and not all(0.0 < p < 1.0 for p in por):
-        raise CaseError(source, f"{where} porosities", "each must lie in (0, 1)")
+    check_schedule(b, where, source)
 
 
 def check_consistency(case: dict, source: str) -> None:

@@ -1,13 +1,14 @@
 """Load a case by bundled name or path; validate before any computation."""
 from __future__ import annotations
 
+import re
 import tomllib
 from importlib import resources
 from pathlib import Path
 
 from .schema import CaseError, validate
 
-__all__ = ["bundled_cases", "case_text", "load_case", "CaseError"]
+__all__ = ["bundled_cases", "case_text", "case_readme", "copyable", "load_case", "CaseError"]
 
 _CASES = resources.files("twofluid") / "data" / "cases"
 
@@ -23,34 +24,84 @@ def bundled_cases() -> dict[str, str]:
     return out
 
 
-def _locate(case: str):
+def _locate(case) -> tuple[Path | object, str, str]:
+    """(file, source label, default name) of a bundled case name or a case-file path."""
+    import os
+
+    if not isinstance(case, (str, os.PathLike)):
+        raise CaseError("<api>", "case", f"must be a resolved case (dict), a bundled case name or a path to a "
+                        f"TOML file, got {type(case).__name__}")
     path = Path(case)
-    if path.suffix == ".toml" or path.exists():
+    if path.suffix == ".toml" or path.exists() or os.sep in str(case):
+        if path.is_dir():
+            raise CaseError(str(path), "file", "is a folder, not a case file")
         if not path.is_file():
             raise CaseError(str(path), "file", "does not exist")
-        return path
-    bundled = _CASES / case / "case.toml"
+        return path, str(path), path.stem[:100]
+    bundled = _CASES / str(case) / "case.toml"
     if bundled.is_file():
-        return bundled
-    raise CaseError(case, "case", "is neither a TOML file nor a bundled case; bundled: "
+        return bundled, f"{case} (bundled)", str(case)
+    raise CaseError(str(case), "case", "is neither a TOML file nor a bundled case; bundled: "
                     + ", ".join(bundled_cases()))
+
+
+def _read(loc, source: str) -> str:
+    try:
+        return loc.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise CaseError(source, "file", "is not UTF-8 text (a case file is TOML)") from None
+    except OSError as exc:
+        raise CaseError(source, "file", f"cannot be read ({exc.strerror or exc})") from None
 
 
 def case_text(case: str) -> str:
     """The TOML text of a bundled case or file."""
-    return _locate(case).read_text(encoding="utf-8")
+    loc, source, _ = _locate(case)
+    return _read(loc, source)
+
+
+def copyable(text: str) -> str:
+    """Case text with its ``[case] name`` line commented out: a copy (``twofluid show X > my.toml``)
+    then runs under its own file's name ("my"), not over the bundled case's output folder.
+
+    >>> print(copyable('[case]\\nname = "x"\\nmodel = "two_fluid_1d"\\n'), end="")
+    [case]
+    # name = "x"   (commented out by `twofluid show`: a copy runs under its file's name)
+    model = "two_fluid_1d"
+    """
+    out, section = [], ""
+    for line in text.splitlines(keepends=True):
+        st = line.strip()
+        if st.startswith("["):
+            section = st.split("#")[0].strip()
+        if section == "[case]" and re.match(r"name\s*=", st):
+            end = "\n" if line.endswith("\n") else ""
+            line = f"# {line.rstrip()}   (commented out by `twofluid show`: a copy runs under its file's name){end}"
+        out.append(line)
+    return "".join(out)
+
+
+def case_readme(case: str) -> str | None:
+    """The README.md next to a bundled case or case file (None if there is none)."""
+    loc, source, _ = _locate(case)
+    readme = loc.parent / "README.md" if isinstance(loc, Path) else loc.parent.joinpath("README.md")
+    return _read(readme, str(readme)) if readme.is_file() else None
 
 
 def load_case(case: str) -> dict:
-    """Parse and validate; returns the resolved case with ``_source`` set."""
-    loc = _locate(case)
-    source = str(loc) if isinstance(loc, Path) else f"{case} (bundled)"
+    """Parse and validate; returns the resolved case with ``_source`` set.
+
+    An empty or missing ``[case] name`` becomes the file's name without ``.toml`` (the
+    bundled case's name), so a copied case runs under its own name.
+
+    >>> load_case("settling-illite")["case"]["name"]
+    'settling-illite'
+    """
+    loc, source, name = _locate(case)
     try:
-        doc = tomllib.loads(loc.read_text(encoding="utf-8"))
+        doc = tomllib.loads(_read(loc, source))
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(source, "TOML syntax", str(exc)) from None
-    except UnicodeDecodeError:
-        raise CaseError(source, "file", "is not UTF-8 text") from None
-    resolved = validate(doc, source)
+    resolved = validate(doc, source, name=name)
     resolved["_source"] = source
     return resolved

@@ -12,8 +12,8 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["Key", "SCHEMA", "INITIAL_1D", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning", "validate",
-           "revalidate", "effective", "markdown"]
+__all__ = ["Key", "SCHEMA", "INITIAL_1D", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning",
+           "validate", "revalidate", "effective", "markdown", "check_schedule"]
 
 REQUIRED = object()
 
@@ -31,6 +31,7 @@ class Key:
     hi_open: bool = False
     choices: tuple | None = None
     used_when: tuple[str, tuple] | None = None  # (other key of the section, values that use this key)
+    sentinel: Any = None  # a value meaning "not set" (e.g. -1 for area_top): left out of a resolved case
 
     def range_text(self) -> str:
         if self.choices:
@@ -56,12 +57,14 @@ BOUNDARY = [
       used_when=("kind", ("inlet",))),
     K("velocities", FLOATS, [], "m/s", "inlet schedule: superficial liquid velocity into the column at `times`"),
     K("porosities", FLOATS, [], "-", "inlet schedule instead of velocities: the velocity that holds a "
-      "uniform bed fluidized at each porosity (computed with the drag law)"),
+      "uniform bed fluidized at each porosity (computed with the drag law)", lo=0.0, hi=1.0,
+      lo_open=True, hi_open=True),
 ]
 
 SCHEMA: dict[str, list[Key]] = {
     "case": [
-        K("name", str, REQUIRED, "-", "short name used in outputs"),
+        K("name", str, "", "-", "short name used in outputs and in the default output folder "
+          "twofluid-out/<name> ('': the case file's name without .toml)"),
         K("description", str, "", "-", "one line shown by `twofluid cases`"),
         K("model", str, "two_fluid_1d", "-", "equation set; each model has its own sections (below)",
           choices=("two_fluid_1d", "reduced_1d", "two_fluid_2d", "liquefaction_1d")),
@@ -75,7 +78,8 @@ SCHEMA: dict[str, list[Key]] = {
           "quadratic V, W with linear P", choices=("1VW/0P/0n", "2VW/1P/0n")),
         K("area", float, 1.0, "m²", "cross-section area at the bottom (and everywhere unless area_top)",
           lo=0.0, lo_open=True),
-        K("area_top", float, -1.0, "m²", "cross-section area at the top for a linear taper (-1: same as area)"),
+        K("area_top", float, -1.0, "m²", "cross-section area at the top for a linear taper (-1: same as area)",
+          sentinel=-1.0),
         K("inclination_deg", float, 0.0, "deg", "angle of the column to the vertical", lo=-89.0, hi=89.0),
     ],
     "materials": [
@@ -116,7 +120,7 @@ SCHEMA: dict[str, list[Key]] = {
     "initial": [
         K("porosity", float, REQUIRED, "-", "porosity of the bed", lo=0.0, hi=1.0, lo_open=True),
         K("bed_height", float, -1.0, "m", "height of the bed above the bottom; clear liquid (n = 1) "
-          "above it (-1: the whole column)"),
+          "above it (-1: the whole column)", sentinel=-1.0),
         K("state", str, "uniform", "-", "uniform: n̄ from [closures.solids_pressure]; settled: n̄ such "
           "that P_s carries the buoyant weight of the solids above (a deposit at rest)",
           choices=("uniform", "settled")),
@@ -175,17 +179,24 @@ MODEL_CHECKS: dict[str, object] = {}
 ARRAYS: dict[str, dict[str, list[Key]]] = {}
 
 
+IGNORED: dict[str, dict[str, dict[str, str]]] = {}
+
+
 def register_model(model: str, sections: dict[str, list[Key]], check=None,
-                   arrays: dict[str, list[Key]] | None = None) -> None:
+                   arrays: dict[str, list[Key]] | None = None,
+                   ignored: dict[str, dict[str, str]] | None = None) -> None:
     """Declare the sections (besides COMMON) of ``model``; ``check(case, source)`` runs after.
 
     ``arrays`` declares arrays of tables (``[[layers]]``): each entry is checked against the
     keys and resolved like a section; an entry's ``name`` key, if any, labels its messages.
+    ``ignored`` = {section: {key: why}}: keys of a shared section this model does not use
+    (a warning when given, left out of the resolved case).
     """
     SCHEMAS[model] = {**{k: SCHEMA[k] for k in COMMON}, **sections}
     ARRAYS[model] = dict(arrays or {})
     if check is not None:
         MODEL_CHECKS[model] = check
+    IGNORED[model] = dict(ignored or {})
 
 
 def _model_schema(model: str) -> dict[str, list[Key]]:
@@ -214,13 +225,25 @@ class CaseError(ValueError):
         self.source, self.key = source, key
 
 
+def _out_of_range(key: Key, value) -> bool:
+    return ((key.lo is not None and (value < key.lo or (key.lo_open and value == key.lo)))
+            or (key.hi is not None and (value > key.hi or (key.hi_open and value == key.hi))))
+
+
 def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
     full = f"[{where}] {key.name}"
     if key.type == FLOATS:
-        if not isinstance(value, list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                                  for v in value):
+        if not isinstance(value, (list, tuple)) or not all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
             raise CaseError(source, full, f"must be a list of numbers, got {value!r}")
-        return [float(v) for v in value]
+        out = [float(v) for v in value]
+        for i, v in enumerate(out):  # TOML has nan and inf literals: a list entry is a value too
+            if not math.isfinite(v):
+                raise CaseError(source, full, f"entry {i + 1} ({v!r}) must be finite")
+            if _out_of_range(key, v):
+                raise CaseError(source, full, f"entry {i + 1} ({v!r}) is outside the valid range "
+                                f"{key.range_text()} [{key.unit}]")
+        return out
     if key.type is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise CaseError(source, full, f"must be a number, got {value!r}")
@@ -239,19 +262,32 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
     if key.choices and value not in key.choices:
         raise CaseError(source, full, f"{value!r} is not valid; valid: {key.range_text()}")
     if key.lo is not None or key.hi is not None:
-        bad = ((key.lo is not None and (value < key.lo or (key.lo_open and value == key.lo)))
-               or (key.hi is not None and (value > key.hi or (key.hi_open and value == key.hi))))
-        if bad:
+        if _out_of_range(key, value):
             raise CaseError(source, full, f"{value!r} is outside the valid range {key.range_text()} "
                             f"[{key.unit}]")
     return value
 
 
-def validate(doc: dict, source: str = "<case>") -> dict:
-    """Check ``doc`` against the schema; return the resolved case (all keys, defaults filled)."""
+def validate(doc: dict, source: str = "<case>", name: str = "case") -> dict:
+    """Check ``doc`` against the schema; return the resolved case (all keys, defaults filled).
+
+    Every check that needs no computation runs here, in this order: the keys one by one
+    (type, range, finite), the model's cross-key checks, then the quantities derived from
+    several keys (:mod:`twofluid.casefile.derived`: terminal and fluidization velocities,
+    pressure scales, number of steps), so a case that is valid key by key but impossible as
+    a whole is a :class:`CaseError` naming the keys before anything is built or written.
+    ``name`` fills an empty ``[case] name`` (the file's name for a case file).
+    """
+    if not isinstance(doc, dict):
+        raise CaseError(source, "case", f"must be a table of sections (a dict), got {type(doc).__name__}")
     tables = {k: v for k, v in doc.items() if _is_table_array(v)}
     flat = _flatten_sections({k: v for k, v in doc.items() if k not in tables}, source)
     case = _resolve_section(source, "case", SCHEMA["case"], flat.get("case", {}))
+    if not case["name"]:
+        case["name"] = name
+    if any(c in case["name"] for c in "/\\\0") or case["name"].strip(". ") == "" or len(case["name"]) > 100:
+        raise CaseError(source, "[case] name", f"{case['name']!r} must be a plain name of at most 100 "
+                        "characters, without / or \\ (it names the output folder twofluid-out/<name>)")
     schema = _model_schema(case["model"])
     for where in flat:
         if where not in schema:
@@ -268,31 +304,75 @@ def validate(doc: dict, source: str = "<case>") -> dict:
     for name, keys in arrays.items():
         resolved[name] = [_resolve_section(source, _entry_label(name, i, item), keys, item, unused)
                           for i, item in enumerate(tables.get(name, []))]
+    resolved["case"] = case
+    for where, keys in IGNORED.get(case["model"], {}).items():
+        for key, why in keys.items():
+            if key in flat.get(where, {}):
+                unused.append(f"{source}: [{where}] {key}: ignored ({why})")
     check = MODEL_CHECKS.get(case["model"])
     if check is not None:
         check(resolved, source)
+    from .derived import check_derived
+
+    check_derived(resolved, source)
     for message in unused:  # only for a valid case: an error is the one line a bad case gets
         warnings.warn(CaseWarning(message), stacklevel=2)
     return resolved
 
 
+def check_schedule(b: dict, where: str, source: str) -> None:
+    """An inlet's schedule: exactly one of velocities/porosities, one value per time, times
+    non-decreasing with a time at most twice (a step). ``where`` is e.g. "[boundary.bottom]"."""
+    times, vel, por = b["times"], b["velocities"], b["porosities"]
+    if bool(vel) == bool(por):
+        raise CaseError(source, f"{where} velocities/porosities",
+                        "an inlet needs exactly one of velocities [m/s] or porosities [-]")
+    values, name = (vel, "velocities") if vel else (por, "porosities")
+    if len(values) != len(times):
+        raise CaseError(source, f"{where} {name}", f"needs one value per entry of times ({len(times)}), "
+                        f"got {len(values)}")
+    if any(t2 < t1 for t1, t2 in zip(times, times[1:])):
+        raise CaseError(source, f"{where} times", "must be non-decreasing")
+    if any(t1 == t2 == t3 for t1, t2, t3 in zip(times, times[1:], times[2:])):
+        raise CaseError(source, f"{where} times", "a time may appear at most twice (a step)")
+
+
 def effective(case: dict) -> dict:
-    """The resolved ``case`` without the keys that have no effect in it (``Key.used_when``)."""
-    schema = _model_schema(case["case"]["model"])
+    """The resolved ``case`` with only the keys that act in it: without the keys that have no
+    effect (``Key.used_when``, a model's ignored keys), keys left at their "not set" sentinel
+    (``Key.sentinel``, e.g. ``area_top = -1``) and sections switched off (``kind = "none"``)."""
+    model = case["case"]["model"]
+    schema = _model_schema(model)
+    ignored = IGNORED.get(model, {})
     out = {}
     for where, table in case.items():
+        if not isinstance(table, dict):
+            out[where] = table
+            continue
+        if table.get("kind") == "none":
+            continue
         keys = {k.name: k for k in schema.get(where, [])}
-        out[where] = {name: value for name, value in table.items()
-                      if not (name in keys and keys[name].used_when
-                              and table.get(keys[name].used_when[0], None) not in keys[name].used_when[1])} \
-            if isinstance(table, dict) else table
+
+        def acts(name, value):
+            k = keys.get(name)
+            if name in ignored.get(where, {}):
+                return False
+            if k is None:
+                return True
+            if k.sentinel is not None and value == k.sentinel:
+                return False
+            return not (k.used_when and table.get(k.used_when[0], None) not in k.used_when[1])
+
+        out[where] = {name: value for name, value in table.items() if acts(name, value)}
     return out
 
 
 def revalidate(case: dict, source: str) -> dict:
     """Validate a resolved (possibly edited) case again: every key is range-checked, but the
     keys without effect that a resolved case carries raise no warning."""
-    doc = {k: v for k, v in case.items() if not k.startswith("_")}
+    if not isinstance(case, dict):
+        raise CaseError(source, "case", f"must be a table of sections (a dict), got {type(case).__name__}")
+    doc = {k: v for k, v in case.items() if not (isinstance(k, str) and k.startswith("_"))}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CaseWarning)
         out = validate(doc, source)
@@ -340,6 +420,9 @@ def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
     flat: dict[str, dict] = {}
 
     def walk(prefix: str, table: dict):
+        for k in table:
+            if not isinstance(k, str):
+                raise CaseError(source, f"[{prefix}] {k!r}" if prefix else repr(k), "keys must be strings")
         plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
         subs = {k: v for k, v in table.items() if isinstance(v, dict)}
         if prefix and (plain or not subs):

@@ -13,26 +13,28 @@ the mesh is built).
 """
 from __future__ import annotations
 
-from .schema import BOUNDARY, FLOATS, SCHEMA, CaseError, K, register_model
+from .mesh_2d import BOUNDARY_NAMES, check_mesh
+from .schema import BOUNDARY, FLOATS, SCHEMA, CaseError, K, check_schedule, register_model
 
 __all__ = ["SECTIONS_2D", "BOUNDARY_NAMES", "check_2d"]
 
-BOUNDARY_NAMES = ("left", "right", "bottom", "top", "inner", "outer", "axis", "cut")
+_RECT = {"used_when": ("kind", ("rectangle",))}
+_SF = {"used_when": ("enabled", (True,))}
 
 _MESH = [
     K("kind", str, "rectangle", "-", "rectangle (structured, built in code) or gmsh (any meshio-readable "
       "quadrilateral mesh with named boundary groups)", choices=("rectangle", "gmsh")),
-    K("x0", float, 0.0, "m", "rectangle: first coordinate min (r_inner in axisymmetry)", lo=0.0),
-    K("x1", float, 1.0, "m", "rectangle: first coordinate max (r_outer)", lo=0.0, lo_open=True),
-    K("y0", float, 0.0, "m", "rectangle: height min (z)"),
-    K("y1", float, 1.0, "m", "rectangle: height max (z); gravity points to −y"),
-    K("nx", int, 10, "-", "rectangle: elements across (even keeps the checkerboard stabilisation)", lo=1, hi=2000),
-    K("ny", int, 10, "-", "rectangle: elements up (even keeps the checkerboard stabilisation)", lo=1, hi=4000),
-    K("grading_x", float, 1.0, "-", "rectangle: last/first element width ratio across", lo=0.0, lo_open=True),
-    K("grading_y", float, 1.0, "-", "rectangle: last/first element height ratio up", lo=0.0, lo_open=True),
+    K("x0", float, 0.0, "m", "rectangle: first coordinate min (r_inner in axisymmetry)", lo=0.0, **_RECT),
+    K("x1", float, 1.0, "m", "rectangle: first coordinate max (r_outer)", lo=0.0, lo_open=True, **_RECT),
+    K("y0", float, 0.0, "m", "rectangle: height min (z)", **_RECT),
+    K("y1", float, 1.0, "m", "rectangle: height max (z); gravity points to −y", **_RECT),
+    K("nx", int, 10, "-", "rectangle: elements across (even keeps the checkerboard stabilisation)", lo=1, hi=2000, **_RECT),
+    K("ny", int, 10, "-", "rectangle: elements up (even keeps the checkerboard stabilisation)", lo=1, hi=4000, **_RECT),
+    K("grading_x", float, 1.0, "-", "rectangle: last/first element width ratio across", lo=0.0, lo_open=True, **_RECT),
+    K("grading_y", float, 1.0, "-", "rectangle: last/first element height ratio up", lo=0.0, lo_open=True, **_RECT),
     K("cut", FLOATS, [], "m", "rectangle: [x0, x1, y0, y1] of a block of elements removed (e.g. a "
-      "spindle); its wetted surface is the group 'cut'"),
-    K("file", str, "", "-", "gmsh: mesh file (relative to the case file)"),
+      "spindle); its wetted surface is the group 'cut'", **_RECT),
+    K("file", str, "", "-", "gmsh: mesh file (relative to the case file)", used_when=("kind", ("gmsh",))),
     K("axisymmetric", bool, False, "-", "(r, z) coordinates with the 2πr measure"),
     K("swirl", bool, False, "-", "third velocity component (u_θ in axisymmetry)"),
 ]
@@ -44,8 +46,10 @@ _BOUNDARY_2D = [
       choices=("none", "inlet", "wall", "slip", "axis", "rotating_wall", "outlet")),
     K("group", str, "", "-", "mesh boundary group this applies to ('' = the section name)"),
     *[k for k in BOUNDARY if k.name in ("pressure", "times", "velocities", "porosities")],
-    K("solids_velocity", float, 0.0, "m/s", "inlet: superficial solids velocity fed with the liquid", lo=0.0),
-    K("omega", float, 0.0, "rad/s", "rotating_wall: angular speed (positive anticlockwise about +z)"),
+    K("solids_velocity", float, 0.0, "m/s", "inlet: superficial solids velocity fed with the liquid", lo=0.0,
+      used_when=("kind", ("inlet",))),
+    K("omega", float, 0.0, "rad/s", "rotating_wall: angular speed (positive anticlockwise about +z)",
+      used_when=("kind", ("rotating_wall",))),
     K("tangential", str, "no_slip", "-", "wall, rotating_wall: no_slip holds both phases' velocity "
       "in the (r, z) plane at 0; free_slip holds only its normal component (the swirl stays "
       "set). A wall of a fluidized bed on a mesh that cannot resolve the liquid's drag "
@@ -92,10 +96,10 @@ _TIME = [
 _SINGLE = [
     K("enabled", bool, False, "-", "before the mixture: solve steady single-fluid Stokes flow on the same "
       "mesh and boundary conditions and compare with the analytic annulus (thesis appendix 4.3)"),
-    K("density", float, 1600.0, "kg/m³", "single fluid density", lo=0.0, lo_open=True),
-    K("viscosity", float, 1.0, "Pa·s", "single fluid viscosity", lo=0.0, lo_open=True),
-    K("height", float, 0.0, "m", "height of the fully developed section where profiles are compared"),
-    K("r_inner", float, 0.0, "m", "inner radius of the annulus (spindle)", lo=0.0),
+    K("density", float, 1600.0, "kg/m³", "single fluid density", lo=0.0, lo_open=True, **_SF),
+    K("viscosity", float, 1.0, "Pa·s", "single fluid viscosity", lo=0.0, lo_open=True, **_SF),
+    K("height", float, 0.0, "m", "height of the fully developed section where profiles are compared", **_SF),
+    K("r_inner", float, 0.0, "m", "inner radius of the annulus (spindle)", lo=0.0, **_SF),
 ]
 
 SECTIONS_2D = {
@@ -131,14 +135,8 @@ def check_2d(case: dict, source: str) -> None:
     for name, b in used.items():
         where = f"[boundary.{name}]"
         if b["kind"] == "inlet":
+            check_schedule(b, where, source)
             vel, por = b["velocities"], b["porosities"]
-            if bool(vel) == bool(por):
-                raise CaseError(source, f"{where} velocities/porosities",
-                                "an inlet needs exactly one of velocities [m/s] or porosities [-]")
-            if len(vel or por) != len(b["times"]):
-                raise CaseError(source, f"{where} times", f"needs one entry per value ({len(vel or por)})")
-            if any(t2 < t1 for t1, t2 in zip(b["times"], b["times"][1:])):
-                raise CaseError(source, f"{where} times", "must be non-decreasing")
             if case["time"]["stepping"] == "pseudo_transient" and len(set(vel or por)) > 1:
                 key = "velocities" if vel else "porosities"
                 raise CaseError(source, f"{where} {key}", "stepping = 'pseudo_transient' seeks the steady "
@@ -156,14 +154,13 @@ def check_2d(case: dict, source: str) -> None:
     for tt in case["output"]["times"]:
         if not 0.0 <= tt <= t["end"]:
             raise CaseError(source, "[output] times", f"{tt:g} lies outside [0, {t['end']:g}] s")
-    if m["kind"] == "rectangle":
-        for h in case["profiles"]["heights"]:
-            if not m["y0"] <= h <= m["y1"]:
-                raise CaseError(source, "[profiles] heights", f"{h:g} lies outside [{m['y0']:g}, {m['y1']:g}] m")
+    check_mesh(case, source)  # groups, axis at r = 0, cut, element shapes, profile heights
     sf = case["single_fluid"]
     if sf["enabled"] and not (m["axisymmetric"] and m["swirl"]):
         raise CaseError(source, "[single_fluid] enabled", "the annulus check needs an axisymmetric mesh "
                         "with swirl")
 
 
-register_model("two_fluid_2d", SECTIONS_2D, check_2d)
+register_model("two_fluid_2d", SECTIONS_2D, check_2d,
+               ignored={"output": {"probes": "2D runs write no probes; [profiles] heights and steps.csv give "
+                                   "the time series", "probe_interval": "2D runs write no probes"}})

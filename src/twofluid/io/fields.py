@@ -4,7 +4,8 @@ Written with meshio (binary VTU, no HDF5 needed); the ``.pvd`` collection is
 rewritten after every time, so an interrupted run leaves a valid series. Point
 data: V and W [m/s] (3 components, the third u_θ or 0); cell data: porosity,
 reference porosity, P and P_s [Pa], U_f and U_s [m/s] (element means; U_s NaN in
-clear liquid). Read back with ``meshio.read``.
+clear liquid, where it is undefined). Read back with ``meshio.read``. Any other
+non-finite value ends the run (:func:`twofluid.io.results.check_finite`).
 """
 from __future__ import annotations
 
@@ -42,9 +43,17 @@ class FieldWriter:
         self.mesh, self.base = mesh, basename
         self.entries: list[tuple[float, str]] = []
 
-    def write(self, t: float, point_data: dict, cell_data: dict) -> Path:
-        """One time [s]: nodal arrays (n_nodes, k) and element arrays (n_el,) or (n_el, k)."""
+    def write(self, t: float, point_data: dict, cell_data: dict) -> Path | None:
+        """One time [s]: nodal arrays (n_nodes, k) and element arrays (n_el,) or (n_el, k).
+
+        None (nothing written) for a non-finite time after this run's first refusal."""
         import meshio
+
+        from .results import check_finite
+
+        if not (check_finite(f"fields at nodes ({self.base}.pvd)", t, point_data, element_name="node")
+                and check_finite(f"fields ({self.base}.pvd)", t, cell_data, undefined=("U_s",))):
+            return None
 
         pts = np.column_stack([self.mesh.points, np.zeros(self.mesh.n_nodes)])
         pdata = {k: (_vec3(v) if v.ndim == 2 else v) for k, v in point_data.items()}

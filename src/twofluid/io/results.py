@@ -3,17 +3,112 @@
 Every row is flushed as it is written, so an interrupted or failed run leaves
 readable CSV files; ``summary.json`` is written at the end whatever the outcome
 (with ``status`` "completed", "interrupted" or "failed" and where it stopped).
+
+Two guards sit here, at the one place every output passes through:
+
+- *finite values*: a NaN or inf in a row raises :class:`NonFiniteOutput` (a
+  ``FloatingPointError``, which ends a run as "failed" with the column, the time and
+  the element in the reason) and nothing of that row is written. Columns that are
+  undefined by definition (U_s in clear liquid) are declared ``undefined`` and written
+  as empty cells. After the first such failure of a run, further non-finite rows (the
+  runner writing its last state) are dropped silently: the reason is already recorded.
+- *whole rows*: a row (or the rows of one profile) is formatted first and written with
+  one call; if the disk is full the file is cut back to its last complete row, so a
+  reader never meets half a row.
 """
 from __future__ import annotations
 
+import contextvars
 import csv
+import io
 import json
 from pathlib import Path
 
 import numpy as np
 import tomli_w
 
-__all__ = ["ResultWriter", "write_resolved_case", "write_json"]
+__all__ = ["ResultWriter", "CsvStream", "NonFiniteOutput", "write_resolved_case", "write_json", "read_table",
+           "check_finite", "reset_nonfinite"]
+
+#: set once a run's writer has refused a non-finite row (the run has failed with that reason)
+_REFUSED: contextvars.ContextVar[bool] = contextvars.ContextVar("twofluid_nonfinite_refused", default=False)
+
+
+class NonFiniteOutput(FloatingPointError):
+    """A NaN or inf about to be written: the run fails, naming the output, column, time and element."""
+
+
+def reset_nonfinite() -> None:
+    """Start of a run: no non-finite row refused yet (called by ``run_guard``)."""
+    _REFUSED.set(False)
+
+
+def check_finite(what: str, t: float, columns: dict[str, np.ndarray], undefined=(), element_name="element") \
+        -> bool:
+    """True if every value of ``columns`` is finite (NaN allowed in columns starting with a prefix in
+    ``undefined``); otherwise raise :class:`NonFiniteOutput` naming the first bad value — or, after a
+    first refusal in this run, return False (the row is dropped).
+
+    >>> check_finite("probes.csv", 1.0, {"a": np.array([1.0])})
+    True
+    """
+    for name, values in columns.items():
+        v = np.asarray(values, dtype=float)
+        ok = np.isfinite(v)
+        if any(name.startswith(u) for u in undefined):
+            ok |= np.isnan(v)
+        if ok.all():
+            continue
+        if _REFUSED.get():
+            return False
+        _REFUSED.set(True)
+        flat = np.flatnonzero(~ok.ravel())[0]
+        where = f", {element_name} {int(np.unravel_index(flat, v.shape)[0])}" if v.ndim >= 1 and v.size > 1 else ""
+        raise NonFiniteOutput(f"non-finite value {v.ravel()[flat]!r} in {what}, column {name}{where}, "
+                              f"at t = {t:.10g} s (the step that reached it): the run stops rather than "
+                              "write it")
+    return True
+
+
+def _cell(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, str):
+        return v
+    v = float(v)
+    return "" if np.isnan(v) else f"{v:.10g}"
+
+
+class CsvStream:
+    """A CSV file written whole rows at a time (see the module doc), re-opened for appending if
+    written after :meth:`close` (the runner's last state after an interruption)."""
+
+    def __init__(self, path: Path, header: list[str]):
+        self.path = Path(path)
+        self._f = open(self.path, "w", newline="", encoding="utf-8")
+        self.rows([[str(h) for h in header]])
+
+    def rows(self, rows) -> None:
+        buf = io.StringIO()
+        w = csv.writer(buf)
+        for r in rows:
+            w.writerow([_cell(v) for v in r])
+        if self._f.closed:
+            self._f = open(self.path, "a", newline="", encoding="utf-8")
+        good = self._f.tell()
+        try:
+            self._f.write(buf.getvalue())
+            self._f.flush()
+        except OSError:  # disk full: cut back to the last complete row, then report it
+            try:
+                self._f.truncate(good)
+                self._f.close()
+            except OSError:
+                pass
+            raise
+
+    def close(self) -> None:
+        self._f.close()
 
 
 def write_resolved_case(path: Path, case: dict) -> None:
@@ -34,6 +129,8 @@ def write_resolved_case(path: Path, case: dict) -> None:
 
 
 def write_json(path: Path, data: dict) -> None:
+    """``data`` as JSON; non-finite numbers become null ("not computed"). Written to a temporary
+    file first and renamed, so an older summary is replaced only by a complete one."""
     def clean(v):
         if isinstance(v, dict):
             return {k: clean(x) for k, x in v.items()}
@@ -43,35 +140,72 @@ def write_json(path: Path, data: dict) -> None:
             return None if not np.isfinite(v) else float(v)
         if isinstance(v, np.integer):
             return int(v)
+        if isinstance(v, np.bool_):
+            return bool(v)
         return v
 
-    path.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        tmp.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
+        tmp.replace(path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def read_table(path: Path) -> dict[str, np.ndarray]:
+    """A CSV file written here as {column: array} (numbers as floats, empty cells NaN).
+
+    >>> import tempfile
+    >>> p = Path(tempfile.mkdtemp()) / "t.csv"
+    >>> s = CsvStream(p, ["time_s", "a"]); s.rows([[0.0, 1.5], [1.0, None]]); s.close()
+    >>> read_table(p)["a"]
+    array([1.5, nan])
+    """
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        return {}
+    head, body = rows[0], rows[1:]
+    out = {}
+    for i, name in enumerate(head):
+        col = [r[i] if i < len(r) else "" for r in body]
+        try:
+            out[name] = np.array([float(c) if c != "" else np.nan for c in col])
+        except ValueError:
+            out[name] = np.array(col, dtype=object)
+    return out
 
 
 class ResultWriter:
-    """Streams profiles (long format) and probe time series into CSV files."""
+    """Streams profiles (long format) and probe time series into CSV files.
 
-    def __init__(self, out_dir: Path, profile_columns: list[str], probe_columns: list[str]):
+    ``undefined``: column-name prefixes whose values may be undefined (NaN, written as an empty
+    cell): U_s in clear liquid. Every other value must be finite (:func:`check_finite`).
+    """
+
+    def __init__(self, out_dir: Path, profile_columns: list[str], probe_columns: list[str],
+                 undefined=("Us_",)):
         self.out = Path(out_dir)
         self.out.mkdir(parents=True, exist_ok=True)
-        self._pf = open(self.out / "profiles.csv", "w", newline="", encoding="utf-8")
-        self._qf = open(self.out / "probes.csv", "w", newline="", encoding="utf-8")
-        self._p = csv.writer(self._pf)
-        self._q = csv.writer(self._qf)
-        self._p.writerow(["time_s"] + profile_columns)
-        self._q.writerow(["time_s"] + probe_columns)
+        self._p = CsvStream(self.out / "profiles.csv", ["time_s"] + profile_columns)
+        self._q = CsvStream(self.out / "probes.csv", ["time_s"] + probe_columns)
         self.profile_columns, self.probe_columns = profile_columns, probe_columns
+        self.undefined = tuple(undefined)
 
     def profile(self, t: float, fields: dict[str, np.ndarray]) -> None:
-        cols = np.column_stack([fields[c] for c in self.profile_columns])
-        for row in cols:
-            self._p.writerow([f"{t:.10g}"] + [f"{v:.10g}" for v in row])
-        self._pf.flush()
+        cols = {c: np.asarray(fields[c], dtype=float) for c in self.profile_columns}
+        if not check_finite("profiles.csv", t, cols, self.undefined):
+            return
+        table = np.column_stack(list(cols.values()))
+        self._p.rows([[t, *row] for row in table])
 
     def probe(self, t: float, values: dict[str, float]) -> None:
-        self._q.writerow([f"{t:.10g}"] + [f"{values[c]:.10g}" for c in self.probe_columns])
-        self._qf.flush()
+        cols = {c: values[c] for c in self.probe_columns}
+        if not check_finite("probes.csv", t, cols, self.undefined):
+            return
+        self._q.rows([[t, *cols.values()]])
 
     def close(self) -> None:
-        self._pf.close()
-        self._qf.close()
+        self._p.close()
+        self._q.close()

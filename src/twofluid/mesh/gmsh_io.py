@@ -97,8 +97,9 @@ def read_quad_mesh(
         path = Path(path)
         try:
             mesh = meshio.read(path)
-        except Exception as exc:  # meshio raises many types; report them uniformly
-            raise MeshError(f"{path}: cannot read mesh ({exc})") from exc
+        except (Exception, SystemExit) as exc:  # meshio raises many types, and calls sys.exit(1) on a
+            # file it cannot identify: report them uniformly (a SystemExit would end the caller)
+            raise MeshError(f"{path}: cannot read mesh ({exc or type(exc).__name__})") from None
     other = sorted({b.type for b in mesh.cells} - _DOMAIN - set(_BOUNDARY))
     if other:
         raise MeshError(f"{path}: unsupported cell types {other}; only 4-node 'quad' "

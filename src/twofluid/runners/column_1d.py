@@ -16,6 +16,7 @@ from .. import postprocess as pp
 from ..casefile.builder import build
 from ..io.results import ResultWriter, write_json, write_resolved_case
 from ..timestepping.backward_euler import integrate, picard_step
+from ..io.folders import default_out_dir
 from .common import RunResult, run_guard
 
 __all__ = ["run_1d"]
@@ -113,11 +114,10 @@ def _probe_values(model, s, probes, heights):
 
 def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     """The column runner of ``two_fluid_1d`` and ``reduced_1d``."""
-    name = case["case"]["name"]
-    out = Path(out_dir or f"twofluid-out/{name}")
+    b = build(case)  # before anything is written
+    out = Path(out_dir or default_out_dir(case))
     out.mkdir(parents=True, exist_ok=True)
     write_resolved_case(out / "case.resolved.toml", case)
-    b = build(case)
     model, state = b.model, _initial_pressure(b.model, b.state, b.dt)
     fig = _Figures(case, model, state)
     probes = case["output"]["probes"]
@@ -155,8 +155,7 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if status != "completed" and round(last.t, 12) not in profiles:
-        f = model.element_fields(last)
-        profiles[round(last.t, 12)] = f
+        save_profile(last)  # the state it stopped at, in profiles.csv too
     summary = _summary(case, b, model, fig, status, reason, last, n_steps, wall,
                        solids0, outflow)
     write_json(out / "summary.json", summary)

@@ -2,11 +2,21 @@
 
 Each runner (``column_1d``, ``flow_2d``, ``liquefaction``) has the same shape:
 build the model from the resolved case, consume its generator of steps inside
-:func:`run_guard`, write the summary, make the plots.
+:func:`run_guard`, write the summary, make the plots. :func:`run_case` puts around it
+what does not depend on the model, in this order: validate the case (a dict exactly as
+a case file), check the output folder (:mod:`.output`), claim it (lock, clear the files
+of its previous run), run with SIGTERM handled like Ctrl-C, and turn an interruption
+or failure outside the time loop into a summary with a status.
 """
 from __future__ import annotations
 
+import contextvars
 import importlib
+import shutil
+import signal
+import tempfile
+import threading
+import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,18 +24,30 @@ from pathlib import Path
 import numpy as np
 
 from ..casefile.loader import load_case
+from ..casefile.schema import CaseError, revalidate
+from ..io.results import NonFiniteOutput, read_table, reset_nonfinite, write_json
 from ..timestepping.backward_euler import StepFailure
+from ..io.folders import OutputFolder, check_out_dir, default_out_dir
 
-__all__ = ["RunResult", "RunGuard", "run_case", "run_guard", "RUNNERS"]
+__all__ = ["RunResult", "RunGuard", "Terminated", "run_case", "run_guard", "validated_case", "RUNNERS"]
 
 
 @dataclass
 class RunResult:
+    """What a run returns.
+
+    ``out_dir`` is the folder written (None for a run kept in memory); ``summary`` is
+    ``summary.json``; ``tables`` holds every CSV file of the run as {file name: {column:
+    array}} (filled for in-memory runs, ``out_dir=None``, whose files are not kept);
+    ``profiles`` and ``history`` are what the runner kept in memory.
+    """
+
     status: str  # completed | interrupted | failed
-    out_dir: Path
+    out_dir: Path | None
     summary: dict
     profiles: dict = field(default_factory=dict)  # t -> element fields
     history: dict = field(default_factory=dict)  # name -> array over steps
+    tables: dict = field(default_factory=dict)  # "profiles.csv" -> {column: array}
 
 
 class _NoBar:
@@ -61,38 +83,59 @@ class RunGuard:
     reason: str = ""
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what ``kill`` and batch schedulers send), handled like Ctrl-C."""
+
+
 # Errors of the numerics (not of the program) that end a run as "failed" with a summary:
 # SuperLU's "Factor is exactly singular" is a RuntimeError; NotImplementedError and
-# RecursionError are RuntimeErrors of the program and propagate.
-_NUMERICAL_ERRORS = (FloatingPointError, OverflowError, np.linalg.LinAlgError, RuntimeError)
+# RecursionError are RuntimeErrors of the program and propagate. OSError: an output that
+# cannot be written any more (disk full) ends the run with what was written.
+_NUMERICAL_ERRORS = (FloatingPointError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError,
+                     RuntimeError, OSError)
 _PROGRAM_ERRORS = (NotImplementedError, RecursionError)
+#: where a run is: "set-up", "time loop" or "after the time loop" (summary and plots)
+_PHASE: contextvars.ContextVar[str] = contextvars.ContextVar("twofluid_run_phase", default="set-up")
+
+
+def _interrupt_reason(exc: BaseException) -> str:
+    return "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted by the user (Ctrl-C)"
 
 
 @contextmanager
 def run_guard(t_end: float, progress: bool, *closing):
-    """Context of a run's time loop: progress bar, Ctrl-C and failed steps.
+    """Context of a run's time loop: progress bar, Ctrl-C and SIGTERM, failed steps.
 
-    A ``KeyboardInterrupt``, a :class:`StepFailure` or a numerical error
-    (floating-point overflow, ``LinAlgError``, a ``RuntimeError`` such as a singular
-    factorisation) inside the block ends the loop, not the program: the guard records status ``interrupted`` or ``failed``
+    A ``KeyboardInterrupt`` (also SIGTERM inside :func:`run_case`), a :class:`StepFailure`,
+    a non-finite output (:class:`~twofluid.io.results.NonFiniteOutput`), an output that
+    cannot be written or a numerical error (floating-point overflow, ``LinAlgError``, a
+    ``RuntimeError`` such as a singular factorisation) inside the block ends the loop, not
+    the program: the guard records status ``interrupted`` or ``failed``
     with the reason, closes the bar and every object in ``closing`` (result
     writers), and the runner goes on to write its summary from what it has.
     """
     run = RunGuard(_bar(t_end, progress))
+    reset_nonfinite()
+    _PHASE.set("time loop")
     try:
         yield run
-    except KeyboardInterrupt:
-        run.status, run.reason = "interrupted", "interrupted by the user (Ctrl-C)"
+    except KeyboardInterrupt as exc:
+        run.status, run.reason = "interrupted", _interrupt_reason(exc)
     except StepFailure as exc:
         run.status, run.reason = "failed", str(exc)
     except _NUMERICAL_ERRORS as exc:  # e.g. SuperLU "Factor is exactly singular", overflow
         if isinstance(exc, _PROGRAM_ERRORS):
             raise
-        run.status, run.reason = "failed", f"{type(exc).__name__}: {exc}"
+        text = str(exc) if isinstance(exc, NonFiniteOutput) else f"{type(exc).__name__}: {exc}"
+        run.status, run.reason = "failed", text
     finally:
+        _PHASE.set("after the time loop")
         run.bar.close()
         for c in closing:
-            c.close()
+            try:
+                c.close()
+            except OSError:
+                pass
 
 
 # The runner of each model: "module:function", imported on use.
@@ -102,16 +145,117 @@ RUNNERS = {"two_fluid_1d": "twofluid.runners.column_1d:run_1d",
            "liquefaction_1d": "twofluid.runners.liquefaction:run_liquefaction"}
 
 
-def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = None) -> RunResult:
-    """Run ``case`` (resolved dict, bundled name or TOML path); write results to ``out_dir``.
+def validated_case(case) -> dict:
+    """``case`` (resolved or edited dict, bundled name or TOML path) checked through the schema.
 
-    ``plots``: True/False overrides the case's ``[output] plots`` (None keeps it).
+    A dict is validated exactly as a case file is (the same :class:`CaseError` lines, with
+    the file it was loaded from as the source, ``<api>`` for a dict made in code).
+
+    >>> validated_case({"case": {"name": "x", "modle": "reduced_1d"}})
+    Traceback (most recent call last):
+    ...
+    twofluid.casefile.schema.CaseError: <api>: [case] modle: unknown key; valid keys: description, model, name, study
     """
-    if not isinstance(case, dict):
-        case = load_case(case)
+    if isinstance(case, dict):
+        return revalidate(case, str(case.get("_source", "<api>")))
+    return load_case(case)
+
+
+@contextmanager
+def _sigterm_as_interrupt():
+    """SIGTERM raises :class:`Terminated` while a run is going (main thread only: signal
+    handlers cannot be set elsewhere, e.g. in a worker thread of an ensemble)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Terminated()
+
+    old = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def _outside_loop(case: dict, out: Path, status: str, reason: str, wall: float) -> dict:
+    """Summary of a run interrupted or failed outside its time loop (see :func:`run_case`)."""
+    path = out / "summary.json"
+    phase = _PHASE.get()
+    if path.is_file() and phase == "after the time loop":  # written by this run: the plots were going
+        import json
+
+        summary = json.loads(path.read_text(encoding="utf-8"))
+        summary["reason"] = (f"{reason} while making the plots; the time loop had ended "
+                             f"({summary.get('status')}, {summary.get('reason') or 'no reason given'})")
+        summary["status"] = status
+    else:
+        summary = {"case": case["case"]["name"], "status": status, "stopped_at_s": 0.0,
+                   "reason": f"{reason} during the {phase}" + (", before the first step" if phase == "set-up"
+                                                                else ""),
+                   "end_time_s": case["time"]["end"], "wall_time_s": wall, "steps": 0}
+    write_json(path, summary)
+    return summary
+
+
+def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = None) -> RunResult:
+    """Run ``case`` (resolved or edited dict, bundled name or TOML path).
+
+    ``out_dir``: the folder for the results (created; it must be new, empty or hold an earlier
+    run, whose files are removed first); None keeps the results in memory only: no file is
+    kept, the CSV tables are in ``RunResult.tables`` and no plots are made. The case is
+    validated before anything is written (:func:`validated_case`); bad input is a
+    :class:`CaseError`. A run interrupted (Ctrl-C, SIGTERM) or failed, in the time loop or
+    outside it, returns with status ``interrupted`` or ``failed`` and a summary saying where.
+    ``plots``: True/False overrides the case's ``[output] plots`` (None keeps it).
+
+    >>> import twofluid
+    >>> case = twofluid.load_case("settling-illite")
+    >>> case["time"]["end"], case["output"]["times"] = case["time"]["step"], []
+    >>> res = twofluid.run_case(case)          # in memory: nothing written
+    >>> res.status, res.out_dir, sorted(res.tables)
+    ('completed', None, ['probes.csv', 'profiles.csv'])
+    """
+    case = validated_case(case)
     if plots is not None:
         case = {**case, "output": {**case["output"], "plots": bool(plots)}}
+    memory = out_dir is None
+    if memory:
+        case = {**case, "output": {**case["output"], "plots": False}}
+        out = Path(tempfile.mkdtemp(prefix="twofluid-"))
+    else:
+        out = check_out_dir(out_dir)
     mod, func = RUNNERS[case["case"]["model"]].split(":")
-    return getattr(importlib.import_module(mod), func)(case, out_dir, progress=progress)
+    runner = getattr(importlib.import_module(mod), func)
+    wall0 = time.perf_counter()
+    try:
+        with OutputFolder(out) as folder, _sigterm_as_interrupt():
+            token = _PHASE.set("set-up")
+            try:
+                res = runner(case, out, progress=progress)
+            except KeyboardInterrupt as exc:
+                summary = _outside_loop(case, out, "interrupted", _interrupt_reason(exc),
+                                        time.perf_counter() - wall0)
+                res = RunResult("interrupted", out, summary)
+            except CaseError:
+                folder.abandon()
+                raise
+            except (StepFailure, *_NUMERICAL_ERRORS) as exc:
+                if isinstance(exc, _PROGRAM_ERRORS):
+                    raise
+                text = str(exc) if isinstance(exc, (NonFiniteOutput, StepFailure)) else f"{type(exc).__name__}: {exc}"
+                summary = _outside_loop(case, out, "failed", text, time.perf_counter() - wall0)
+                res = RunResult("failed", out, summary)
+            finally:
+                _PHASE.reset(token)
+        if memory:
+            res.tables = {p.name: read_table(p) for p in sorted(out.glob("*.csv"))}
+            res.out_dir = None
+    finally:
+        if memory:
+            shutil.rmtree(out, ignore_errors=True)
+    return res
 
 
+__all__ += ["default_out_dir"]

@@ -14,7 +14,6 @@ transient stepper by pseudo-transient continuation to the steady state
 """
 from __future__ import annotations
 
-import csv
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -22,11 +21,12 @@ from pathlib import Path
 import numpy as np
 
 from ..casefile.builder import Schedule, closures, inlet_velocities, materials, settled_reference_porosity
+from ..casefile.mesh_2d import BOUNDARY_NAMES, build_mesh, element_row, uncovered_edges
 from ..casefile.schema import CaseError, CaseWarning
-from ..casefile.schema_2d import BOUNDARY_NAMES
 from ..io.fields import FieldWriter
-from ..io.results import write_json, write_resolved_case
-from ..mesh.quad import QuadMesh, rectangle, remove_block
+from ..io.folders import default_out_dir
+from ..io.results import CsvStream, check_finite, write_json, write_resolved_case
+from ..mesh.quad import QuadMesh
 from ..models.two_fluid_1d import State
 from ..models.two_fluid_2d import Boundary2D, TwoFluid2D
 from . import viscometer
@@ -43,28 +43,6 @@ __all__ = ["build_mesh", "build_2d", "Built2D", "run_2d", "horizontal_profile", 
 STEADY_VELOCITY_FLOOR = 1e-9
 
 
-def build_mesh(case: dict) -> QuadMesh:
-    """The case's mesh with its named boundary groups (plus "axis" when r starts at 0)."""
-    m, src = case["mesh"], case.get("_source", "<case>")
-    if m["kind"] == "gmsh":
-        from ..mesh.gmsh_io import MeshError, read_quad_mesh
-
-        path = Path(m["file"])
-        if not path.is_absolute() and Path(str(src)).is_file():
-            path = Path(src).parent / path
-        try:
-            return read_quad_mesh(path, axisymmetric=m["axisymmetric"])
-        except MeshError as exc:
-            raise CaseError(src, "[mesh] file", str(exc)) from None
-    mesh = rectangle(m["x0"], m["x1"], m["y0"], m["y1"], m["nx"], m["ny"], axisymmetric=m["axisymmetric"],
-                     grading=(m["grading_x"], m["grading_y"]))
-    if m["axisymmetric"] and m["x0"] == 0.0:
-        mesh.boundaries["axis"] = mesh.boundaries["left"]
-    if m["cut"]:
-        mesh = remove_block(mesh, *m["cut"], name="cut")
-    return mesh
-
-
 @dataclass
 class Built2D:
     model: TwoFluid2D
@@ -72,15 +50,6 @@ class Built2D:
     t_end: float
     dt: float
     settings: PicardSettings
-
-
-def _uncovered(mesh: QuadMesh, groups: list[str]) -> int:
-    local = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
-    e = np.sort(mesh.cells[:, local].reshape(-1, 2), axis=1)
-    key, cnt = np.unique(e[:, 0] * mesh.n_nodes + e[:, 1], return_counts=True)
-    bnd = key[cnt == 1]
-    cov = [np.sort(mesh.boundary_edges(g), axis=1) @ np.array([mesh.n_nodes, 1]) for g in groups]
-    return int((~np.isin(bnd, np.concatenate(cov) if cov else [])).sum())
 
 
 def build_2d(case: dict) -> Built2D:
@@ -104,7 +73,7 @@ def build_2d(case: dict) -> Built2D:
         bcs.append(Boundary2D(group, b["kind"], velocity=vel, solids_velocity=b["solids_velocity"],
                               pressure=b["pressure"], omega=b["omega"],
                               free_slip=b["tangential"] == "free_slip"))
-    missing = _uncovered(mesh, [b.group for b in bcs])
+    missing = uncovered_edges(mesh, [b.group for b in bcs])
     if missing:
         raise CaseError(src, "[boundary.*]", f"{missing} boundary edges have no condition; mesh groups: "
                         f"{', '.join(sorted(mesh.boundaries))}")
@@ -118,11 +87,12 @@ def build_2d(case: dict) -> Built2D:
     tm = case["time"]
     settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
                               dt_min=min(1e-7, tm["step"] * 1e-4))
-    return Built2D(model, initial_state(model, case), tm["end"], tm["step"], settings)
+    return Built2D(model, initial_state(model, case, settings), tm["end"], tm["step"], settings)
 
 
-def initial_state(model: TwoFluid2D, case: dict) -> State:
-    """Bed of ``[initial] porosity`` up to ``bed_height`` (clear liquid above), V = W = inflow."""
+def initial_state(model: TwoFluid2D, case: dict, settings: PicardSettings | None = None) -> State:
+    """Bed of ``[initial] porosity`` up to ``bed_height`` (clear liquid above), V = W = inflow,
+    P from :func:`steady_flow` with the case's Picard ``settings``."""
     init, mesh = case["initial"], model.mesh
     yc = mesh.points[mesh.cells].mean(axis=1)[:, 1]
     y0 = mesh.points[:, 1].min()
@@ -143,11 +113,13 @@ def initial_state(model: TwoFluid2D, case: dict) -> State:
     state = State(0.0, V, W, np.zeros(model.ne), n, n_bar)
     state.V[idx[:half]] = val[:half]
     state.W[idx[:half]] = val[half:]
-    return steady_flow(model, state)
+    return steady_flow(model, state, settings or PicardSettings(tol=case["time"]["picard_tol"],
+                                                             max_iter=case["time"]["picard_max_iter"]))
 
 
-def steady_flow(model: TwoFluid2D, state: State, settings=PicardSettings(tol=1e-8)) -> State:
-    """V, W, P in equilibrium with the porosity of ``state`` (n frozen; a step of 10⁶ s)."""
+def steady_flow(model: TwoFluid2D, state: State, settings: PicardSettings = PicardSettings()) -> State:
+    """V, W, P in equilibrium with the porosity of ``state`` (n frozen; a step of 10⁶ s), solved
+    to ``settings`` (the case's ``picard_tol`` and ``picard_max_iter`` in a run)."""
     model.freeze_porosity = True
     try:
         new, info = picard_step(model, state, 1e6, settings)
@@ -275,9 +247,9 @@ def _warn_stall(message: str) -> None:
 
 
 def horizontal_profile(model: TwoFluid2D, fields: dict, height: float) -> dict:
-    """Element values along the row of elements containing ``height`` [m], sorted by x (r)."""
-    y = model.mesh.points[model.mesh.cells][:, :, 1]
-    row = np.nonzero((y.min(axis=1) <= height) & (y.max(axis=1) > height))[0]
+    """Element values along the row of elements containing ``height`` [m] (the top row at the top
+    of the mesh), sorted by x (r)."""
+    row = element_row(model.mesh, height)
     row = row[np.argsort(fields["x_m"][row])]
     p = {"x_m": fields["x_m"][row], "porosity": fields["porosity"][row], "P_Pa": fields["P_Pa"][row],
          "Ps_Pa": fields["Ps_Pa"][row], "Uf_x": fields["Uf_m_s"][row, 0], "Uf_y": fields["Uf_m_s"][row, 1],
@@ -289,27 +261,29 @@ def horizontal_profile(model: TwoFluid2D, fields: dict, height: float) -> dict:
 
 
 class _Profiles:
-    """Streams horizontal profiles to profiles.csv (flushed per time)."""
+    """Streams horizontal profiles to profiles.csv (whole rows, finite values; flushed per time)."""
 
     def __init__(self, out: Path, model, heights):
         self.model, self.heights, self.last = model, heights, {}
-        self.f = open(out / "profiles.csv", "w", newline="", encoding="utf-8")
-        self.w = csv.writer(self.f)
-        self.cols = None
+        self.path, self.f, self.cols = out / "profiles.csv", None, None
 
     def write(self, t, fields):
+        rows = []
         for h in self.heights:
             p = horizontal_profile(self.model, fields, h)
+            if not check_finite(f"profiles.csv at height {h:g} m", t, p, undefined=("Us_",)):
+                return
             self.last[h] = p
             if self.cols is None:
                 self.cols = list(p)
-                self.w.writerow(["time_s", "height_m"] + self.cols)
-            for row in zip(*(p[c] for c in self.cols)):
-                self.w.writerow([f"{t:.10g}", f"{h:.10g}"] + [f"{v:.10g}" for v in row])
-        self.f.flush()
+                self.f = CsvStream(self.path, ["time_s", "height_m"] + self.cols)
+            rows += [[t, h, *row] for row in zip(*(p[c] for c in self.cols))]
+        if rows:
+            self.f.rows(rows)
 
     def close(self):
-        self.f.close()
+        if self.f is not None:
+            self.f.close()
 
 
 class _History:
@@ -319,28 +293,31 @@ class _History:
         self.model, self.heights = model, list(heights)
         mesh = model.mesh
         xc = mesh.points[mesh.cells].mean(axis=1)
-        y = mesh.points[mesh.cells][:, :, 1]
         self.axis_el = []
         for h in self.heights:  # element of the row at height h nearest to x (r) minimum
-            row = np.nonzero((y.min(axis=1) <= h) & (y.max(axis=1) > h))[0]
+            row = element_row(mesh, h)
             self.axis_el.append(int(row[np.argmin(xc[row, 0])]) if row.size else -1)
-        self.f = open(out / "steps.csv", "w", newline="", encoding="utf-8")
-        self.w = csv.writer(self.f)
-        self.w.writerow(["step", "time_s", "dt_s", "iterations", "max_dn_dt_1_s", "max_dV_dt_over_V_1_s",
-                         "max_dn", "max_dV_over_V", "factorisations", "solves", "gmres_iterations"]
-                        + [f"Uf_axial_at_{h:g}m_x_min" for h in self.heights])
+        self.f = CsvStream(out / "steps.csv", ["step", "time_s", "dt_s", "iterations", "max_dn_dt_1_s",
+                                               "max_dV_dt_over_V_1_s", "max_dn", "max_dV_over_V", "factorisations",
+                                               "solves", "gmres_iterations"]
+                           + [f"Uf_axial_at_{h:g}m_x_min" for h in self.heights])
         self.last = {}
 
     def write(self, k, s, dt, its, rate, change):
+        """One row; ``rate`` and ``change`` None before the first step (written as empty cells)."""
         st = getattr(self.model.linear, "stats", {})
         v = self.model.element_mean(s.V)
         w = self.model.element_mean(s.W)
-        uf = [(v[e, 1] + w[e, 1]) / (2.0 * s.n[e]) if e >= 0 else np.nan for e in self.axis_el]
+        uf = [(v[e, 1] + w[e, 1]) / (2.0 * s.n[e]) for e in self.axis_el]
+        values = {"Uf_axial": np.array(uf)} if k == 0 else {
+            "Uf_axial": np.array(uf), "rates": np.array(rate), "changes": np.array(change)}
+        if not check_finite("steps.csv", s.t, values, element_name="entry"):
+            return
         self.last = {"uf": uf, "prev": self.last.get("uf")}
-        self.w.writerow([k, f"{s.t:.10g}", f"{dt:.6g}", its, f"{rate[0]:.4g}", f"{rate[1]:.4g}", f"{change[0]:.4g}",
-                         f"{change[1]:.4g}", st.get("factorisations", 0), st.get("solves", 0),
-                         st.get("gmres_iterations", 0)] + [f"{u:.10g}" for u in uf])
-        self.f.flush()
+        r, c = (None, None) if k == 0 else (rate, change)
+        self.f.rows([[k, s.t, f"{dt:.6g}", its, *(("", "") if r is None else (f"{r[0]:.4g}", f"{r[1]:.4g}")),
+                      *(("", "") if c is None else (f"{c[0]:.4g}", f"{c[1]:.4g}")), st.get("factorisations", 0),
+                      st.get("solves", 0), st.get("gmres_iterations", 0), *uf]])
 
     def centreline(self) -> dict:
         """U_f,axial of the element next to the axis (x min) at each profile height, and its last change."""
@@ -430,22 +407,15 @@ def _write_fields(writer, model, s):
 
 def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     """Run a resolved ``two_fluid_2d`` case; returns :class:`~twofluid.runners.RunResult`."""
-    name = case["case"]["name"]
-    out = Path(out_dir or f"twofluid-out/{name}")
+    wall0 = time.perf_counter()
+    b = build_2d(case)  # before anything is written; a failed initial flow field is a StepFailure,
+    # which run_case reports as a failed run with a summary
+    out = Path(out_dir or default_out_dir(case))
     out.mkdir(parents=True, exist_ok=True)
     write_resolved_case(out / "case.resolved.toml", case)
     extra = {}
     if case["single_fluid"]["enabled"]:
-        extra["single_fluid"] = single_fluid_check(case, build_mesh(case), out, case["output"]["plots"])
-    wall0 = time.perf_counter()
-    try:
-        b = build_2d(case)
-    except StepFailure as exc:  # the initial flow field: nothing to step from, but say so in the summary
-        summary = {"case": name, "status": "failed", "stopped_at_s": 0.0, "reason": str(exc),
-                   "end_time_s": case["time"]["end"], "wall_time_s": time.perf_counter() - wall0,
-                   "steps": 0, **extra}
-        write_json(out / "summary.json", summary)
-        return RunResult("failed", out, summary, {}, {})
+        extra["single_fluid"] = single_fluid_check(case, b.model.mesh, out, case["output"]["plots"])
     model, state = b.model, b.state
     writer = FieldWriter(out, model.mesh)
     prof = _Profiles(out, model, case["profiles"]["heights"])
@@ -462,7 +432,7 @@ def run_2d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     else:
         steps = integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings)
     history = _History(out, model, pc["heights"])
-    history.write(0, state, 0.0, 0, (np.nan, np.nan), (np.nan, np.nan))
+    history.write(0, state, 0.0, 0, None, None)
     pending = [t for t in out_times if t > state.t]
     offset = 0  # steps before a fallback to the transient
     pseudo = isinstance(steps, SteadySteps)
