@@ -8,9 +8,11 @@ The public facade. A script usually needs only these::
     6.25e-05
 
 then ``twofluid.run_case(case, out_dir)`` to run it (results and summary as
-``twofluid run`` writes them) or ``twofluid.build(case)`` for the model and
+``twofluid run`` writes them; ``out_dir=None`` keeps them in memory only, in
+``RunResult.tables``) or ``twofluid.build(case)`` for the model and
 initial state to drive ``twofluid.integrate`` yourself; ``twofluid.run_ensemble(path)``
-runs an ensemble file's members on Dask and returns their results table.
+runs an ensemble file's members on Dask and returns their results table. An edited case
+is validated again by ``run_case`` exactly as a case file (``CaseError``).
 """
 __version__ = "0.1.0"
 
@@ -27,6 +29,11 @@ _EXPORTS = {
     "integrate": "twofluid.timestepping.backward_euler",
 }
 __all__ = ["__version__", *_EXPORTS]
+
+
+def __dir__() -> list[str]:
+    """The public names (tab completion), imported lazily by :func:`__getattr__`."""
+    return sorted({*globals(), *__all__})
 
 
 def __getattr__(name: str):

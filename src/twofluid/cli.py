@@ -66,9 +66,10 @@ def _cmd_cases(args) -> int:
 
     cases = bundled_cases()
     width = max(map(len, cases)) if cases else 0
+    readmes = [name for name in cases if case_readme(name)]
     for name, desc in cases.items():
-        mark = "  [README: twofluid show --readme " + name + "]" if case_readme(name) else ""
-        print(f"{name:<{width}}  {desc}{mark}")
+        print(f"{name:<{width}}  {'R' if name in readmes else ' '}  {desc}")
+    print(f"\nR: has a README (`twofluid show --readme NAME`); `twofluid show NAME > my.toml` copies a case")
     return 0
 
 
@@ -91,6 +92,10 @@ def _cmd_verify(args) -> int:
     from .verification.slis_check import slis_markdown
     from .verification.suite import format_table, validation_summary, verify
 
+    if args.out and not args.no_write:  # before computing
+        from .io.folders import check_out_file
+
+        check_out_file(args.out, "verify --out")
     print("twofluid verify: running the checks ...", file=sys.stderr)
     tables: dict = {}
     rows, _ = verify(out=None if args.no_write else args.out, quick=args.quick, slis=not args.no_slis,

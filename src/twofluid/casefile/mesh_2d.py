@@ -21,8 +21,8 @@ __all__ = ["build_mesh", "check_mesh", "element_row", "uncovered_edges"]
 BOUNDARY_NAMES = ("left", "right", "bottom", "top", "inner", "outer", "axis", "cut")
 
 
-def _mesh_path(case: dict) -> Path:
-    path, src = Path(case["mesh"]["file"]), case.get("_source", "<case>")
+def _mesh_path(case: dict, src: str) -> Path:
+    path = Path(case["mesh"]["file"])
     if not path.is_absolute() and Path(str(src)).is_file():
         path = Path(src).parent / path
     return path
@@ -34,7 +34,7 @@ def build_mesh(case: dict, source: str | None = None) -> QuadMesh:
     if m["kind"] == "gmsh":
         from ..mesh.gmsh_io import MeshError, read_quad_mesh
 
-        path = _mesh_path(case)
+        path = _mesh_path(case, src)
         if not path.is_file():
             raise CaseError(src, "[mesh] file", f"{path} does not exist")
         try:

@@ -16,6 +16,10 @@ __all__ = ["Key", "SCHEMA", "INITIAL_1D", "SCHEMAS", "COMMON", "register_model",
            "validate", "revalidate", "effective", "markdown", "check_schedule"]
 
 REQUIRED = object()
+#: every number of a case lies in ±[WORKING_MIN, WORKING_MAX] or is 0: no quantity of the model
+#: in SI units is near either bound, and products of a few such numbers (pressure = ρ g L,
+#: exp(1/A) …) then stay inside the floating-point range instead of overflowing mid-run
+WORKING_MIN, WORKING_MAX = 1e-100, 1e100
 
 
 @dataclass(frozen=True)
@@ -230,6 +234,10 @@ def _out_of_range(key: Key, value) -> bool:
             or (key.hi is not None and (value > key.hi or (key.hi_open and value == key.hi))))
 
 
+def _workable(v: float) -> bool:
+    return v == 0.0 or WORKING_MIN <= abs(v) <= WORKING_MAX
+
+
 def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
     full = f"[{where}] {key.name}"
     if key.type == FLOATS:
@@ -240,6 +248,9 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
         for i, v in enumerate(out):  # TOML has nan and inf literals: a list entry is a value too
             if not math.isfinite(v):
                 raise CaseError(source, full, f"entry {i + 1} ({v!r}) must be finite")
+            if not _workable(v):
+                raise CaseError(source, full, f"entry {i + 1} ({v!r}) is outside the working range: "
+                                f"0 or {WORKING_MIN:g} ≤ |value| ≤ {WORKING_MAX:g} [{key.unit}]")
             if _out_of_range(key, v):
                 raise CaseError(source, full, f"entry {i + 1} ({v!r}) is outside the valid range "
                                 f"{key.range_text()} [{key.unit}]")
@@ -250,6 +261,9 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
         value = float(value)
         if not math.isfinite(value):
             raise CaseError(source, full, "must be finite")
+        if not _workable(value):
+            raise CaseError(source, full, f"{value!r} is outside the working range: 0 or {WORKING_MIN:g} ≤ "
+                            f"|value| ≤ {WORKING_MAX:g} [{key.unit}]")
     elif key.type is int:
         if isinstance(value, bool) or not isinstance(value, int):
             raise CaseError(source, full, f"must be an integer, got {value!r}")

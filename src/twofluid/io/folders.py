@@ -83,8 +83,8 @@ def _check_parent(p: Path, what: str) -> None:
 
 
 def owned(p: Path) -> bool:
-    """True if folder ``p`` holds an earlier twofluid run (its manifest, or a resolved case)."""
-    return (p / MANIFEST).is_file() or (p / "case.resolved.toml").is_file()
+    """True if folder ``p`` holds a twofluid run (its manifest or lock, or a resolved case)."""
+    return any((p / f).is_file() for f in (MANIFEST, LOCK, "case.resolved.toml"))
 
 
 def check_out_dir(path, what: str = "output folder", own: bool = True) -> Path:

@@ -550,8 +550,11 @@ def _summary(case, b, model, status, reason, last, n_steps, wall, solids0, outfl
                                      "Uf_axial_max_m_s": float(p["Uf_y"].max())}
     cut = case["mesh"]["cut"] if case["mesh"]["kind"] == "rectangle" else []
     if cut:  # the region directly below the cut-out (e.g. below a rotor tip)
-        below = (f["x_m"] >= cut[0]) & (f["x_m"] <= cut[1]) & (f["y_m"] < cut[2]) \
-            & (f["y_m"] > cut[2] - (cut[1] - cut[0]))
+        side = (f["x_m"] >= cut[0]) & (f["x_m"] <= cut[1]) & (f["y_m"] < cut[2])
+        below = side & (f["y_m"] > cut[2] - (cut[1] - cut[0]))
+        if side.any() and not below.any():  # elements taller than the cut is wide: the row below it
+            below = side & (f["y_m"] == f["y_m"][side].max())
+    if cut and below.any():
         s["below_cut"] = {"definition": "elements with x in the cut's range, within one cut width below it",
                           "porosity_max": float(last.n[below].max()),
                           "porosity_mean": float(last.n[below].mean())}
