@@ -69,7 +69,7 @@ def _cmd_cases(args) -> int:
     readmes = [name for name in cases if case_readme(name)]
     for name, desc in cases.items():
         print(f"{name:<{width}}  {'R' if name in readmes else ' '}  {desc}")
-    print(f"\nR: has a README (`twofluid show --readme NAME`); `twofluid show NAME > my.toml` copies a case")
+    print("\nR: has a README (`twofluid show --readme NAME`); `twofluid show NAME > my.toml` copies a case")
     return 0
 
 

@@ -17,6 +17,7 @@ import copy
 import json
 import math
 import os
+import signal
 import tomllib
 import warnings
 from collections import Counter
@@ -29,6 +30,7 @@ from twofluid.runners.common import run_case
 
 FULL = os.environ.get("TWOFLUID_FUZZ_FULL") == "1"
 RUNS_PER_CASE = 3  # sampled runs per bundled case (CI); all with TWOFLUID_FUZZ_FULL=1
+WALL_LIMIT = 20  # [s] per run: then it is stopped as by Ctrl-C (a status too: "interrupted")
 
 NAN, INF = math.nan, math.inf
 VALUES = {
@@ -112,6 +114,10 @@ def _validate(doc: dict, source: str):
         return "refused", str(exc)
 
 
+def _stop(signum, frame):
+    raise KeyboardInterrupt  # the wall limit: the run must stop as on Ctrl-C, with a status
+
+
 def fuzz_case(name: str, tmp_path, runs: int | None) -> Counter:
     outcomes: Counter = Counter()
     accepted = []
@@ -128,13 +134,20 @@ def fuzz_case(name: str, tmp_path, runs: int | None) -> Counter:
     sample = (extreme + rest) if runs is None else (extreme + rest)[:runs]
     for i, (label, case) in enumerate(sample):
         case["_source"] = f"{name} (bundled)"
+        old = signal.signal(signal.SIGALRM, _stop)
+        signal.alarm(WALL_LIMIT)
         try:
             res = run_case(_short(case), tmp_path / f"{name}-{i}")
         except CaseError as exc:  # the one-step version of the case is refused: also a clean line
             assert "\n" not in str(exc), (label, str(exc))
             outcomes["run refused with one line"] += 1
             continue
-        assert res.status in ("completed", "failed"), (label, res.status, res.summary.get("reason"))
+        finally:
+            signal.alarm(0)
+            signal.signal(signal.SIGALRM, old)
+        assert res.status in ("completed", "failed", "interrupted"), (label, res.status)
+        if res.status == "interrupted":  # only by the wall limit
+            assert "Ctrl-C" in res.summary["reason"], (label, res.summary["reason"])
         summary = json.loads((res.out_dir / "summary.json").read_text())
         assert summary["status"] == res.status, label
         outcomes[f"run {res.status}"] += 1

@@ -32,7 +32,6 @@ so Ctrl-C or a failed step (including a non-finite shear step) leaves readable f
 """
 from __future__ import annotations
 
-import csv
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,7 +44,8 @@ from ..casefile.schema import CaseError, revalidate
 from ..closures import drag as drag_laws
 from ..closures.shear_modulus import seed_idriss_gmax
 from ..io import ground_motion as gm
-from ..io.results import ResultWriter, write_json, write_resolved_case
+from ..io.folders import default_out_dir
+from ..io.results import CsvStream, ResultWriter, check_finite, write_json, write_resolved_case
 from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalColumn
 from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
@@ -254,7 +254,7 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
     # reads the record and weights: a bad one stops here, nothing written
     b = build_column(case, reference=True) if reference else build_column(case)
     name = case["case"]["name"]
-    out = Path(out_dir or f"twofluid-out/{name}")
+    out = Path(out_dir or default_out_dir(case))
     out.mkdir(parents=True, exist_ok=True)
     write_resolved_case(out / "case.resolved.toml", case)
     col, state = b.column, b.state
@@ -265,13 +265,11 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
     ru0 = rec.record(state, True)
     probe_cols = list(rec.probe_values(state, ru0))
     writer = ResultWriter(out, PROFILE_COLUMNS, probe_cols)
-    ffile = open(out / "ru_field.csv", "w", newline="", encoding="utf-8")
-    fcsv = csv.writer(ffile)
-    fcsv.writerow(["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth])
+    ffile = CsvStream(out / "ru_field.csv", ["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth])
 
-    def write_field(s, ru):
-        fcsv.writerow([f"{s.t:.10g}"] + [f"{x:.6g}" for x in ru])
-        ffile.flush()
+    def write_field(s, ru):  # whole rows, finite values only (io.results)
+        if check_finite("ru_field.csv", s.t, {"r_u": ru}):
+            ffile.rows([[s.t, *(f"{x:.6g}" for x in ru)]])
 
     write_field(state, ru0)
     writer.probe(state.t, rec.probe_values(state, ru0))
@@ -319,6 +317,7 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
     wall = time.perf_counter() - wall0
     if round(last.t, 9) not in profiles:
         profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
+        writer.profile(last.t, profiles[round(last.t, 9)])  # the state it stopped at, in the file too
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
                               settle_shaking)
     write_json(out / "summary.json", summary)
