@@ -308,3 +308,37 @@ def test_a_full_disk_leaves_no_half_row(tmp_path):
     with pytest.raises(OSError):
         s.rows([[3.0, 4.0], [5.0, 6.0]])
     assert (tmp_path / "t.csv").read_bytes() == b"a,b\r\n1,2\r\n"
+
+
+def _coarse_viscometer():
+    case = load_case("viscometer")
+    case["mesh"].update(nx=10, ny=16)
+    case["time"]["end"] = case["time"]["step"]
+    case["output"].update(times=[], plots=False)
+    case["single_fluid"]["enabled"] = False
+    return case
+
+
+def test_a_2d_run_with_a_profile_at_the_top_writes_its_summary(tmp_path):
+    case = _coarse_viscometer()
+    case["profiles"]["heights"] = [case["mesh"]["y1"]]
+    res = run_case(case, tmp_path / "o")
+    assert res.status == "completed" and f"{case['mesh']['y1']:g} m" in res.summary["profiles"]
+    assert "nan" not in (tmp_path / "o" / "steps.csv").read_text().lower()
+
+
+def test_the_2d_initial_flow_field_uses_the_cases_picard_settings(monkeypatch):
+    from twofluid.runners import flow_2d
+
+    seen = []
+    real = flow_2d.picard_step
+
+    def spy(model, state, dt, settings, *a, **k):
+        seen.append(settings)
+        return real(model, state, dt, settings, *a, **k)
+
+    monkeypatch.setattr(flow_2d, "picard_step", spy)
+    case = _coarse_viscometer()
+    case["time"].update(picard_tol=3e-6, picard_max_iter=77)
+    flow_2d.build_2d(revalidate(case, "c.toml"))
+    assert (seen[0].tol, seen[0].max_iter) == (3e-6, 77)

@@ -459,7 +459,12 @@ def markdown() -> str:
             pass
     lines = ["# Case-file reference", "",
              "Generated from the schemas in `twofluid.casefile` (`python -m twofluid.casefile.schema "
-             "> docs/case-file.md`). Values are in SI units except where the unit column says otherwise (degrees, per cent, g). Unknown sections or keys are errors; a key without effect (e.g. `pressure` on a wall) is a warning.",
+             "> docs/case-file.md`). Values are in SI units except where the unit column says otherwise (degrees, per cent, g). Unknown sections or keys are errors; a key without effect (e.g. `pressure` on a wall) is a warning. "
+             "Every number, also each entry of a list, must be finite and 0 or of magnitude 1e-100 to 1e100 "
+             "(the program's working range); the valid range of a list applies to each entry. After the keys, "
+             "quantities derived from several keys are checked (terminal and fluidization velocities, drag, "
+             "pressure scales, at most 1e7 time steps; 2D: the mesh, its boundary groups and the heights), so "
+             "a combination that cannot run is refused before anything is computed.",
              "`[case] model` chooses the equation set; each model lists its sections below.", ""]
     seen: set[str] = set()
     for model, schema in SCHEMAS.items():
