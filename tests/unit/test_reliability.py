@@ -342,3 +342,33 @@ def test_the_2d_initial_flow_field_uses_the_cases_picard_settings(monkeypatch):
     case["time"].update(picard_tol=3e-6, picard_max_iter=77)
     flow_2d.build_2d(revalidate(case, "c.toml"))
     assert (seen[0].tol, seen[0].max_iter) == (3e-6, 77)
+
+
+def test_verify_prints_the_validation_table_and_writes_nothing_by_default(tmp_path, monkeypatch, capsys):
+    from twofluid.verification import slis_check
+    from twofluid.verification.slis import load_slis_table
+
+    rows = load_slis_table()[:2]
+    fake = [{"row": i + 1, "material": r.material, "d_mm": 1e3 * r.d, "n0": r.n0, "n1": r.n1,
+             "t1_exp": r.t1_exp, "t1_thesis": r.t1_thesis, "t1_twofluid": 1.1 * r.t1_exp, "t1_reach": r.t1_exp,
+             "err_thesis": (r.t1_thesis - r.t1_exp) / r.t1_exp, "err_twofluid": 0.1, "note": ""}
+            for i, r in enumerate(rows)]
+    monkeypatch.setattr(slis_check, "slis_table", lambda rows=None: fake)
+    monkeypatch.chdir(tmp_path)
+    assert main(["verify", "--quick", "--only", "hydrostatic"]) == 0
+    out = capsys.readouterr().out
+    thesis = sum(abs(r["err_thesis"]) for r in fake) / len(fake)
+    assert "| check |" in out and "t1 thesis FEA [s]" in out
+    assert f"mean absolute t1 error twofluid 10.0 %, thesis FEA {100 * thesis:.1f} %" in out
+    assert list(tmp_path.iterdir()) == []  # nothing written without --out
+    assert main(["verify", "--quick", "--only", "hydrostatic", "--out", "r.md"]) == 0
+    assert "## Validation: Slis" in (tmp_path / "r.md").read_text()
+
+
+def test_show_prints_a_cases_readme(capsys):
+    assert main(["show", "--readme", "pipe-flow"]) == 0
+    assert capsys.readouterr().out.startswith("#")
+    assert main(["show", "--readme", "settling-illite"]) == 2  # it has none: one line
+    assert main(["cases"]) == 0
+    listing = capsys.readouterr().out
+    assert "pipe-flow" in listing and "R: has a README" in listing
