@@ -1,7 +1,7 @@
 """Fuzz every bundled case: each mutation is either one clean line or a run with a status.
 
 Every key of every section of each case's model (given in the case file or not) is set to
-values of the wrong type, the wrong sign, 0, 1e308, 1e-300, NaN, ±inf, empty and odd lists;
+values of the wrong type, the wrong sign, 0, 1e308, 1e-300, 1e±30, NaN, ±inf, empty and odd lists;
 each key and each section is also removed, and an unknown key added. Each mutated case is
 validated as ``twofluid run`` validates it: it must either be refused with a
 :class:`CaseError` of one line, or be accepted. A deterministic sample of the accepted ones
@@ -34,13 +34,13 @@ WALL_LIMIT = 20  # [s] per run: then it is stopped as by Ctrl-C (a status too: "
 
 NAN, INF = math.nan, math.inf
 VALUES = {
-    float: [-1.0, 0.0, 1e308, 1e-300, NAN, INF, -INF, "text", True, [1.0]],
+    float: [-1.0, 0.0, 1e308, 1e-300, 1e30, 1e-30, NAN, INF, -INF, "text", True, [1.0]],
     int: [-1, 0, 10 ** 9, 1.5, "3", True],
     str: ["", "nonsense", 5, "../../escaped"],
     bool: ["yes", 1],
-    FLOATS: [[], [NAN], [1e308], [-1.0], [1e-300], "x", [[1.0]], [INF], [0.0, 0.0, 0.0]],
+    FLOATS: [[], [NAN], [1e308], [-1.0], [1e-300], [1e30], "x", [[1.0]], [INF], [0.0, 0.0, 0.0]],
 }
-EXTREME = {repr(v) for v in (-1.0, 0.0, 1e308, 1e-300, -1, 0, 10 ** 9, [1e308], [-1.0], [1e-300], [0.0, 0.0, 0.0])}
+EXTREME = {repr(v) for v in (1e30, 1e-30, -1.0, 0.0, -1, 0, 10 ** 9, [1e30], [-1.0], [0.0, 0.0, 0.0])}
 DELETE = object()
 
 

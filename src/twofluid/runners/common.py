@@ -94,7 +94,7 @@ class Terminated(KeyboardInterrupt):
 _NUMERICAL_ERRORS = (FloatingPointError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError,
                      RuntimeError, OSError)
 _PROGRAM_ERRORS = (NotImplementedError, RecursionError)
-#: where a run is: "set-up", "time loop" or "after the time loop" (summary and plots)
+#: where a run is: "set-up", "time loop" or "summary and plots"
 _PHASE: contextvars.ContextVar[str] = contextvars.ContextVar("twofluid_run_phase", default="set-up")
 
 
@@ -129,7 +129,7 @@ def run_guard(t_end: float, progress: bool, *closing):
         text = str(exc) if isinstance(exc, NonFiniteOutput) else f"{type(exc).__name__}: {exc}"
         run.status, run.reason = "failed", text
     finally:
-        _PHASE.set("after the time loop")
+        _PHASE.set("summary and plots")
         run.bar.close()
         for c in closing:
             try:
@@ -183,7 +183,7 @@ def _outside_loop(case: dict, out: Path, status: str, reason: str, wall: float) 
     """Summary of a run interrupted or failed outside its time loop (see :func:`run_case`)."""
     path = out / "summary.json"
     phase = _PHASE.get()
-    if path.is_file() and phase == "after the time loop":  # written by this run: the plots were going
+    if path.is_file() and phase == "summary and plots":  # written by this run: the plots were going
         import json
 
         summary = json.loads(path.read_text(encoding="utf-8"))
