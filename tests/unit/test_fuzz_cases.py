@@ -25,7 +25,7 @@ from collections import Counter
 import pytest
 
 from twofluid.casefile.loader import bundled_cases, case_text
-from twofluid.casefile.schema import FLOATS, CaseError, _model_schema, validate
+from twofluid.casefile.schema import ARRAYS, FLOATS, CaseError, _model_schema, validate
 from twofluid.runners.common import run_case
 
 FULL = os.environ.get("TWOFLUID_FUZZ_FULL") == "1"
@@ -63,7 +63,9 @@ def mutations(name: str):
     """(label, mutated document) for one bundled case."""
     base = _doc(name)
     model = base["case"].get("model", "two_fluid_1d")
-    for where, keys in _model_schema(model).items():
+    schema = _model_schema(model)  # imports the model's schema module (which registers its arrays)
+    yield from _array_mutations(name, base, model)
+    for where, keys in schema.items():
         for key in keys:
             for value in [*VALUES[key.type], DELETE]:
                 doc = copy.deepcopy(base)
@@ -81,10 +83,33 @@ def mutations(name: str):
         yield f"{name}: [{where}] no_such_key = 1.0", doc
         parts = where.split(".")
         doc = copy.deepcopy(base)
+        if where in ARRAYS.get(model, {}):
+            continue
         parent = _table(doc, ".".join(parts[:-1]), create=False) if len(parts) > 1 else doc
         if parent is not None and parts[-1] in parent:
             del parent[parts[-1]]
             yield f"{name}: [{where}] <section deleted>", doc
+
+
+def _array_mutations(name: str, base: dict, model: str):
+    """The same for arrays of tables ([[layers]]): each key of the first entry, and no entry at all."""
+    for array, keys in ARRAYS.get(model, {}).items():
+        if not base.get(array):
+            continue
+        for key in keys:
+            for value in [*VALUES[key.type], DELETE]:
+                doc = copy.deepcopy(base)
+                entry = doc[array][0]
+                if value is DELETE:
+                    if key.name not in entry:
+                        continue
+                    del entry[key.name]
+                else:
+                    entry[key.name] = value
+                yield f"{name}: [[{array}]] 1 {key.name} = {'<deleted>' if value is DELETE else repr(value)}", doc
+        doc = copy.deepcopy(base)
+        doc[array] = []
+        yield f"{name}: [[{array}]] <no entry>", doc
 
 
 def _short(case: dict) -> dict:

@@ -294,6 +294,10 @@ def _check_layers(case: dict, source: str) -> None:
         if la["elements"] == 0 and la["element_size"] > la["thickness"] * (1.0 + 1e-9):
             raise CaseError(source, f"{lab} element_size", f"{la['element_size']:g} m is larger than the "
                             f"layer ({la['thickness']:g} m); valid: (0, {la['thickness']:g}]")
+        if la["elements"] == 0 and la["thickness"] / la["element_size"] > 5000:  # as the elements key
+            raise CaseError(source, f"{lab} element_size", f"{la['element_size']:g} m gives more than 5000 "
+                            f"elements in the layer ({la['thickness']:g} m); valid: at least "
+                            f"{la['thickness'] / 5000:g} m")
         if not sat[i]:
             if not la["unit_weight"] > 0.0:
                 raise CaseError(source, f"{lab} unit_weight", "missing: a layer above the water table (crust) "
