@@ -158,16 +158,16 @@ SCHEMA: dict[str, list[Key]] = {
 # solids mass or settled height (twofluid.casefile.bed)
 INITIAL_1D: list[Key] = [
     K("porosity", float, -1.0, "-", "porosity of the bed, in (0, 1] (required unless state = \"fluidized\")",
-      used_when=("state", ("uniform", "settled"))),
+      used_when=("state", ("uniform", "settled")), sentinel=-1.0),
     K("bed_height", float, -1.0, "m", "height of the bed above the bottom; clear liquid (n = 1) "
       "above it; the bed fills the elements whose centres lie below it (a warning says so when "
       "that moves the surface) (-1: the whole column, or the height that solids_mass or "
-      "settled_height give)"),
+      "settled_height give)", sentinel=-1.0),
     K("solids_mass", float, -1.0, "kg", "the bed given by its solids inventory instead of "
       "bed_height: its height is the mass/(ρ_s (1 − n)) over the cross-section, the element "
-      "the surface cuts holding the remainder; > 0 (-1: not given)"),
+      "the surface cuts holding the remainder; > 0 (-1: not given)", sentinel=-1.0),
     K("settled_height", float, -1.0, "m", "the bed given by the height it settles to at "
-      "settled_porosity instead of bed_height, in (0, length] (-1: not given)"),
+      "settled_porosity instead of bed_height, in (0, length] (-1: not given)", sentinel=-1.0),
     K("settled_porosity", float, 0.4, "-", "porosity of the settled bed of settled_height",
       lo=0.0, hi=1.0, lo_open=True, hi_open=True),
     K("state", str, "uniform", "-", "uniform: n̄ from [closures.solids_pressure]; settled: n̄ such "
