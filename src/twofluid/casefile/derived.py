@@ -108,7 +108,7 @@ def check_derived(case: dict, source: str) -> None:
             _finite_scale(source, _MATERIAL_KEYS, "a slip limit (slip_saturation × terminal velocity) [m/s]",
                           clo.slip_max)
         n0 = case.get("initial", case.get("deposit", {})).get("porosity")
-        if n0 is not None and n0 < 1.0:
+        if n0 is not None and 0.0 < n0 < 1.0:  # -1: not given (e.g. a fluidized initial state)
             beta = clo.drag(np.array([n0]), np.array([0.0]), mat.d, mat.rho_f, mat.mu_f, **clo.drag_params)
             _finite_scale(source, f"{_MATERIAL_KEYS} at the initial porosity", "a drag coefficient β [kg/(m³ s)]",
                           beta)
