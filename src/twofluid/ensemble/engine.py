@@ -38,10 +38,10 @@ def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> di
     >>> res = run_member(case, ["steps", "nothing.here"])
     >>> res["status"], res["figures"]
     ('completed', {'steps': 2, 'nothing.here': None})
-    >>> case["materials"]["particle_density"] = "heavy"   # an error of the run, not of the driver
+    >>> case["materials"]["particle_density"] = "heavy"   # an error of the member, not of the driver
     >>> res = run_member(case, ["steps"])
     >>> res["status"], res["reason"][:9]
-    ('failed', 'TypeError')
+    ('failed', 'CaseError')
     """
     from ..runners import run_case
 
