@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import datetime
 import os
-import platform
 import resource
 import shutil
 import statistics
@@ -131,23 +130,15 @@ def scaling(elements: int, t_end: float, reference: bool = False) -> tuple[float
 
 
 def machine() -> str:
-    cpu = "unknown CPU"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    import numpy
+    """The verification report's machine line, with numba's version (or its absence)."""
+    from twofluid.verification.suite import machine as base
 
     try:
         import numba
         nb = f", numba {numba.__version__}"
     except ImportError:
         nb = ", no numba"
-    return (f"{cpu}, {os.cpu_count()} logical CPUs, Linux {platform.release()}; Python "
-            f"{platform.python_version()}, NumPy {numpy.__version__}{nb}")
+    return base() + nb
 
 
 def main(argv=None) -> int:

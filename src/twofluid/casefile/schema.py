@@ -452,6 +452,16 @@ def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
     return flat
 
 
+def _key_table(heading: str, keys) -> list[str]:
+    """Markdown lines of one section's keys: type, default, unit, valid range, meaning."""
+    lines = [heading, "", "| key | type | default | unit | valid | meaning |", "|---|---|---|---|---|---|"]
+    for k in keys:
+        t = "list of numbers" if k.type == FLOATS else k.type.__name__
+        d = "required" if k.default is REQUIRED else repr(k.default)
+        lines.append(f"| `{k.name}` | {t} | {d} | {k.unit} | {k.range_text()} | {k.doc} |")
+    return lines + [""]
+
+
 def markdown() -> str:
     """The case-file reference (docs/case-file.md), generated from the registered schemas."""
     for model in _MODEL_MODULES:
@@ -480,22 +490,10 @@ def markdown() -> str:
                 continue
             seen.add(ident)
             owners = [m for m, sc in SCHEMAS.items() if sc.get(where) is keys]
-            lines += [f"### [{where}] ({', '.join(owners)})", "",
-                      "| key | type | default | unit | valid | meaning |", "|---|---|---|---|---|---|"]
-            for k in keys:
-                t = "list of numbers" if k.type == FLOATS else k.type.__name__
-                d = "required" if k.default is REQUIRED else repr(k.default)
-                lines.append(f"| `{k.name}` | {t} | {d} | {k.unit} | {k.range_text()} | {k.doc} |")
-            lines.append("")
+            lines += _key_table(f"### [{where}] ({', '.join(owners)})", keys)
     for model, arrays in ARRAYS.items():
         for name, keys in arrays.items():
-            lines += [f"### [[{name}]] ({model}; one table per entry)", "",
-                      "| key | type | default | unit | valid | meaning |", "|---|---|---|---|---|---|"]
-            for k in keys:
-                t = "list of numbers" if k.type == FLOATS else k.type.__name__
-                d = "required" if k.default is REQUIRED else repr(k.default)
-                lines.append(f"| `{k.name}` | {t} | {d} | {k.unit} | {k.range_text()} | {k.doc} |")
-            lines.append("")
+            lines += _key_table(f"### [[{name}]] ({model}; one table per entry)", keys)
     return "\n".join(lines)
 
 
