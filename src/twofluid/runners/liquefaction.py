@@ -45,7 +45,8 @@ from ..closures import drag as drag_laws
 from ..closures.shear_modulus import seed_idriss_gmax
 from ..io import ground_motion as gm
 from ..io.folders import default_out_dir
-from ..io.results import CsvStream, ResultWriter, check_finite, write_json, write_resolved_case
+from ..io.results import (CsvStream, NonFiniteOutput, ResultWriter, check_finite, write_json,
+                          write_resolved_case)
 from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalColumn
 from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
@@ -321,7 +322,12 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
                               settle_shaking)
     write_json(out / "summary.json", summary)
-    report.write_tables(out, summary, extra, rec)
+    try:
+        report.write_tables(out, summary, extra, rec)
+    except NonFiniteOutput as exc:  # a NaN in a report table: the run failed, said in its summary
+        status = summary["status"] = "failed"
+        summary["reason"] = str(exc)
+        write_json(out / "summary.json", summary)
     if case["output"]["plots"]:
         from ..plots.liquefaction import liquefaction_plots
 

@@ -11,6 +11,8 @@ Depths are from the ground surface throughout.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from ..geotech import response_spectrum, simplified_procedure
@@ -139,8 +141,19 @@ ELEMENT_COLUMNS = ["depth_top_m", "depth_bottom_m", "depth_m", "layer", "saturat
 
 
 def _write_csv(path, header, rows):
+    """A report table; None is an empty cell. A NaN is refused (NonFiniteOutput naming the file,
+    the column and the row), never written; inf is kept where it has a meaning (FS of a row that
+    cannot liquefy, docs/simplified.md)."""
     import csv
 
+    from ..io.results import NonFiniteOutput
+
+    rows = [list(r) for r in rows]
+    for i, r in enumerate(rows):
+        for name, x in zip(header, r):
+            if isinstance(x, float) and x != x:
+                raise NonFiniteOutput(f"NaN in {Path(path).name}, column {name}, row {i + 1}: "
+                                      "the report is not written with it")
     with open(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         w.writerow(header)
