@@ -306,3 +306,19 @@ def test_compliant_base_case(folder):
     soft = np.max(np.abs(top["soft"] - top["rigid"]))
     assert soft > 0.1 * np.max(np.abs(top["rigid"]))
     assert np.max(np.abs(top["stiff"] - top["rigid"])) < 0.05 * soft
+
+
+def test_units_given_with_an_at2_record_is_warned_as_without_effect(tmp_path):
+    """An .AT2 record is in g by its format: `[ground_motion] units` only acts on a .csv record."""
+    import warnings
+
+    from twofluid.casefile.loader import case_text
+
+    text = case_text("liquefaction-elcentro").replace("[ground_motion]\n", '[ground_motion]\nunits = "m/s2"\n', 1)
+    path = tmp_path / "at2.toml"
+    path.write_text(text, encoding="utf-8")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_case(str(path))
+    msgs = [str(w.message) for w in caught if issubclass(w.category, CaseWarning)]
+    assert any("[ground_motion] units: ignored" in m and "'.csv' file" in m for m in msgs), msgs

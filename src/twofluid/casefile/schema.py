@@ -22,6 +22,20 @@ REQUIRED = object()
 WORKING_MIN, WORKING_MAX = 1e-100, 1e100
 
 
+class Suffixes(tuple):
+    """File-name endings for ``K.used_when`` on a file key: a name is "in" it if it ends so.
+
+    >>> "record.CSV" in Suffixes((".csv",)), "x.AT2" in Suffixes((".csv",))
+    (True, False)
+    """
+
+    def __contains__(self, name) -> bool:
+        return isinstance(name, str) and name.lower().endswith(tuple(self))
+
+    def describe(self) -> str:
+        return "a " + " or ".join(repr(x) for x in self) + " file"
+
+
 @dataclass(frozen=True)
 class Key:
     name: str
@@ -34,7 +48,8 @@ class Key:
     lo_open: bool = False
     hi_open: bool = False
     choices: tuple | None = None
-    used_when: tuple[str, tuple] | None = None  # (other key of the section, values that use this key)
+    used_when: tuple[str, tuple] | None = None  # (other key of the section, values that use this key:
+    # a tuple, or a `Suffixes` for a file key)
     sentinel: Any = None  # a value meaning "not set" (e.g. -1 for area_top): left out of a resolved case
 
     def range_text(self) -> str:
@@ -416,8 +431,9 @@ def _resolve_section(source: str, where: str, keys: list[Key], given: dict,
         if key.name in given and key.used_when and key.used_when[0] in out \
                 and out[key.used_when[0]] not in key.used_when[1]:
             other, values = key.used_when
+            wanted = values.describe() if isinstance(values, Suffixes) else " or ".join(map(repr, values))
             unused.append(f"{source}: [{where}] {key.name}: ignored ({other} = {out[other]!r}; used only "
-                          f"when {other} is {' or '.join(map(repr, values))})")
+                          f"when {other} is {wanted})")
     return out
 
 

@@ -20,7 +20,7 @@ import warnings
 from pathlib import Path
 
 from ..io.tables import TableError, read_columns
-from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, register_model
+from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, register_model
 
 __all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "case_relative_path", "load_motion",
            "load_ann_weights", "load_reduction_table", "base_impedance", "layer_label", "saturated",
@@ -114,7 +114,8 @@ _MOTION = [
     K("file", str, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "-", "acceleration record — of the base "
       "([shear_wave] base = \"rigid\") or of the bedrock outcrop (\"compliant\"): a bundled name "
       "(data/ground_motions) or a path (.AT2 in g, or .csv time_s,acceleration) relative to the case file"),
-    K("units", str, "g", "-", "CSV acceleration units", choices=("g", "m/s2")),
+    K("units", str, "g", "-", "CSV acceleration units (an .AT2 record is in g by its format)",
+      choices=("g", "m/s2"), used_when=("file", Suffixes((".csv",)))),
     K("pga_g", float, 0.1, "g", "peak |a| the record is scaled to; 0 switches the shaking off",
       lo=0.0, hi=5.0),
     K("duration", float, -1.0, "s", "shake for this long (the record is cut); -1: the whole record"),
