@@ -322,3 +322,15 @@ def test_units_given_with_an_at2_record_is_warned_as_without_effect(tmp_path):
         load_case(str(path))
     msgs = [str(w.message) for w in caught if issubclass(w.category, CaseWarning)]
     assert any("[ground_motion] units: ignored" in m and "'.csv' file" in m for m in msgs), msgs
+
+
+def test_a_site_too_deep_for_the_simplified_procedure_is_refused_at_load_time(tmp_path):
+    """K_σ of the simplified procedure (run beside every case) holds to 20 atm: refused before anything runs."""
+    from twofluid.casefile.loader import case_text
+
+    text = case_text("liquefaction-gravel").replace("thickness = 10.0", "thickness = 300.0", 1)
+    path = tmp_path / "deep.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(CaseError, match=r"\[layers 1 .*\] thickness: .*20 atm"):
+        load_case(str(path))
+    assert not (tmp_path / "twofluid-out").exists()

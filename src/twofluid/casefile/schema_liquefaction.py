@@ -19,6 +19,7 @@ import math
 import warnings
 from pathlib import Path
 
+from ..geotech.profile import SIGMA_EFF_MAX_PA
 from ..io.tables import TableError, read_columns
 from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, register_model
 
@@ -445,6 +446,10 @@ def _check_physics(case: dict, source: str) -> None:
             limit = lo * math.exp(n / ((1.0 - n) * A))
             raise CaseError(source, f"{lab} p_ref", f"{p_ref:g} Pa gives a reference porosity n̄ <= 0 at the "
                             f"layer's top element (σ′ = {lo:.4g} Pa); valid: p_ref < {limit:.4g} Pa")
+        if bounds[1] > SIGMA_EFF_MAX_PA:  # the simplified procedure beside every run needs K_σ there
+            raise CaseError(source, f"{lab} thickness", f"the layer's base is at σ′_v = {bounds[1]:.4g} Pa; the "
+                            "simplified procedure evaluated beside the run (its K_σ) is valid to "
+                            f"{SIGMA_EFF_MAX_PA:.4g} Pa (20 atm): valid are sites whose base is at most that")
 
 
 def case_relative_path(case: dict, source: str, name: str) -> Path:
