@@ -1,4 +1,4 @@
-"""Warnings for a 1D case whose initial or inlet state lies outside its drag law's validity.
+"""Warnings for a 1D or 2D case whose initial or inlet state lies outside its drag law's validity.
 
 Each drag law in the registry states the porosity and particle Reynolds number
 range where it holds (:class:`~twofluid.closures.registry.Closure`, and for its
@@ -22,11 +22,12 @@ from .schema import CaseWarning
 __all__ = ["drag_validity_warnings"]
 
 
-def drag_validity_warnings(case: dict, clo, mat, inlet_velocities) -> list[str]:
+def drag_validity_warnings(case: dict, clo, mat, inlet_velocities, porosities=None) -> list[str]:
     """The warning lines for ``case`` (and issue them as CaseWarning); ``[]`` when all is in range.
 
     ``clo``, ``mat``: the case's :class:`Closures` and :class:`Materials`; ``inlet_velocities``:
-    the resolved inlet schedule [m/s].
+    the resolved inlet schedule [m/s]; ``porosities``: the porosities the case starts or feeds a
+    bed at (default: those of a 1D case's ``[initial]`` and end boundaries).
 
     >>> from twofluid.casefile.loader import load_case
     >>> from twofluid.casefile.builder import build
@@ -41,9 +42,10 @@ def drag_validity_warnings(case: dict, clo, mat, inlet_velocities) -> list[str]:
     key = f"[closures.drag] law = {d['law']!r}" + (", stokes = true" if d["stokes"] else "")
     out = []
     lo, hi = law.porosity_range
-    porosities = [case["initial"]["porosity"]] if case["initial"]["state"] != "fluidized" else []
-    for end in ("bottom", "top"):
-        porosities += case[f"boundary.{end}"]["porosities"]
+    if porosities is None:
+        porosities = [case["initial"]["porosity"]] if case["initial"]["state"] != "fluidized" else []
+        for end in ("bottom", "top"):
+            porosities += case[f"boundary.{end}"]["porosities"]
     bad = [n for n in porosities if not lo <= n <= hi]
     if bad:
         out.append(f"{src}: {key}: valid for porosities {lo:g}–{hi:g}, but the case starts or feeds "

@@ -23,6 +23,7 @@ import numpy as np
 from ..casefile.builder import Schedule, closures, inlet_velocities, materials, settled_reference_porosity
 from ..casefile.mesh_2d import BOUNDARY_NAMES, build_mesh, element_row, uncovered_edges
 from ..casefile.schema import CaseError, CaseWarning
+from ..casefile.validity import drag_validity_warnings
 from ..io.fields import FieldWriter
 from ..io.folders import default_out_dir
 from ..io.results import CsvStream, check_finite, write_json, write_resolved_case
@@ -73,6 +74,9 @@ def build_2d(case: dict) -> Built2D:
         bcs.append(Boundary2D(group, b["kind"], velocity=vel, solids_velocity=b["solids_velocity"],
                               pressure=b["pressure"], omega=b["omega"],
                               free_slip=b["tangential"] == "free_slip"))
+    inlets = [case[f"boundary.{name}"] for name in BOUNDARY_NAMES if case[f"boundary.{name}"]["kind"] == "inlet"]
+    drag_validity_warnings(case, clo, mat, [u for b in inlets for u in inlet_velocities(b, clo, mat)],
+                           [case["initial"]["porosity"]] + [n for b in inlets for n in b["porosities"]])
     missing = uncovered_edges(mesh, [b.group for b in bcs])
     if missing:
         raise CaseError(src, "[boundary.*]", f"{missing} boundary edges have no condition; mesh groups: "
