@@ -264,7 +264,7 @@ def sensitivity_study(case_name: str, changes: list[tuple[str, str, float]], fig
                     and f0 != 0 else None
             node, name = locate(case, f"{s}.{k}")
             res.rows.append({"parameter": f"{s}.{k}", "base_value": v0, "value": node[name], "fraction": frac,
-                             "figure": f, "unit": unit_of(paths[f] if f != "t1" else "t1_s"), "figure_base": f0,
+                             "figure": f, "unit": unit_of(paths[f]), "figure_base": f0,
                              "figure_value": val, "figure_change": change, "status": row["status"],
                              "also_changes": "; ".join(also)})
     if csv_path:

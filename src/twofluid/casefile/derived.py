@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .schema import CaseError
+from .schema import WORKING_MAX, CaseError
 
 __all__ = ["check_derived", "MAX_STEPS", "SCALE_LIMIT"]
 
@@ -20,7 +20,7 @@ __all__ = ["check_derived", "MAX_STEPS", "SCALE_LIMIT"]
 MAX_STEPS = 1e7
 #: magnitude a derived scale (pressure, velocity, drag coefficient) may reach: far below the
 #: float range, so the products formed in assembly (scale × element size × area …) stay finite
-SCALE_LIMIT = 1e100
+SCALE_LIMIT = WORKING_MAX
 
 _MATERIAL_KEYS = "[materials] particle_density, liquid_density, particle_diameter, sphericity, liquid_viscosity"
 

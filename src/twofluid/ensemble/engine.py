@@ -15,11 +15,12 @@ import os
 import signal
 import tempfile
 import time
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 from tqdm import tqdm
 
+from ..runners.common import sigterm_as_interrupt
 from .results import ResultsTable, figure_at, figure_stats
 
 __all__ = ["run_member", "run_members", "run_ensemble", "cluster_client"]
@@ -108,23 +109,6 @@ def _workers_ignore_ctrl_c():
         signal.signal(signal.SIGINT, old)
 
 
-@contextmanager
-def _sigterm_as_interrupt():
-    """SIGTERM stops the ensemble as Ctrl-C does (finished rows are kept)."""
-    def handler(signum, frame):
-        raise KeyboardInterrupt
-
-    try:
-        old = signal.signal(signal.SIGTERM, handler)
-    except ValueError:  # not the main thread: leave the signal alone
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, old)
-
-
 def _label(v):
     """A parameter as its table shows it: a record file by its name."""
     return Path(v).name if isinstance(v, str) and os.sep in v else v
@@ -167,7 +151,7 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                desc="members", dynamic_ncols=True)
     t0 = time.perf_counter()
     try:
-        with _sigterm_as_interrupt(), (_given(client) if client else cluster_client(workers, scheduler)) as cl:
+        with sigterm_as_interrupt(), (nullcontext(client) if client else cluster_client(workers, scheduler)) as cl:
             record["workers"] = len(cl.nthreads())
             pending = iter(todo)
             by_key, running = {}, {}
@@ -221,11 +205,6 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
         table.close()
         record["wall_time_s"] = time.perf_counter() - t0
     return [rows[i] for i in sorted(rows)], record
-
-
-@contextmanager
-def _given(client):
-    yield client
 
 
 def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, scheduler: str | None = None,

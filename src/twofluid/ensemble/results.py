@@ -11,11 +11,12 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
 import os
 from pathlib import Path
 
 import numpy as np
+
+from ..io.results import plain
 
 __all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "encode", "decode", "FIXED"]
 
@@ -44,19 +45,6 @@ def unit_of(path: str) -> str:
     return "-"
 
 
-def _plain(v):
-    """JSON-ready: numpy arrays and scalars as lists and numbers, NaN/inf as None."""
-    if isinstance(v, dict):
-        return {k: _plain(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple, np.ndarray)):
-        return [_plain(x) for x in v]
-    if isinstance(v, (float, np.floating)):
-        return float(v) if math.isfinite(v) else None
-    if isinstance(v, np.integer):
-        return int(v)
-    return v
-
-
 def figure_at(summary: dict, profiles: dict, path: str):
     """The figure ``path`` of one run: a dotted path into its summary (list entries 1-based), or ``profile.FIELD@T``
     (the element field at output time T [s]; ``@end``: the last profile) as a list.
@@ -77,7 +65,7 @@ def figure_at(summary: dict, profiles: dict, path: str):
         times = sorted(profiles)
         t = times[-1] if when == "end" else next((s for s in times if abs(s - float(when)) <= 1e-9 * max(1.0, s)),
                                                  None)
-        return None if t is None or name not in profiles[t] else _plain(profiles[t][name])
+        return None if t is None or name not in profiles[t] else plain(profiles[t][name])
     node = summary
     for part in path.split("."):
         if isinstance(node, list) and part.isdigit() and 1 <= int(part) <= len(node):
@@ -86,7 +74,7 @@ def figure_at(summary: dict, profiles: dict, path: str):
             node = node[part]
         else:
             return None
-    return _plain(node)
+    return plain(node)
 
 
 def encode(v) -> str:

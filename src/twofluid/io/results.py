@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
-__all__ = ["ResultWriter", "CsvStream", "NonFiniteOutput", "write_resolved_case", "write_json", "read_table",
+__all__ = ["plain", "ResultWriter", "CsvStream", "NonFiniteOutput", "write_resolved_case", "write_json", "read_table",
            "check_finite", "reset_nonfinite"]
 
 #: set once a run's writer has refused a non-finite row (the run has failed with that reason)
@@ -128,26 +128,32 @@ def write_resolved_case(path: Path, case: dict) -> None:
     path.write_text(header + tomli_w.dumps(doc), encoding="utf-8")
 
 
+def plain(v):
+    """JSON-ready: numpy arrays and scalars as lists and numbers, NaN/inf as None ("not computed").
+
+    >>> plain({"a": np.array([1.0, np.nan]), "b": np.int64(2), "c": np.True_})
+    {'a': [1.0, None], 'b': 2, 'c': True}
+    """
+    if isinstance(v, dict):
+        return {k: plain(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return [plain(x) for x in v]
+    if isinstance(v, (np.floating, float)):
+        return None if not np.isfinite(v) else float(v)
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, np.bool_):
+        return bool(v)
+    return v
+
+
 def write_json(path: Path, data: dict) -> None:
     """``data`` as JSON; non-finite numbers become null ("not computed"). Written to a temporary
     file first and renamed, so an older summary is replaced only by a complete one."""
-    def clean(v):
-        if isinstance(v, dict):
-            return {k: clean(x) for k, x in v.items()}
-        if isinstance(v, (list, tuple, np.ndarray)):
-            return [clean(x) for x in v]
-        if isinstance(v, (np.floating, float)):
-            return None if not np.isfinite(v) else float(v)
-        if isinstance(v, np.integer):
-            return int(v)
-        if isinstance(v, np.bool_):
-            return bool(v)
-        return v
-
     path = Path(path)
     tmp = path.with_name(path.name + ".tmp")
     try:
-        tmp.write_text(json.dumps(clean(data), indent=2) + "\n", encoding="utf-8")
+        tmp.write_text(json.dumps(plain(data), indent=2) + "\n", encoding="utf-8")
         tmp.replace(path)
     finally:
         tmp.unlink(missing_ok=True)

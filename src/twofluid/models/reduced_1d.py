@@ -55,7 +55,6 @@ import numpy as np
 from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
 from ..closures.viscosity import solid_viscosity
-from .extrapolation import Extrapolator
 from .two_fluid_1d import _CLEAR, State, TwoFluid1D
 
 __all__ = ["Reduced1D"]
@@ -117,7 +116,6 @@ class Reduced1D(TwoFluid1D):
         self._dt_c = self._V_c = self._step = None  # caches of what is fixed per Δt, per V, per step
         self._belf = self._belf_of = None  # upwind side as 0/1 floats, and the boolean array it came from
         self._last_iterate = None  # pieces of the last assembled iterate, for the pressure of the step
-        self._extrap = Extrapolator()  # W and n of the last converged steps, for the first iterate
 
     # ----------------------------------------------------------- pieces
     def mixture_flux(self, t: float) -> float:

@@ -162,7 +162,7 @@ def validated_case(case) -> dict:
 
 
 @contextmanager
-def _sigterm_as_interrupt():
+def sigterm_as_interrupt():
     """SIGTERM raises :class:`Terminated` while a run is going (main thread only: signal
     handlers cannot be set elsewhere, e.g. in a worker thread of an ensemble)."""
     if threading.current_thread() is not threading.main_thread():
@@ -230,7 +230,7 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
     runner = getattr(importlib.import_module(mod), func)
     wall0 = time.perf_counter()
     try:
-        with OutputFolder(out) as folder, _sigterm_as_interrupt():
+        with OutputFolder(out) as folder, sigterm_as_interrupt():
             token = _PHASE.set("set-up")
             try:
                 res = runner(case, out, progress=progress)

@@ -59,7 +59,7 @@ def build_2d(case: dict) -> Built2D:
     mesh = build_mesh(case)
     mat = materials(case)
     clo = closures(case, mat)
-    bcs = []
+    bcs, inlet_speeds, inlet_porosities = [], [], []
     for name in BOUNDARY_NAMES:
         b = case[f"boundary.{name}"]
         if b["kind"] == "none":
@@ -70,13 +70,14 @@ def build_2d(case: dict) -> Built2D:
                             f"groups: {', '.join(sorted(mesh.boundaries))}")
         vel = None
         if b["kind"] == "inlet":
-            vel = Schedule(tuple(b["times"]), inlet_velocities(b, clo, mat))
+            speeds = inlet_velocities(b, clo, mat)
+            vel = Schedule(tuple(b["times"]), speeds)
+            inlet_speeds += list(speeds)
+            inlet_porosities += b["porosities"]
         bcs.append(Boundary2D(group, b["kind"], velocity=vel, solids_velocity=b["solids_velocity"],
                               pressure=b["pressure"], omega=b["omega"],
                               free_slip=b["tangential"] == "free_slip"))
-    inlets = [case[f"boundary.{name}"] for name in BOUNDARY_NAMES if case[f"boundary.{name}"]["kind"] == "inlet"]
-    drag_validity_warnings(case, clo, mat, [u for b in inlets for u in inlet_velocities(b, clo, mat)],
-                           [case["initial"]["porosity"]] + [n for b in inlets for n in b["porosities"]])
+    drag_validity_warnings(case, clo, mat, inlet_speeds, [case["initial"]["porosity"]] + inlet_porosities)
     missing = uncovered_edges(mesh, [b.group for b in bcs])
     if missing:
         raise CaseError(src, "[boundary.*]", f"{missing} boundary edges have no condition; mesh groups: "

@@ -77,14 +77,6 @@ def _source(case: dict) -> str:
     return case.get("_source", "") or "<case>"
 
 
-def load_motion(case: dict) -> gm.GroundMotion | None:
-    """The base record of the case in m/s², cut, baseline-corrected and scaled (None if pga_g = 0).
-
-    A record path is relative to the case file; problems are CaseErrors naming file and key.
-    """
-    return schema_liquefaction.load_motion(case, _source(case))
-
-
 def validated(case: dict) -> dict:
     """``case`` (a resolved dict, possibly edited since loading) checked again through the schema,
     including the files it names; CaseError otherwise. Nothing is written."""
@@ -196,7 +188,7 @@ class _Recorder:
         self.t.append(s.t)
         self.ru.append(ru[self.elem])
         self.sig.append(col.granular_pressure(s)[self.elem] / col.sigma_v0[self.elem])
-        self.settle.append(col.settlement(s))
+        self.settle.append(float(np.sum(self.last_contribution)))  # = col.settlement(s)
         self.pbase.append(float(col.excess_pressure(s)[0]))
         self.ru_top.append(float(ru[-1]))
         self.flux_top.append(col.surface_seepage(s))

@@ -93,7 +93,8 @@ def mixture(case: dict, model, state) -> dict | None:
     xy = mesh.points[mesh.cells]
     r_lo, r_hi = xy[:, :, 0].min(axis=1), xy[:, :, 0].max(axis=1)
     zc = xy[:, :, 1].mean(axis=1)
-    geo = spindle_section(mesh.points, nodes, _bed_surface(mesh, state.n, nodes, model.vol))
+    surface = _bed_surface(mesh, state.n, nodes, model.vol)
+    geo = spindle_section(mesh.points, nodes, surface)
     out = spindle_torque(mesh.points, nodes, mixture_swirl_reaction(model, state)[nodes], omega, geo)
     calm = swirl_without_circulation(model, state)
     still = spindle_torque(mesh.points, nodes, mixture_swirl_reaction(model, calm)[nodes], omega, geo)
@@ -120,7 +121,7 @@ def mixture(case: dict, model, state) -> dict | None:
                                     "apparent_viscosity_Pa_s": still["apparent_viscosity_Pa_s"]},
         "circulation_share_of_torque": 1.0 - still["torque_N_m"] / out["torque_N_m"],
         "circulation_share_of_section_torque": 1.0 - still["section_torque_N_m"] / out["section_torque_N_m"],
-        "bed_surface_m": _bed_surface(mesh, state.n, nodes, model.vol),
+        "bed_surface_m": surface,
         "definition": _TORQUE_DEFINITION + ". Mixture: the wetted side ends at the bed's surface in the gap "
         f"(bottom of the lowest row with mean porosity above {CLEAR_ROW}); the steady reaction of the "
         "mixture's swirl rows (liquid and solids stresses together); Mooney–Pringle viscosity at the section's mean porosity "
