@@ -240,7 +240,7 @@ class Reduced1D(TwoFluid1D):
         s3 = np.abs(qb - st["dq3"]) * iden3  # |s| at n, n + δn, n
         ds = 1e-6 * np.maximum(s3[0], 1e-6)
         s3[2] += ds
-        k3 = self.clo.beta_per_solids(n3.ravel(), s3.ravel(), mat).reshape(3, -1) * (0.5 / (n3 * n3))
+        k3 = self.clo.beta_per_solids(n3.ravel(), s3.ravel(), self._materials_times(3)).reshape(3, -1) * (0.5 / (n3 * n3))
         k0, kn = k3[0], k3[1]  # K/(2n²) at the iterate and at n + δn
         gain = (k3[2] - k0) * (np.sign(qb) * iden3[0] / ds)  # K'(|s|) |s|/q̄ /(2n²)
         kd = (kn - k0) / st["dn"]

@@ -18,38 +18,13 @@ with the new reference porosity.
 """
 from __future__ import annotations
 
-from dataclasses import fields, replace
 
 import numpy as np
 
 from .reduced_1d import Reduced1D
-from .two_fluid_1d import Closures, State
+from .two_fluid_1d import State
 
 __all__ = ["ReducedVerticalColumn"]
-
-
-class _LayeredClosures(Closures):
-    """Closures whose drag accepts the reduced model's fused call (the law at three points per
-    element in one array) when the particle diameter is an array per element (layered site)."""
-
-    def beta_per_solids(self, n, slip, mat):
-        if np.ndim(mat.d_p) and np.size(n) != np.size(mat.d_p):
-            mat = _tiled(mat, np.size(n) // np.size(mat.d_p))
-        return super().beta_per_solids(n, slip, mat)
-
-
-_TILED: dict = {}  # (id(materials), k) -> (materials, materials with d_p tiled k times)
-
-
-def _tiled(mat, k: int):
-    hit = _TILED.get((id(mat), k))
-    if hit is None or hit[0] is not mat:
-        if len(_TILED) > 64:
-            _TILED.clear()
-        sph = mat.sphericity
-        hit = (mat, replace(mat, d_p=np.tile(mat.d_p, k), sphericity=np.tile(sph, k) if np.ndim(sph) else sph))
-        _TILED[(id(mat), k)] = hit
-    return hit[1]
 
 
 class ReducedVerticalColumn(Reduced1D):
@@ -63,7 +38,6 @@ class ReducedVerticalColumn(Reduced1D):
     def __init__(self, mesh, materials, closures, *args, surcharge: float = 0.0,
                  velocity_floor: float = 1e-2, **kw):
         kw.setdefault("solids_flux", "galerkin")
-        closures = _LayeredClosures(**{f.name: getattr(closures, f.name) for f in fields(closures)})
         super().__init__(mesh, materials, closures, *args, surcharge=surcharge, **kw)
         self.velocity_floor = float(velocity_floor)
 

@@ -341,7 +341,7 @@ class TwoFluid1D:
         B0T = self._B0T  # (ne, nl, 1)
         S.add("V", "n", vd, ed, B0T * dps[:, None, None])
         S.add_rhs("V", vd, -B0T[:, :, 0] * (ps - dps * n)[:, None])
-        self._drag(S, k, self._step_full["alpha"])
+        self._drag(S, k, self._step_full["M_psi"])
         self._liquid_pressure(S, n, k.P)
         self._solids_flux(S, k)
         return S
@@ -381,7 +381,7 @@ class TwoFluid1D:
             if b.kind == "outlet":
                 S.add_rhs("V", np.array([self.vert_node[v]]), np.array([-sign * b.pressure * self.vert_area[v]]))
         S.rhs  # scatter the right-hand side once
-        self._step_full = {"old": old, "dt": dt, "t": t_new, "S": S, "alpha": alpha,
+        self._step_full = {"old": old, "dt": dt, "t": t_new, "S": S, "M_psi": self.psi_mass(alpha),
                       "M_VWold": np.einsum("eij,ej->ei", M, Vold + Wold)}
         return S
 
@@ -486,8 +486,8 @@ class TwoFluid1D:
         self._shift_cache = (s, s.t, tuple(np.array(x, copy=True) for x in fields), alpha)
         return alpha
 
-    def _drag(self, S: BlockSystem, k: State, alpha: np.ndarray):
-        """β s tested with δW (upwind ψ of shift ``alpha``), Newton-linearised about iterate k.
+    def _drag(self, S: BlockSystem, k: State, M: np.ndarray):
+        """β s tested with δW (upwind ψ: ``M`` = Mψ of the step's shift), Newton-linearised about iterate k.
 
         D = K(n, |s̄|) Mψ q / (2n²), Mψ = ∫ ψ_i N_j dΩ, K = β/(1−n), q = (1−2n)V + W, s̄ = q̄/(2n(1−n)) the
         element-mean slip. The V, W derivatives are exact (with the element mean
@@ -495,7 +495,6 @@ class TwoFluid1D:
         called once, at (n, |s|), (n, |s| + δs) and (n + δn, |s(n + δn)|).
         """
         vd, ed, n, wts = self.vdofs, self.edofs, k.n, self.avg_weights
-        M = self.psi_mass(alpha)  # ∫ ψ_i N_j dΩ: upwind tests of the drag (``force_shift``)
         V = k.V[vd]
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
         qk = (1.0 - 2.0 * n)[:, None] * V + k.W[vd]
