@@ -45,13 +45,22 @@ def _locate(case) -> tuple[Path | object, str, str]:
                     + ", ".join(bundled_cases()))
 
 
-def _read(loc, source: str) -> str:
+def _read(loc, source: str, kind: str = "a case file") -> str:
     try:
         return loc.read_text(encoding="utf-8")
     except UnicodeDecodeError:
-        raise CaseError(source, "file", "is not UTF-8 text (a case file is TOML)") from None
+        raise CaseError(source, "file", f"is not UTF-8 text ({kind} is TOML)") from None
     except OSError as exc:
         raise CaseError(source, "file", f"cannot be read ({exc.strerror or exc})") from None
+
+
+def read_toml(loc, source: str, kind: str = "a case file") -> dict:
+    """The TOML document at ``loc`` (a path or a package resource); CaseError naming ``source``
+    for a file that cannot be read, is not UTF-8 text or is not TOML."""
+    try:
+        return tomllib.loads(_read(loc, source, kind))
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(source, "TOML syntax", str(exc)) from None
 
 
 def case_text(case: str) -> str:
@@ -98,10 +107,7 @@ def load_case(case: str) -> dict:
     'settling-illite'
     """
     loc, source, name = _locate(case)
-    try:
-        doc = tomllib.loads(_read(loc, source))
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(source, "TOML syntax", str(exc)) from None
+    doc = read_toml(loc, source)
     resolved = validate(doc, source, name=name)
     resolved["_source"] = source
     return resolved

@@ -42,11 +42,10 @@ from __future__ import annotations
 
 import glob
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..casefile.loader import load_case
+from ..casefile.loader import load_case, read_toml
 from ..casefile.schema import CaseError
 
 __all__ = ["EnsembleSpec", "load_ensemble", "parse_ensemble", "DISTRIBUTIONS"]
@@ -310,10 +309,5 @@ def load_ensemble(path: str | Path) -> EnsembleSpec:
             raise CaseError(str(path), "file", "is neither an ensemble file nor a bundled example ensemble")
         p = Path(str(bundled))
     source = str(p)
-    try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(source, "TOML syntax", str(exc)) from None
-    except UnicodeDecodeError:
-        raise CaseError(source, "file", "is not UTF-8 text") from None
+    doc = read_toml(p, source, kind="an ensemble file")
     return parse_ensemble(doc, source, p.parent)

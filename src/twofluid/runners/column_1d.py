@@ -86,24 +86,25 @@ class _Figures:
         return {k: np.array([r[k] for r in self.rows]) for k in self.rows[0]}
 
 
-def bed_pressure_drop(model, s) -> float:
+def bed_pressure_drop(model, s, f: dict | None = None) -> float:
     """Liquid pressure drop over the bed beyond hydrostatic [Pa], from the lowest element to the outlet.
 
     P at the centre of the lowest element minus the outlet pressure and the liquid's
     hydrostatic head between them; in a fluidized bed it equals the buoyant weight of the
     solids per unit area, (ρ_s − ρ_f) g cos θ V_s/A. NaN when the outlet is not at the top.
+    ``f``: the element fields of ``s`` if already computed.
     """
     if model.top.kind != "outlet":
         return float("nan")
-    P0 = float(model.element_fields(s)["P_Pa"][0])
+    P0 = float((model.element_fields(s) if f is None else f)["P_Pa"][0])
     head = -model.mat.rho_f * model.g_y * (model.mesh.y[-1] - model.mesh.centres[0])
     return P0 - model.top.pressure - head
 
 
 def _probe_values(model, s, probes, heights):
     vals = dict(heights)
-    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s)
     f = model.element_fields(s)
+    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s, f)
     e_of = np.clip(np.searchsorted(model.mesh.y, np.asarray(probes) + model.mesh.y[0], side="right") - 1,
                    0, model.mesh.n_elements - 1)
     for y, e in zip(probes, e_of):
