@@ -59,6 +59,21 @@ def _table(doc: dict, where: str, create: bool):
     return node
 
 
+def _mutate(table, key: str, value) -> bool:
+    """Set ``key`` to ``value``, or delete it (DELETE); False when there is nothing to delete."""
+    if value is DELETE:
+        if table is None or key not in table:
+            return False
+        del table[key]
+    else:
+        table[key] = value
+    return True
+
+
+def _shown(value) -> str:
+    return "<deleted>" if value is DELETE else repr(value)
+
+
 def mutations(name: str):
     """(label, mutated document) for one bundled case."""
     base = _doc(name)
@@ -69,14 +84,8 @@ def mutations(name: str):
         for key in keys:
             for value in [*VALUES[key.type], DELETE]:
                 doc = copy.deepcopy(base)
-                table = _table(doc, where, create=value is not DELETE)
-                if value is DELETE:
-                    if table is None or key.name not in table:
-                        continue
-                    del table[key.name]
-                else:
-                    table[key.name] = value
-                yield f"{name}: [{where}] {key.name} = {'<deleted>' if value is DELETE else repr(value)}", doc
+                if _mutate(_table(doc, where, create=value is not DELETE), key.name, value):
+                    yield f"{name}: [{where}] {key.name} = {_shown(value)}", doc
         doc = copy.deepcopy(base)
         table = _table(doc, where, create=True)
         table["no_such_key"] = 1.0
@@ -99,14 +108,8 @@ def _array_mutations(name: str, base: dict, model: str):
         for key in keys:
             for value in [*VALUES[key.type], DELETE]:
                 doc = copy.deepcopy(base)
-                entry = doc[array][0]
-                if value is DELETE:
-                    if key.name not in entry:
-                        continue
-                    del entry[key.name]
-                else:
-                    entry[key.name] = value
-                yield f"{name}: [[{array}]] 1 {key.name} = {'<deleted>' if value is DELETE else repr(value)}", doc
+                if _mutate(doc[array][0], key.name, value):
+                    yield f"{name}: [[{array}]] 1 {key.name} = {_shown(value)}", doc
         doc = copy.deepcopy(base)
         doc[array] = []
         yield f"{name}: [[{array}]] <no entry>", doc
