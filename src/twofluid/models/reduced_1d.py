@@ -55,6 +55,7 @@ import numpy as np
 from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
 from ..closures.viscosity import solid_viscosity
+from . import reduced_kernel
 from .two_fluid_1d import _CLEAR, State, TwoFluid1D
 
 __all__ = ["Reduced1D"]
@@ -69,7 +70,14 @@ class Reduced1D(TwoFluid1D):
     Parameters are those of :class:`TwoFluid1D`; ``element`` must be ``"1VW/0P/0n"``,
     one end must be an inlet or a wall (it fixes c = A V), and ``surcharge`` [Pa]
     is an optional solids load on the top face.
+
+    ``compiled`` (class attribute, may be set per instance): None (default) assembles each
+    iterate with the compiled kernels of :mod:`~twofluid.models.reduced_kernel` where numba
+    is installed and with the NumPy path otherwise; False always takes the NumPy path (the
+    reference path: the same band matrix and right-hand side to round-off).
     """
+
+    compiled: bool | None = None
 
     def __init__(self, mesh, materials, closures, bottom, top, element="1VW/0P/0n",
                  solids_flux="upwind", surcharge: float = 0.0):
@@ -116,6 +124,11 @@ class Reduced1D(TwoFluid1D):
         self._dt_c = self._V_c = self._step = None  # caches of what is fixed per Δt, per V, per step
         self._belf = self._belf_of = None  # upwind side as 0/1 floats, and the boolean array it came from
         self._last_iterate = None  # pieces of the last assembled iterate, for the pressure of the step
+        # the kernel takes scalar densities and liquid viscosity (per-element particle sizes are the closures')
+        self._kernel_ok = all(np.ndim(getattr(mat, f)) == 0 for f in ("rho_f", "rho_s", "mu_f"))
+        # the model's element constants of the compiled kernel (reduced_kernel._band_system's ``mc``)
+        self._mc = np.ascontiguousarray(np.vstack([self._M0, self._M1, self._wt, self._BNt, self._psA,
+                                                   self._Mt.reshape(4, ne), self._Kt.reshape(4, ne), self._kap]))
 
     # ----------------------------------------------------------- pieces
     def mixture_flux(self, t: float) -> float:
@@ -180,8 +193,18 @@ class Reduced1D(TwoFluid1D):
         st.update(old=old, dt=dt, t=t_new, U=MdV - MWold, old_n=old.n, dn=dn, dn3=dn3, dq3=dn3 * vc["Vbar2"],
                   gs=gs, sa=sa, saV=saV,
                   mR=self._mR0 + self._assemble_nodal(gs) - self._assemble_nodal(dc["cv0"] * MdV - dc["cw0"] * MWold))
+        if self._kernels() is not None:  # the step's constants of the compiled kernel, packed
+            st["sc"] = np.ascontiguousarray(np.vstack([
+                vc["Vbar"], vc["MVe"], st["U"], saV, sa, gs, vc["kv"], dn, old.n, st["dq3"][1], dc["cdt"]]))
+            st["vc"] = np.ascontiguousarray(np.vstack([vc["AV"], area, self._tb, st["mR"]]))
         self._step = st
         return st
+
+    def _kernels(self):
+        """The compiled (closure_points, band_system) pair, or None for the NumPy path."""
+        if self.compiled is False or not self._kernel_ok:
+            return None
+        return reduced_kernel.kernels()
 
     def _upwind(self, n, below, phi):
         """Upwind ratio r = (1 − n_up)/(1 − n_f) at the vertices and φ ∂r/∂n_below, φ ∂r/∂n_above.
@@ -224,6 +247,8 @@ class Reduced1D(TwoFluid1D):
     def assemble(self, k: State, old: State, dt: float, t_new: float) -> tuple:
         """Banded Newton system for the increment of (W, n) of one Picard iterate (module docstring)."""
         st = self._prepare_step(old, dt, t_new)
+        if "sc" in st and self._kernels() is not None:
+            return self._assemble_compiled(k, st)
         mat = self.mat
         n, W = k.n, k.W
         Wb, Wt = W[:-1], W[1:]
@@ -332,6 +357,46 @@ class Reduced1D(TwoFluid1D):
             ab[row, col] = val
         for v in self._fixed:
             rW[v] = V[v] - W[v]
+        return ab, rhs, k, st
+
+    def _assemble_compiled(self, k: State, st: dict) -> tuple:
+        """:meth:`assemble` by the compiled kernels (same arithmetic; the closures called as there)."""
+        points, band = self._kernels()
+        mat, clo = self.mat, self.clo
+        n, W = k.n, k.W
+        ne = n.size
+        n3, s3, aux = np.empty((3, ne)), np.empty((3, ne)), np.empty((3, ne))
+        points(n, W, self._w0, self._w1, st["Vbar"], st["dn"], st["sc"][14], n3, s3, aux)
+        kraw = np.ascontiguousarray(clo.beta_per_solids(n3.ravel(), s3.ravel(), self._materials_times(3)),
+                                    dtype=float)
+        ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
+        if clo.viscous:  # μ_s at n and n + δn: the first two rows of n3
+            mu2 = np.ascontiguousarray(solid_viscosity(n3[:2].ravel(), mat.mu_f, **clo.viscosity_params),
+                                       dtype=float)
+        else:
+            mu2 = kraw
+        upwind = self.solids_flux == "upwind"
+        below = getattr(self, "_below", None) if upwind else None
+        if below is not None:
+            if self._belf_of is not below:
+                self._belf, self._belf_of = below.astype(float), below
+            belf = self._belf
+        else:
+            belf = self._tb  # not read
+        N = 2 * self.nv - 1
+        ab = np.empty((N, 3 * _KL + 1)).T
+        rhs = np.empty(N)
+        last = np.empty((len(reduced_kernel.LAST_ROWS), ne))
+        band(n, W, kraw, n3, aux, np.ascontiguousarray(ps, dtype=float), np.ascontiguousarray(dps, dtype=float),
+             mu2, clo.viscous, mat.mu_f, st["hc"], st["cw0"], upwind, belf, below is not None,
+             self._mc, st["sc"], st["vc"], ab, rhs, last)
+        self._last_iterate = (W, n, last[0], last[1], last[2] if clo.viscous else None, last[3:5], last[5],
+                              last[6], last[7], last[8:10], st)
+        for row, col, val in self._dir:
+            ab[row, col] = val
+        V = st["V"]
+        for v in self._fixed:
+            rhs[2 * v] = V[v] - W[v]
         return ab, rhs, k, st
 
     def solve(self, S: tuple, t: float) -> np.ndarray:

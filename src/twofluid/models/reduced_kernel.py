@@ -1,0 +1,250 @@
+"""One Newton iterate of the reduced 1D model as two compiled loops around the closure calls.
+
+Same arithmetic as the NumPy path of :meth:`Reduced1D.assemble
+<twofluid.models.reduced_1d.Reduced1D.assemble>` (the reference path), operation by
+operation, so the band matrix and right-hand side agree to round-off
+(``tests/unit/test_reduced_kernel.py``):
+
+- :func:`closure_points` — from the iterate (n, W) the porosities and slips at which the
+  drag law is called (n, |s|), (n + δn, |s(n + δn)|), (n, |s| + δs);
+- the closures themselves stay pure vectorised functions from the registry, called once
+  per iterate by the model (drag at the three points, μ_s at n and n + δn, P_s);
+- :func:`band_system` — from the closure values, the element integrals of the mixture −
+  liquid rows (drag Newton-linearised, P_s Taylor-expanded, μ_s and 1/n Newton) and the
+  porosity rows (upwind ratio Newton-linearised), written straight into LAPACK band storage
+  (half-width 2, the interleaved (W_0, n_0, W_1, …) numbering) with minus the residual.
+
+What the NumPy path spends on about a hundred array operations of a few hundred entries
+(each ~1–3 µs of call overhead) is here two loops over the elements. Compiled with numba
+when it is installed (the ``fast`` extra; ``cache=True``, so only the first run on a machine
+compiles, ~2 s); without numba the model keeps the NumPy path. Importing numba costs
+~0.3 s of CPU once per process, which the model pays only where the kernel is used.
+
+>>> ok = available()  # numba installed?
+>>> isinstance(ok, bool)
+True
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["available", "kernels", "LAST_ROWS"]
+
+_CLEAR = 1e-6  # as two_fluid_1d._CLEAR: floor of 1 − n in the slip and the upwind ratio
+# rows of the per-element pieces of the last iterate kept for the pressure of the step (end_step)
+LAST_ROWS = ("Wbar", "h", "m_l", "Mq0", "Mq1", "k0", "kom", "gain", "Jdn0", "Jdn1")
+
+
+def _fmax(x, c):
+    """np.maximum(x, c) for a scalar: NaN propagates."""
+    return x if not x < c else c
+
+
+def _sign(x):
+    """np.sign for a scalar (0 at 0, NaN at NaN)."""
+    if x > 0.0:
+        return 1.0
+    if x < 0.0:
+        return -1.0
+    return x  # 0.0 (or −0.0) or NaN
+
+
+def _closure_points(n, W, w0, w1, Vbar, dn, dq1, n3, s3, aux):
+    """The drag law's porosities ``n3`` and slips ``s3`` (3, ne) at iterate (n, W); ``aux`` keeps
+    (q̄, 1/(2n(1 − n)), δs) for :func:`band_system`."""
+    ne = n.size
+    for e in range(ne):
+        ni = n[e]
+        Wbar = w0[e] * W[e] + w1[e] * W[e + 1]
+        omn = 1.0 - (ni + ni)
+        qb = omn * Vbar[e] + Wbar
+        n1 = ni + dn[e]
+        i0 = 0.5 / (ni * _fmax(1.0 - ni, _CLEAR))
+        i1 = 0.5 / (n1 * _fmax(1.0 - n1, _CLEAR))
+        s0 = abs(qb) * i0
+        ds = 1e-6 * _fmax(s0, 1e-6)
+        n3[0, e] = ni
+        n3[1, e] = n1
+        n3[2, e] = ni
+        s3[0, e] = s0
+        s3[1, e] = abs(qb - dq1[e]) * i1
+        s3[2, e] = s0 + ds
+        aux[0, e] = qb
+        aux[1, e] = i0
+        aux[2, e] = ds
+
+
+def _band_system(n, W, kraw, n3, aux, ps, dps, mu2, viscous, mu_f, hc, cw0, upwind, below, have_below,
+                 mc, sc, vc, ab, rhs, last):
+    """Band storage ``ab`` (7, 2 nv − 1) and minus the residual ``rhs`` of the iterate; ``last``
+    (LAST_ROWS, ne) the pieces of the pressure recovery.
+
+    ``mc`` (19, ne) the model's element constants: M0 (2), M1 (2), w0, w1, BN (2), ψ-load area
+    factors psA (2), Mt (2×2), Kt (2×2), κ; ``sc`` (16, ne) the step's: V̄, MVe (2), U (2), saV
+    (2), sa (2), gs (2), kv, δn, nᵗ, δq, cdt; ``vc`` (4, nv) per vertex: A V, A, t_b, mR.
+    """
+    ne = n.size
+    nv = ne + 1
+    # upwind ratio at the vertices and its Newton derivatives (Reduced1D._upwind)
+    r = np.empty(nv)
+    Pb = np.empty(nv)
+    Qa = np.empty(nv)
+    G = np.empty(nv)
+    for v in range(nv):
+        phi = vc[0, v] - vc[1, v] * W[v]
+        if upwind:
+            nb = 1.0 if v == 0 else n[v - 1]
+            na = 1.0 if v == ne else n[v]
+            tb = vc[2, v]
+            bel = below[v] if have_below else (1.0 if phi >= 0.0 else 0.0)
+            diff = nb - na
+            oma = 1.0 - na
+            one_f = oma - tb * diff
+            if one_f > _CLEAR:
+                inv = 1.0 / one_f
+            elif one_f != one_f:
+                inv = one_f
+            else:
+                inv = 0.0
+            rv = (oma - bel * diff) * inv
+            pinv = phi * inv
+            pb = pinv * (rv * tb - bel)
+            qa = pinv * (rv - 1.0) - pb
+            r[v] = rv
+            Pb[v] = 0.0 if v == 0 else pb
+            Qa[v] = 0.0 if v == ne else qa
+        else:
+            rv = 1.0
+            r[v] = 1.0
+            Pb[v] = 0.0
+            Qa[v] = 0.0
+        G[v] = rv * phi
+    for i in range(ab.shape[0]):
+        for j in range(ab.shape[1]):
+            ab[i, j] = 0.0
+    X1p = 0.0
+    for e in range(ne):
+        ni = n[e]
+        Wb = W[e]
+        Wt = W[e + 1]
+        M00, M01, M10, M11 = mc[0, e], mc[1, e], mc[2, e], mc[3, e]  # M0[i], M1[i]
+        w0, w1, B0, B1 = mc[4, e], mc[5, e], mc[6, e], mc[7, e]
+        MWe0 = M00 * Wb + M10 * Wt
+        MWe1 = M01 * Wb + M11 * Wt
+        Wbar = w0 * Wb + w1 * Wt
+        MVe0, MVe1, U0, U1 = sc[1, e], sc[2, e], sc[3, e], sc[4, e]
+        saV0, saV1, sa0, sa1 = sc[5, e], sc[6, e], sc[7, e], sc[8, e]
+        gs0, gs1, kv, dn = sc[9, e], sc[10, e], sc[11, e], sc[12, e]
+        omn = 1.0 - (ni + ni)
+        qb, i0, ds = aux[0, e], aux[1, e], aux[2, e]
+        k0 = kraw[e] * (0.5 / (n3[0, e] * n3[0, e]))
+        kn = kraw[ne + e] * (0.5 / (n3[1, e] * n3[1, e]))
+        k2 = kraw[2 * ne + e] * (0.5 / (n3[2, e] * n3[2, e]))
+        gain = (k2 - k0) * (_sign(qb) * i0 / ds)
+        kd = (kn - k0) / dn
+        BW = B0 * Wb + B1 * Wt
+        cor0 = omn * saV0 + sa0 * BW
+        cor1 = omn * saV1 + sa1 * BW
+        Mq0 = omn * MVe0 + MWe0 + cor0
+        Mq1 = omn * MVe1 + MWe1 + cor1
+        Jdn0 = kd * Mq0 - (kn + kn) * (MVe0 + saV0)
+        Jdn1 = kd * Mq1 - (kn + kn) * (MVe1 + saV1)
+        h = hc / ni
+        al = (cw0 - h) - k0
+        kom = k0 * omn
+        psA0, psA1 = mc[8, e], mc[9, e]
+        X0 = al * MWe0 - (h * U0 + kom * MVe0) - k0 * cor0 + (psA0 * ps[e] + gs0 * ni)
+        X1 = al * MWe1 - (h * U1 + kom * MVe1) - k0 * cor1 + (psA1 * ps[e] + gs1 * ni)
+        # JW[i, j] = al Mt[i, j] − gain Mq_i w_j − k0 sa_i BN_j
+        J00 = al * mc[10, e] - (gain * Mq0) * w0 - (k0 * sa0) * B0
+        J01 = al * mc[11, e] - (gain * Mq0) * w1 - (k0 * sa0) * B1
+        J10 = al * mc[12, e] - (gain * Mq1) * w0 - (k0 * sa1) * B0
+        J11 = al * mc[13, e] - (gain * Mq1) * w1 - (k0 * sa1) * B1
+        hn = h / ni
+        Jn0 = (gs0 + psA0 * dps[e]) - Jdn0 + hn * (U0 + MWe0)
+        Jn1 = (gs1 + psA1 * dps[e]) - Jdn1 + hn * (U1 + MWe1)
+        m_l = 0.0
+        if viscous:
+            mu_s = mu2[e]
+            m_l = (0.5 * mu_f) / ni
+            base = 0.5 * mu_f - m_l
+            hs = 0.5 * mu_s
+            c_w = base - hs
+            kw = mc[18, e] * (Wb - Wt)
+            vx = (base + hs) * kv + c_w * kw
+            X0 += vx
+            X1 -= vx
+            J00 += c_w * mc[14, e]
+            J01 += c_w * mc[15, e]
+            J10 += c_w * mc[16, e]
+            J11 += c_w * mc[17, e]
+            hds = 0.5 * (mu2[ne + e] - mu_s) / dn
+            ml_n = m_l / ni
+            dvx = (ml_n + hds) * kv + (ml_n - hds) * kw
+            Jn0 += dvx
+            Jn1 -= dvx
+        last[0, e] = Wbar
+        last[1, e] = h
+        last[2, e] = m_l
+        last[3, e] = Mq0
+        last[4, e] = Mq1
+        last[5, e] = k0
+        last[6, e] = kom
+        last[7, e] = gain
+        last[8, e] = Jdn0
+        last[9, e] = Jdn1
+        # band storage: entry (i, i + d) at ab[4 − d, i + d]; W_i at 2i, n_e at 2e + 1
+        cw = 2 * e  # column of W_e
+        ab[6, cw] = J10  # row W_{e+1}, column W_e
+        ab[5, cw + 1] = Jn1  # row W_{e+1}, column n_e
+        ab[4, cw] += J00  # W_e's diagonal: element e's local row 0 ...
+        ab[4, cw + 2] += J11  # ... and element e's local row 1 on W_{e+1}'s
+        ab[3, cw + 1] = Jn0  # row W_e, column n_e
+        ab[2, cw + 2] = J01  # row W_e, column W_{e+1}
+        # n row of element e: n_e − Δt [A r (V − W)]_e^{e+1}/(2 Vol_e) = n_eᵗ
+        cdt = sc[15, e]
+        if e > 0:
+            ab[6, cw - 1] = sc[15, e] * Pb[e]  # row n_e, column n_{e−1}
+        ab[5, cw] = (-cdt) * vc[1, e] * r[e]  # row n_e, column W_e
+        ab[4, cw + 1] = (Qa[e] - Pb[e + 1]) * cdt + 1.0
+        ab[3, cw + 2] = cdt * vc[1, e + 1] * r[e + 1]  # row n_e, column W_{e+1}
+        if e < ne - 1:
+            ab[2, cw + 3] = (-cdt) * Qa[e + 1]  # row n_e, column n_{e+1}
+        rhs[cw + 1] = (sc[13, e] - ni) + cdt * (G[e + 1] - G[e])
+        # W row of vertex e: mR − X0 of the element above, then − X1 of the element below
+        rhs[cw] = vc[3, e] - X0 if e == 0 else (vc[3, e] - X0) - X1p
+        X1p = X1
+    rhs[2 * ne] = vc[3, ne] - X1p
+
+
+_COMPILED = None
+_TRIED = False
+
+
+def _compile():
+    global _COMPILED, _TRIED
+    if not _TRIED:
+        _TRIED = True
+        try:
+            import numba
+        except ImportError:
+            return None
+        jit = numba.njit(cache=True, fastmath=False, nogil=True)
+        g = globals()
+        # the helpers are compiled first so that the kernels call them as compiled functions
+        g["_fmax"] = jit(_fmax)
+        g["_sign"] = jit(_sign)
+        _COMPILED = (jit(_closure_points), jit(_band_system))
+    return _COMPILED
+
+
+def available() -> bool:
+    """Whether the compiled kernels can be used (numba importable)."""
+    return _compile() is not None
+
+
+def kernels():
+    """(closure_points, band_system) compiled, or None without numba."""
+    return _compile()
