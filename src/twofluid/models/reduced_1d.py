@@ -201,7 +201,7 @@ class Reduced1D(TwoFluid1D):
         return st
 
     def _kernels(self):
-        """The compiled (closure_points, band_system) pair, or None for the NumPy path."""
+        """The compiled (closure_points, band_system, band_solve), or None for the NumPy path."""
         if self.compiled is False or not self._kernel_ok:
             return None
         return reduced_kernel.kernels()
@@ -361,7 +361,7 @@ class Reduced1D(TwoFluid1D):
 
     def _assemble_compiled(self, k: State, st: dict) -> tuple:
         """:meth:`assemble` by the compiled kernels (same arithmetic; the closures called as there)."""
-        points, band = self._kernels()
+        points, band, _ = self._kernels()
         mat, clo = self.mat, self.clo
         n, W = k.n, k.W
         ne = n.size
@@ -402,7 +402,10 @@ class Reduced1D(TwoFluid1D):
     def solve(self, S: tuple, t: float) -> np.ndarray:
         """Increment of (W, n) from the banded solve; returns [V, W, n]."""
         ab, rhs, k, st = S
-        _, _, x, info = dgbsv(_KL, _KL, ab, rhs, overwrite_ab=1, overwrite_b=1)
+        if "sc" in st:  # assembled by the compiled kernels: their band LU (dgbsv's algorithm)
+            info, x = self._kernels()[2](ab, rhs, _KL, _KL), rhs
+        else:
+            _, _, x, info = dgbsv(_KL, _KL, ab, rhs, overwrite_ab=1, overwrite_b=1)
         nv = self.nv
         out = np.empty(3 * nv - 1)
         if info != 0:  # singular: the stepper rejects the non-finite result and shrinks the step

@@ -200,6 +200,7 @@ class TwoFluid1D:
         self._pattern = {}  # global indices of the element blocks, the same at every iterate
         self._step_full = None  # the terms of the current step that do not depend on the iterate
         self._stacked_mat = None  # materials with per-element arrays repeated, for the fused closure calls
+        self._M_twice = None  # the mass matrices twice over, for the fused drag call of ``bed_force_shift``
         self._B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1): −∫ ∇·N_i dΩ
         e = self._elements = np.arange(ne)
         vn = self.vert_node
@@ -478,10 +479,24 @@ class TwoFluid1D:
         if c is not None and c[0] is s and c[1] == s.t and all(np.array_equal(a, b) for a, b in zip(c[2], fields)):
             return c[3]
         n = s.n
+        if self.BN is None or self.bed_forces == "galerkin":  # force_shift's Galerkin tests: α = 0
+            return np.zeros_like(n)
+        ne = n.size
         _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
-        total = [self._drag_force(x, s.V, s.W)[0].sum(axis=1) for x in (n, n + dn)]
-        phi_n = (total[1] - total[0]) / dn / self.volumes - (self.mat.rho_s - self.mat.rho_f) * self.g_y
+        # the element drag totals of :meth:`_drag_force` at n and n + δn, both in one closure call
+        x = np.concatenate((n, n + dn))
+        vd = self.vdofs
+        v, w = self.element_mean(s.V), self.element_mean(s.W)
+        c = 1.0 - 2.0 * x
+        q = c[:, None] * np.concatenate((s.V[vd], s.V[vd])) + np.concatenate((s.W[vd], s.W[vd]))
+        s_abs = np.abs((c * np.concatenate((v, v)) + np.concatenate((w, w))) / (2.0 * x * np.maximum(1.0 - x, _CLEAR)))
+        K = self.clo.beta_per_solids(x, s_abs, self._materials_times(2))
+        M2 = self._M_twice
+        if M2 is None:
+            M2 = self._M_twice = np.concatenate((self.M, self.M))
+        total = ((K / (2.0 * x * x))[:, None] * np.einsum("eij,ej->ei", M2, q)).sum(axis=1)
+        phi_n = (total[ne:] - total[:ne]) / dn / self.volumes - (self.mat.rho_s - self.mat.rho_f) * self.g_y
         alpha = self.force_shift(n, phi_n, dps)
         self._shift_cache = (s, s.t, tuple(np.array(x, copy=True) for x in fields), alpha)
         return alpha
@@ -672,10 +687,17 @@ class TwoFluid1D:
     def solids_outflow(self, s: State) -> float:
         """Rate [m³/s] at which solids leave through the ends (upwinded as in the porosity equation)."""
         node = self.vert_node
-        F = 0.5 * (s.V[node] - s.W[node])
-        if self.solids_flux == "upwind":
-            F = F * self._upwind_ratio(s.n, F)[0]
-        return float(F[-1] * self.vert_area[-1] - F[0] * self.vert_area[0])
+        ends = (0, -1)
+        F = [0.5 * (float(s.V[node[v]]) - float(s.W[node[v]])) for v in ends]
+        if self.solids_flux == "upwind":  # :meth:`_upwind_ratio` at the two ends only (same arithmetic)
+            n = s.n
+            wb, wa = self.w_below, self.w_above
+            for i, (v, nb, na) in enumerate(((0, 1.0, float(n[0])), (-1, float(n[-1]), 1.0))):
+                nf = (wb[v] * nb + wa[v] * na) / (wb[v] + wa[v])
+                one_f = 1.0 - nf
+                r = (1.0 - (nb if F[i] >= 0.0 else na)) * (1.0 / one_f if one_f > _CLEAR else 0.0)
+                F[i] = F[i] * r
+        return float(F[1] * self.vert_area[-1] - F[0] * self.vert_area[0])
 
     def settled_solids_pressure(self, n: np.ndarray) -> np.ndarray:
         """P_s per element [Pa] that makes porosity ``n`` a discrete equilibrium at rest.
