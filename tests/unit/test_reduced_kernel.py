@@ -1,0 +1,172 @@
+"""The compiled iterate of the reduced 1D model (models/reduced_kernel.py) against its NumPy path.
+
+Both paths evaluate the same expressions in the same order (the closures are the same calls),
+so one iterate's band matrix and right-hand side agree to round-off: the bound here is 1e-12
+of the largest entry (of the matrix; for the right-hand side, of the largest of it and its
+constant part, the loads), well above a few ulps of reassociation by a compiler and far below
+any change of the discrete equations (a wrong coefficient is O(1) of its entry). Whole short
+runs then agree to 1e-8 relative: the iterates differ by round-off amplified by the
+conditioning of the Newton solves, and the Picard test (1e-7) ends every step on the same
+iterate unless a change sits within round-off of the tolerance.
+
+The band LU of the kernel follows LAPACK's dgbtf2/dgbtrs, so its solutions agree with
+``dgbsv``'s to the backward error of the LU: κ(A)·ε relative, with κ estimated by the
+solutions' own sensitivity (checked on random matrices that need row interchanges).
+
+Without numba the compiled comparisons skip; the NumPy path is then the only path and the
+last test checks that a model runs on it.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from twofluid.casefile.builder import build
+from twofluid.casefile.loader import load_case
+from twofluid.models import reduced_kernel
+from twofluid.runners.liquefaction import build_column
+from twofluid.scipy_kernels import dgbsv
+from twofluid.timestepping.backward_euler import integrate, picard_step
+
+CASES = ("fluidized-bed-step", "settling-illite", "slis-step-change")
+EPS = np.finfo(float).eps
+
+
+def _model(name):
+    case = load_case(name)
+    case["case"]["model"] = "reduced_1d"
+    return build(case)
+
+
+def _advance(b, t_end, compiled):
+    b.model.compiled = compiled
+    s = b.state
+    for step in integrate(b.model, s, t_end, b.dt, settings=b.settings):
+        s = step.state
+    return s
+
+
+def _dense(ab, kl=2):
+    """The matrix of LAPACK band storage (entry (i, j) at ab[2 kl + i − j, j])."""
+    N = ab.shape[1]
+    A = np.zeros((N, N))
+    for d in range(-kl, kl + 1):
+        i = np.arange(max(0, -d), min(N, N - d))
+        A[i, i + d] = ab[2 * kl - d, i + d]
+    return A
+
+
+def _iterates(b, t_end):
+    """The iterates (k, old, dt, t) of the step after ``t_end`` of simulated time."""
+    s = _advance(b, t_end, False)
+    seen = []
+    assemble = b.model.assemble
+
+    def spy(k, old, dt, t):
+        seen.append((k.copy(), old, dt, t))
+        return assemble(k, old, dt, t)
+
+    b.model.assemble = spy
+    picard_step(b.model, s, b.dt, b.settings)
+    del b.model.assemble
+    return seen
+
+
+requires_numba = pytest.mark.skipif(not reduced_kernel.available(), reason="numba not installed")
+
+
+@requires_numba
+@pytest.mark.parametrize("name", CASES + ("liquefaction-fine",))
+def test_compiled_band_system_matches_the_numpy_path(name):
+    if name.startswith("liquefaction"):
+        b = build_column(load_case(name))  # the reduced vertical model of the column, at rest
+        m = b.column.v
+        k = old = b.state.vertical
+        seen = [(k.copy(), old, 0.01, old.t + 0.01)]
+    else:
+        b = _model(name)
+        m = b.model
+        seen = _iterates(b, 10 * b.dt)
+    assert seen
+    for k, old, dt, t in seen:
+        out = {}
+        for compiled in (False, None):
+            m.compiled, m._step = compiled, None
+            ab, rhs, _, st = m.assemble(k.copy(), old, dt, t)
+            out[compiled] = (_dense(ab), rhs.copy(), np.abs(st["mR"]).max(), m._last_iterate)
+        (A1, r1, load, last1), (A2, r2, _, last2) = out[False], out[None]
+        assert np.abs(A1 - A2).max() <= 1e-12 * np.abs(A1).max()
+        assert np.abs(r1 - r2).max() <= 1e-12 * max(np.abs(r1).max(), load)
+        for a, c in zip(last1[2:10], last2[2:10]):  # the pieces the pressure of the step is recovered from
+            if a is not None:
+                assert np.abs(np.asarray(a) - c).max() <= 1e-12 * max(np.abs(a).max(), 1e-300)
+        # and a wrong coefficient would be seen: one entry changed by 1e-9 of the matrix's size
+        A3 = A2.copy()
+        A3[3, 2] += 1e-9 * np.abs(A1).max()
+        assert np.abs(A1 - A3).max() > 1e-12 * np.abs(A1).max()
+
+
+@requires_numba
+@pytest.mark.parametrize("name, seconds", [("fluidized-bed-step", 2.0), ("settling-illite", 5.0),
+                                           ("slis-step-change", 2.0)])
+def test_compiled_runs_give_the_numpy_paths_results(name, seconds):
+    runs = {c: _advance(_model(name), seconds, c) for c in (False, None)}
+    ref, fast = runs[False], runs[None]
+    assert fast.t == pytest.approx(ref.t, rel=1e-14)
+    for f in ("W", "n", "P"):
+        a, c = getattr(ref, f), getattr(fast, f)
+        assert np.abs(a - c).max() <= 1e-8 * np.abs(a).max(), f
+
+
+@requires_numba
+def test_compiled_liquefaction_vertical_model_gives_the_numpy_paths_results():
+    c = load_case("liquefaction-fine")
+    c["output"]["plots"] = False
+    ends = {}
+    for compiled in (False, None):
+        b = build_column(c)
+        col = b.column
+        col.v.compiled = compiled
+        s = b.state
+        for step in col.run(s, 2.0, b.dt):
+            s = step.state
+        ends[compiled] = s.vertical
+    ref, fast = ends[False], ends[None]
+    for f in ("W", "n", "P", "n_bar"):
+        a, x = getattr(ref, f), getattr(fast, f)
+        assert np.abs(a - x).max() <= 1e-8 * max(np.abs(a).max(), 1e-300), f
+
+
+@requires_numba
+@pytest.mark.parametrize("N, kl, ku", [(401, 2, 2), (7, 2, 2), (3, 2, 2), (60, 3, 1), (1, 2, 2)])
+def test_band_lu_matches_lapack_dgbsv(N, kl, ku):
+    rng = np.random.default_rng(N + 10 * kl + ku)
+    ab = np.asfortranarray(rng.standard_normal((2 * kl + ku + 1, N)))  # no diagonal dominance: pivoting
+    b = rng.standard_normal(N)
+    ref = dgbsv(kl, ku, ab.copy(order="F"), b.copy())[2]
+    A = _dense_general(ab, kl, ku)
+    x = b.copy()
+    assert reduced_kernel.kernels()[2](ab.copy(order="F"), x, kl, ku) == 0
+    kappa = np.linalg.cond(A)
+    assert np.abs(A @ x - b).max() <= 50 * N * EPS * np.abs(A).max() * np.abs(x).max()
+    assert np.abs(x - ref).max() <= 50 * N * kappa * EPS * np.abs(ref).max()
+    singular = np.zeros_like(ab)
+    assert reduced_kernel.kernels()[2](singular, b.copy(), kl, ku) == 1
+
+
+def _dense_general(ab, kl, ku):
+    N = ab.shape[1]
+    A = np.zeros((N, N))
+    for i in range(N):
+        for j in range(max(0, i - kl), min(N, i + ku + 1)):
+            A[i, j] = ab[kl + ku + i - j, j]
+    return A
+
+
+def test_the_numpy_path_runs_without_the_kernels(monkeypatch):
+    monkeypatch.setattr(reduced_kernel, "kernels", lambda: None)
+    b = _model("fluidized-bed-step")
+    s = _advance(b, 5 * b.dt, None)
+    assert s.t == pytest.approx(5 * b.dt)
+    assert "sc" not in b.model._step  # nothing of the compiled path was prepared
+    assert np.all((s.n > 0.0) & (s.n <= 1.0))
