@@ -125,7 +125,8 @@ class Reduced1D(TwoFluid1D):
         self._belf = self._belf_of = None  # upwind side as 0/1 floats, and the boolean array it came from
         self._last_iterate = None  # pieces of the last assembled iterate, for the pressure of the step
         # the kernel takes scalar densities and liquid viscosity (per-element particle sizes are the closures')
-        self._kernel_ok = all(np.ndim(getattr(mat, f)) == 0 for f in ("rho_f", "rho_s", "mu_f"))
+        self._kernel_ok = all(np.ndim(getattr(mat, f)) == 0 for f in ("rho_f", "rho_s", "mu_f", "g"))
+        self._h = mesh.lengths
         # the model's element constants of the compiled kernel (reduced_kernel._band_system's ``mc``)
         self._mc = np.ascontiguousarray(np.vstack([self._M0, self._M1, self._wt, self._BNt, self._psA,
                                                    self._Mt.reshape(4, ne), self._Kt.reshape(4, ne), self._kap]))
@@ -199,6 +200,24 @@ class Reduced1D(TwoFluid1D):
             st["vc"] = np.ascontiguousarray(np.vstack([vc["AV"], area, self._tb, st["mR"]]))
         self._step = st
         return st
+
+    def _force_shift_at(self, s: State) -> np.ndarray:
+        """:meth:`TwoFluid1D._force_shift_at`, by the compiled kernels where they are used (the same
+        closure calls: the drag law at n and n + δn, P_s' at n)."""
+        ker = self._kernels()
+        if ker is None or self.bed_forces == "galerkin":
+            return super()._force_shift_at(s)
+        n = s.n
+        ne = n.size
+        x, s_abs = np.empty(2 * ne), np.empty(2 * ne)
+        ker[4](n, s.V, s.W, self._w0, self._w1, x, s_abs)
+        K = np.ascontiguousarray(self.clo.beta_per_solids(x, s_abs, self._materials_times(2)), dtype=float)
+        _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
+        alpha = np.empty(ne)
+        mat = self.mat
+        ker[5](n, s.V, s.W, x, K, np.ascontiguousarray(dps, dtype=float), self._mc, self.volumes, self._h,
+               float(mat.rho_s - mat.rho_f), float(self.g_y), float(mat.g), alpha)
+        return alpha
 
     def _kernels(self):
         """The compiled (closure_points, band_system, band_solve), or None for the NumPy path."""
@@ -361,7 +380,7 @@ class Reduced1D(TwoFluid1D):
 
     def _assemble_compiled(self, k: State, st: dict) -> tuple:
         """:meth:`assemble` by the compiled kernels (same arithmetic; the closures called as there)."""
-        points, band, _ = self._kernels()
+        points, band = self._kernels()[:2]
         mat, clo = self.mat, self.clo
         n, W = k.n, k.W
         ne = n.size
@@ -390,6 +409,7 @@ class Reduced1D(TwoFluid1D):
         band(n, W, kraw, n3, aux, np.ascontiguousarray(ps, dtype=float), np.ascontiguousarray(dps, dtype=float),
              mu2, clo.viscous, mat.mu_f, st["hc"], st["cw0"], upwind, belf, below is not None,
              self._mc, st["sc"], st["vc"], ab, rhs, last)
+        self._last_rows = last
         self._last_iterate = (W, n, last[0], last[1], last[2] if clo.viscous else None, last[3:5], last[5],
                               last[6], last[7], last[8:10], st)
         for row, col, val in self._dir:
@@ -437,6 +457,14 @@ class Reduced1D(TwoFluid1D):
         D linearised about the iterate.
         """
         Wk, nk, Wbar, h, m_l, Mq, k0, kom, gain, Jdn, st = self._last_iterate
+        if "sc" in st:  # assembled by the compiled kernels: the same recovery compiled
+            P = np.empty(nk.size)
+            top = self.top.kind == "outlet"
+            self._kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src, m_l is not None,
+                               self.vert_area, top, self.top.pressure if top else self.bottom.pressure, P)
+            new.P = P
+            self._remember(old, new, lambda s: [s.W, s.n])
+            return new
         W = new.W
         Wb, Wt = W[:-1], W[1:]
         MW = self._M0 * Wb + self._M1 * Wt

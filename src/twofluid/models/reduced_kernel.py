@@ -219,6 +219,91 @@ def _band_system(n, W, kraw, n3, aux, ps, dps, mu2, viscous, mu_f, hc, cw0, upwi
     rhs[2 * ne] = vc[3, ne] - X1p
 
 
+def _shift_points(n, V, W, w0, w1, x, s_abs):
+    """The drag law's porosities ``x`` and slips ``s_abs`` (2 ne) of the bed-force shift at state
+    (n, V, W): n and n + δn (:meth:`TwoFluid1D.bed_force_shift` with the linear element)."""
+    ne = n.size
+    for e in range(ne):
+        ni = n[e]
+        v = V[e] * w0[e] + V[e + 1] * w1[e]
+        w = W[e] * w0[e] + W[e + 1] * w1[e]
+        dn = 1e-8 * (1.0 if ni < 0.5 else -1.0)
+        for r in range(2):
+            xr = ni if r == 0 else ni + dn
+            c = 1.0 - 2.0 * xr
+            x[r * ne + e] = xr
+            s_abs[r * ne + e] = abs((c * v + w) / (2.0 * xr * _fmax(1.0 - xr, _CLEAR)))
+
+
+def _shift(n, V, W, x, K, dps, mc, vol, h, drho, g_y, g, alpha):
+    """Shift α of the bed forces (:meth:`TwoFluid1D.force_shift`) from the drag ``K`` at ``x``."""
+    ne = n.size
+    adrho = abs(drho)
+    for e in range(ne):
+        tot0 = 0.0
+        tot1 = 0.0
+        for r in range(2):
+            xr = x[r * ne + e]
+            c = 1.0 - 2.0 * xr
+            q0 = c * V[e] + W[e]
+            q1 = c * V[e + 1] + W[e + 1]
+            c0 = K[r * ne + e] / (2.0 * xr * xr)
+            t = c0 * (mc[10, e] * q0 + mc[11, e] * q1) + c0 * (mc[12, e] * q0 + mc[13, e] * q1)
+            if r == 0:
+                tot0 = t
+            else:
+                tot1 = t
+        dn = 1e-8 * (1.0 if n[e] < 0.5 else -1.0)
+        phi_n = (tot1 - tot0) / dn / vol[e] - drho * g_y
+        stiff = abs(dps[e]) + 1e-3 * h[e] * adrho * g
+        den = _fmax(2.0 * h[e] * abs(phi_n), 1e-300)
+        q = stiff / den
+        against = q if (q < 0.5 or q != q) else 0.5  # np.minimum(0.5, q)
+        a = 0.5 - against if phi_n < 0.0 else against - 0.5
+        alpha[e] = a if 1.0 - n[e] > _CLEAR else 0.0
+
+
+def _step_pressure(W, n, nk, last, mc, sc, liq, viscous, area, top_outlet, p_end, P):
+    """Element pressures ``P`` of the step from the liquid rows linearised about the last iterate
+    (:meth:`Reduced1D.end_step`): [[P]]_i = −L_i/A_i marched from the outlet."""
+    ne = n.size
+    L = np.empty(ne + 1)
+    L1p = 0.0
+    for e in range(ne):
+        Wb = W[e]
+        Wt = W[e + 1]
+        MW0 = mc[0, e] * Wb + mc[2, e] * Wt
+        MW1 = mc[1, e] * Wb + mc[3, e] * Wt
+        dWbar = (mc[4, e] * Wb + mc[5, e] * Wt) - last[0, e]
+        BW = mc[6, e] * Wb + mc[7, e] * Wt
+        omn = 1.0 - 2.0 * nk[e]
+        cor0 = omn * sc[5, e] + sc[7, e] * BW
+        cor1 = omn * sc[6, e] + sc[8, e] * BW
+        h, k0, kom, gain = last[1, e], last[5, e], last[6, e], last[7, e]
+        dn = n[e] - nk[e]
+        L0 = (h + k0) * MW0 + (h * sc[3, e] + kom * sc[1, e]) + k0 * cor0 + liq[0, e] + (gain * dWbar) * last[3, e] \
+            + last[8, e] * dn
+        L1 = (h + k0) * MW1 + (h * sc[4, e] + kom * sc[2, e]) + k0 * cor1 + liq[1, e] + (gain * dWbar) * last[4, e] \
+            + last[9, e] * dn
+        if viscous:
+            vl = last[2, e] * (sc[11, e] + mc[18, e] * (Wb - Wt))
+            L0 += vl
+            L1 -= vl
+        L[e] = L0 if e == 0 else L0 + L1p
+        L1p = L1
+    L[ne] = 0.0 + L1p
+    if top_outlet:  # P_e = P_top − Σ_{v > e} jump_v, summed from the top
+        c = 0.0
+        for e in range(ne - 1, -1, -1):
+            c = (-L[e + 1] / area[e + 1]) if e == ne - 1 else c + (-L[e + 1] / area[e + 1])
+            P[e] = p_end - c
+    else:
+        c = 0.0
+        for e in range(ne):
+            c = (-L[e] / area[e]) if e == 0 else c + (-L[e] / area[e])
+            P[e] = p_end + c
+
+
 def _band_solve(ab, b, kl, ku):
     """LAPACK ``dgbsv`` in place: band LU with partial pivoting of ``ab`` (2 kl + ku + 1, n; A[i, j]
     at ab[kl + ku + i − j, j], the first kl rows for the fill-in) and the solve of ``b``; returns
@@ -301,7 +386,8 @@ def _compile():
         # the helpers are compiled first so that the kernels call them as compiled functions
         g["_fmax"] = jit(_fmax)
         g["_sign"] = jit(_sign)
-        _COMPILED = (jit(_closure_points), jit(_band_system), jit(_band_solve))
+        _COMPILED = (jit(_closure_points), jit(_band_system), jit(_band_solve), jit(_step_pressure),
+                     jit(_shift_points), jit(_shift))
     return _COMPILED
 
 
@@ -311,5 +397,6 @@ def available() -> bool:
 
 
 def kernels():
-    """(closure_points, band_system, band_solve) compiled, or None without numba."""
+    """(closure_points, band_system, band_solve, step_pressure, shift_points, shift) compiled, or None
+    without numba."""
     return _compile()

@@ -478,6 +478,12 @@ class TwoFluid1D:
         c = getattr(self, "_shift_cache", None)
         if c is not None and c[0] is s and c[1] == s.t and all(np.array_equal(a, b) for a, b in zip(c[2], fields)):
             return c[3]
+        alpha = self._force_shift_at(s)
+        self._shift_cache = (s, s.t, tuple(np.array(x, copy=True) for x in fields), alpha)
+        return alpha
+
+    def _force_shift_at(self, s: State) -> np.ndarray:
+        """:meth:`force_shift` at state ``s`` (uncached: :meth:`bed_force_shift`)."""
         n = s.n
         if self.BN is None or self.bed_forces == "galerkin":  # force_shift's Galerkin tests: α = 0
             return np.zeros_like(n)
@@ -497,9 +503,7 @@ class TwoFluid1D:
             M2 = self._M_twice = np.concatenate((self.M, self.M))
         total = ((K / (2.0 * x * x))[:, None] * np.einsum("eij,ej->ei", M2, q)).sum(axis=1)
         phi_n = (total[ne:] - total[:ne]) / dn / self.volumes - (self.mat.rho_s - self.mat.rho_f) * self.g_y
-        alpha = self.force_shift(n, phi_n, dps)
-        self._shift_cache = (s, s.t, tuple(np.array(x, copy=True) for x in fields), alpha)
-        return alpha
+        return self.force_shift(n, phi_n, dps)
 
     def _drag(self, S: BlockSystem, k: State, M: np.ndarray):
         """β s tested with δW (upwind ψ: ``M`` = Mψ of the step's shift), Newton-linearised about iterate k.
