@@ -104,6 +104,7 @@ class Reduced1D(TwoFluid1D):
         # constant pieces of the mixture-minus-liquid rows: −B0ᵀ P_s (the buoyant weight, tested
         # with the upwind ψ of the step like the drag, is per step: ``_prepare_step``)
         self._psA = np.stack([area[:-1], -area[1:]])
+        self._srcT = np.ascontiguousarray(self.src.T)
         self._liq_src = np.ascontiguousarray((-mat.rho_f * self.g_y * self.src).T)
         self._BNt = np.ascontiguousarray(self.BN.T)  # ∫ B N_j dΩ, (2, ne): the ψ − N part of the tests
         self._sig = np.array([[-1.0], [1.0]])
@@ -162,6 +163,19 @@ class Reduced1D(TwoFluid1D):
         if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new:
             return st
         mat, M0, M1, area = self.mat, self._M0, self._M1, self.vert_area
+        ker = self._kernels()
+        if ker is not None:  # the step's constants by the compiled kernel, packed as band_system takes them
+            ne = old.n.size
+            V = self._mixture_velocity(t_new)
+            sc, vc = np.empty((16, ne)), np.empty((4, ne + 1))
+            alpha = np.ascontiguousarray(self.bed_force_shift(old), dtype=float)
+            ker[6](V, old.V, old.W, old.n, alpha, dt, self._inv2vol, 0.5 * (mat.rho_s + mat.rho_f) / dt,
+                   -0.5 * (mat.rho_s - mat.rho_f) / dt, float((mat.rho_s - mat.rho_f) * self.g_y), self._mc,
+                   self._srcT, self._mR0, area, self._tb, sc, vc)
+            st = self._step = {"old": old, "dt": dt, "t": t_new, "V": V, "sc": sc, "vc": vc, "mR": vc[3],
+                               "Vbar": sc[0], "dn": sc[12], "hc": 0.5 * mat.rho_f / dt,
+                               "cw0": -0.5 * (mat.rho_s - mat.rho_f) / dt}
+            return st
         dc = self._dt_c
         if dc is None or dc["dt"] != dt:
             cdt = dt * self._inv2vol
@@ -194,10 +208,6 @@ class Reduced1D(TwoFluid1D):
         st.update(old=old, dt=dt, t=t_new, U=MdV - MWold, old_n=old.n, dn=dn, dn3=dn3, dq3=dn3 * vc["Vbar2"],
                   gs=gs, sa=sa, saV=saV,
                   mR=self._mR0 + self._assemble_nodal(gs) - self._assemble_nodal(dc["cv0"] * MdV - dc["cw0"] * MWold))
-        if self._kernels() is not None:  # the step's constants of the compiled kernel, packed
-            st["sc"] = np.ascontiguousarray(np.vstack([
-                vc["Vbar"], vc["MVe"], st["U"], saV, sa, gs, vc["kv"], dn, old.n, st["dq3"][1], dc["cdt"]]))
-            st["vc"] = np.ascontiguousarray(np.vstack([vc["AV"], area, self._tb, st["mR"]]))
         self._step = st
         return st
 

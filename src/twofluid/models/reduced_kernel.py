@@ -219,6 +219,64 @@ def _band_system(n, W, kraw, n3, aux, ps, dps, mu2, viscous, mu_f, hc, cw0, upwi
     rhs[2 * ne] = vc[3, ne] - X1p
 
 
+def _step_constants(V, oldV, oldW, oldn, alpha, dt, inv2vol, cv0, cw0, cgs, mc, srcT, mR0, area, tb, sc, vc):
+    """The step's constants ``sc`` (16, ne) and ``vc`` (4, nv) of :func:`band_system` (what
+    :meth:`Reduced1D._prepare_step` computes once per step) from the old state, the mixture
+    velocity V and the bed-force shift α; ``cgs`` = (ρ_s − ρ_f) g_y."""
+    ne = oldn.size
+    G1p = 0.0
+    I1p = 0.0
+    for e in range(ne):
+        Vb = V[e]
+        Vt = V[e + 1]
+        M00, M01, M10, M11 = mc[0, e], mc[1, e], mc[2, e], mc[3, e]
+        B0, B1 = mc[6, e], mc[7, e]
+        Vbar = mc[4, e] * Vb + mc[5, e] * Vt
+        MVe0 = M00 * Vb + M10 * Vt
+        MVe1 = M01 * Vb + M11 * Vt
+        MdV0 = MVe0 - (M00 * oldV[e] + M10 * oldV[e + 1])
+        MdV1 = MVe1 - (M01 * oldV[e] + M11 * oldV[e + 1])
+        MWo0 = M00 * oldW[e] + M10 * oldW[e + 1]
+        MWo1 = M01 * oldW[e] + M11 * oldW[e + 1]
+        dn = 1e-8 if oldn[e] < 0.5 else -1e-8
+        sa0 = -1.0 * alpha[e]
+        sa1 = 1.0 * alpha[e]
+        BNs = B0 + B1
+        gs0 = cgs * (srcT[0, e] + sa0 * BNs)
+        gs1 = cgs * (srcT[1, e] + sa1 * BNs)
+        BV = B0 * Vb + B1 * Vt
+        sc[0, e] = Vbar
+        sc[1, e] = MVe0
+        sc[2, e] = MVe1
+        sc[3, e] = MdV0 - MWo0
+        sc[4, e] = MdV1 - MWo1
+        sc[5, e] = sa0 * BV
+        sc[6, e] = sa1 * BV
+        sc[7, e] = sa0
+        sc[8, e] = sa1
+        sc[9, e] = gs0
+        sc[10, e] = gs1
+        sc[11, e] = mc[18, e] * (Vb - Vt)
+        sc[12, e] = dn
+        sc[13, e] = oldn[e]
+        sc[14, e] = dn * (2.0 * Vbar)
+        sc[15, e] = dt * inv2vol[e]
+        I0 = cv0 * MdV0 - cw0 * MWo0
+        I1 = cv0 * MdV1 - cw0 * MWo1
+        # mR = mR0 + nodal(gs) − nodal(inertia), nodal(E)_v = E0[v] + E1[v − 1]
+        if e == 0:
+            vc[3, 0] = (mR0[0] + gs0) - I0
+        else:
+            vc[3, e] = (mR0[e] + (gs0 + G1p)) - (I0 + I1p)
+        G1p = gs1
+        I1p = I1
+    vc[3, ne] = (mR0[ne] + (0.0 + G1p)) - (0.0 + I1p)
+    for v in range(ne + 1):
+        vc[0, v] = area[v] * V[v]
+        vc[1, v] = area[v]
+        vc[2, v] = tb[v]
+
+
 def _shift_points(n, V, W, w0, w1, x, s_abs):
     """The drag law's porosities ``x`` and slips ``s_abs`` (2 ne) of the bed-force shift at state
     (n, V, W): n and n + δn (:meth:`TwoFluid1D.bed_force_shift` with the linear element)."""
@@ -381,13 +439,22 @@ def _compile():
             import numba
         except ImportError:
             return None
+        # numba's first compile or cache load imports scipy.linalg (~0.1 s of CPU) only to find
+        # scipy.linalg.cython_blas (np.dot & co., which these kernels do not use): load that
+        # extension module by itself first (scipy_kernels)
+        try:
+            from ..scipy_kernels import _extension
+
+            _extension("scipy.linalg", "cython_blas")
+        except (ImportError, OSError):
+            pass
         jit = numba.njit(cache=True, fastmath=False, nogil=True)
         g = globals()
         # the helpers are compiled first so that the kernels call them as compiled functions
         g["_fmax"] = jit(_fmax)
         g["_sign"] = jit(_sign)
         _COMPILED = (jit(_closure_points), jit(_band_system), jit(_band_solve), jit(_step_pressure),
-                     jit(_shift_points), jit(_shift))
+                     jit(_shift_points), jit(_shift), jit(_step_constants))
     return _COMPILED
 
 
@@ -397,6 +464,6 @@ def available() -> bool:
 
 
 def kernels():
-    """(closure_points, band_system, band_solve, step_pressure, shift_points, shift) compiled, or None
-    without numba."""
+    """(closure_points, band_system, band_solve, step_pressure, shift_points, shift, step_constants)
+    compiled, or None without numba."""
     return _compile()

@@ -199,7 +199,7 @@ class TwoFluid1D:
         node = np.arange(self.nv) / p
         self._pattern = {}  # global indices of the element blocks, the same at every iterate
         self._step_full = None  # the terms of the current step that do not depend on the iterate
-        self._stacked_mat = None  # materials with per-element arrays repeated, for the fused closure calls
+        self._stacked_mat = None  # materials with per-element arrays repeated, per repeat count, for the fused closure calls
         self._M_twice = None  # the mass matrices twice over, for the fused drag call of ``bed_force_shift``
         self._B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1): −∫ ∇·N_i dΩ
         e = self._elements = np.arange(ne)
@@ -389,13 +389,15 @@ class TwoFluid1D:
     def _materials_times(self, reps: int) -> Materials:
         """The materials for a closure call on ``reps`` stacked copies of the element arrays
         (per-element properties, e.g. of a layered site, repeated; kept while ``self.mat`` is)."""
-        key = (id(self.mat), reps)
-        cached = self._stacked_mat
-        if cached is None or cached[0] != key or cached[1] is not self.mat:
+        cache = self._stacked_mat  # {reps: (the materials they came from, the stacked materials)}
+        if cache is None:
+            cache = self._stacked_mat = {}
+        hit = cache.get(reps)
+        if hit is None or hit[0] is not self.mat:
             ne = self.mesh.n_elements
             fields = {f: getattr(self.mat, f) for f in ("rho_f", "mu_f", "rho_s", "d_p", "sphericity", "g")}
-            cached = self._stacked_mat = (key, self.mat, replace(self.mat, **_times(fields, ne, reps)))
-        return cached[2]
+            hit = cache[reps] = (self.mat, replace(self.mat, **_times(fields, ne, reps)))
+        return hit[1]
 
     def _newton_in_n(self, S: BlockSystem, row: str, k: State, d: np.ndarray) -> None:
         """Add the Newton term d (n − nᵏ) of element vectors d = ∂R/∂n_e (n_el, nl) to rows ``row``."""
