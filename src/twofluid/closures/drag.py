@@ -13,6 +13,8 @@ The drag force on the liquid per unit mixture volume is −β (U_f − U_s).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .registry import register
@@ -225,7 +227,7 @@ def saturated_slip(slip_abs, slip_max, p=4):
     1.0
     """
     s = np.asarray(slip_abs, float)
-    if not np.isfinite(slip_max):
+    if not math.isfinite(slip_max):
         return s
     r = s / slip_max
     return np.where(r > 1e6, slip_max, s / (1.0 + r**p) ** (1.0 / p))

@@ -32,12 +32,16 @@ def exponential(n, n_bar, A, p_ref=1.0, derivative=False):
     n = np.asarray(n, dtype=float)
     one_m = 1.0 - n
     solid = one_m > 0.0
+    s_bar = 1.0 - n_bar
+    if solid.all():  # the common case, without the masks (the same numbers: every where takes its first branch)
+        ps = p_ref * np.exp(np.minimum((1.0 - s_bar / one_m) / A, _MAX_EXPONENT))
+        return (ps, -ps * s_bar / (A * one_m * one_m)) if derivative else ps
     safe = np.where(solid, one_m, 1.0)
-    expo = np.minimum((1.0 - (1.0 - n_bar) / safe) / A, _MAX_EXPONENT)
+    expo = np.minimum((1.0 - s_bar / safe) / A, _MAX_EXPONENT)
     ps = np.where(solid, p_ref * np.exp(np.where(solid, expo, 0.0)), 0.0)
     if not derivative:
         return ps
-    dps = np.where(solid, -ps * (1.0 - n_bar) / (A * safe * safe), 0.0)
+    dps = np.where(solid, -ps * s_bar / (A * safe * safe), 0.0)
     return ps, dps
 
 

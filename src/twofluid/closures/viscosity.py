@@ -23,11 +23,17 @@ K1, K2 = 1.1721, -1.7172
 
 
 def _fit(eps, k1, k2):
+    """The fit's relative viscosity exp(exp(ε_s/(k1 + k2 ε_s))) and its slope in ε_s."""
     x = eps / (k1 + k2 * eps)
     ex = np.exp(x)
     mu = np.exp(ex)
     dmu = mu * ex * k1 / (k1 + k2 * eps) ** 2
     return mu, dmu
+
+
+def _fit_value(eps, k1, k2):
+    """The first value of :func:`_fit` alone (the same operations)."""
+    return np.exp(np.exp(eps / (k1 + k2 * eps)))
 
 
 @lru_cache(maxsize=16)
@@ -56,11 +62,15 @@ def mooney_pringle(n, mu_f, *, k1=K1, k2=K2, eps_blend=0.2, n_c=0.5):
 
     Reference: Pringle (2001), section 3.3.1 (Barnes sand in water, R² = 0.97).
     """
-    eps = np.clip(1.0 - np.asarray(n, dtype=float), 0.0, 1.0 - n_c)
+    eps = np.minimum(np.maximum(1.0 - np.asarray(n, dtype=float), 0.0), 1.0 - n_c)  # clip to [0, 1 − n_c]
+    low = eps < eps_blend
+    if not low.any():  # only the fit (the where below would take it everywhere)
+        return mu_f * _fit_value(np.maximum(eps, eps_blend), k1, k2)
     b, c = _blend_coefficients(float(eps_blend), float(k1), float(k2))
-    low = 1.0 + eps * (2.5 + eps * (b + c * eps))
-    high, _ = _fit(np.maximum(eps, eps_blend), k1, k2)
-    return mu_f * np.where(eps < eps_blend, low, high)
+    blend = 1.0 + eps * (2.5 + eps * (b + c * eps))
+    if low.all():
+        return mu_f * blend
+    return mu_f * np.where(low, blend, _fit_value(np.maximum(eps, eps_blend), k1, k2))
 
 
 def solid_viscosity(n, mu_f, **params):
@@ -76,5 +86,8 @@ def solid_viscosity(n, mu_f, **params):
     n = np.asarray(n, dtype=float)
     eps = 1.0 - n
     mu_m = mooney_pringle(n, mu_f, **params)
-    safe = np.where(eps > 1e-6, eps, 1.0)
-    return np.where(eps > 1e-6, (mu_m - n * mu_f) / safe, 3.5 * mu_f)
+    solid = eps > 1e-6
+    if solid.all():  # no clear liquid: the where below would take its first branch everywhere
+        return (mu_m - n * mu_f) / eps
+    safe = np.where(solid, eps, 1.0)
+    return np.where(solid, (mu_m - n * mu_f) / safe, 3.5 * mu_f)
