@@ -23,6 +23,7 @@ import pytest
 
 from twofluid.casefile.builder import build
 from twofluid.casefile.loader import load_case
+from twofluid.fem.banded import band_lu
 from twofluid.models import reduced_kernel
 from twofluid.runners.liquefaction import build_column
 from twofluid.scipy_kernels import dgbsv
@@ -32,9 +33,11 @@ CASES = ("fluidized-bed-step", "settling-illite", "slis-step-change")
 EPS = np.finfo(float).eps
 
 
-def _model(name):
+def _model(name, model="reduced_1d", element=None):
     case = load_case(name)
-    case["case"]["model"] = "reduced_1d"
+    case["case"]["model"] = model
+    if element:
+        case["mesh"]["element"] = element
     return build(case)
 
 
@@ -119,6 +122,19 @@ def test_compiled_runs_give_the_numpy_paths_results(name, seconds):
 
 
 @requires_numba
+@pytest.mark.parametrize("name, element, seconds", [("fluidized-bed-step", "1VW/0P/0n", 1.0),
+                                                    ("fluidized-bed-step", "2VW/1P/0n", 1.0),
+                                                    ("settling-illite", "1VW/0P/0n", 5.0)])
+def test_full_model_with_the_compiled_band_lu_gives_dgbsvs_results(name, element, seconds):
+    runs = {c: _advance(_model(name, "two_fluid_1d", element), seconds, c) for c in (False, True)}
+    ref, fast = runs[False], runs[True]
+    assert fast.t == pytest.approx(ref.t, rel=1e-14)
+    for f in ("V", "W", "n", "P"):
+        a, c = getattr(ref, f), getattr(fast, f)
+        assert np.abs(a - c).max() <= 1e-8 * np.abs(a).max(), f
+
+
+@requires_numba
 def test_compiled_liquefaction_vertical_model_gives_the_numpy_paths_results():
     c = load_case("liquefaction-fine")
     c["output"]["plots"] = False
@@ -146,12 +162,12 @@ def test_band_lu_matches_lapack_dgbsv(N, kl, ku):
     ref = dgbsv(kl, ku, ab.copy(order="F"), b.copy())[2]
     A = _dense_general(ab, kl, ku)
     x = b.copy()
-    assert reduced_kernel.kernels()[2](ab.copy(order="F"), x, kl, ku) == 0
+    assert band_lu()(ab.copy(order="F"), x, kl, ku) == 0
     kappa = np.linalg.cond(A)
     assert np.abs(A @ x - b).max() <= 50 * N * EPS * np.abs(A).max() * np.abs(x).max()
     assert np.abs(x - ref).max() <= 50 * N * kappa * EPS * np.abs(ref).max()
     singular = np.zeros_like(ab)
-    assert reduced_kernel.kernels()[2](singular, b.copy(), kl, ku) == 1
+    assert band_lu()(singular, b.copy(), kl, ku) == 1
 
 
 def _dense_general(ab, kl, ku):

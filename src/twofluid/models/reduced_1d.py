@@ -71,13 +71,11 @@ class Reduced1D(TwoFluid1D):
     one end must be an inlet or a wall (it fixes c = A V), and ``surcharge`` [Pa]
     is an optional solids load on the top face.
 
-    ``compiled`` (class attribute, may be set per instance): None (default) assembles each
-    iterate with the compiled kernels of :mod:`~twofluid.models.reduced_kernel` where numba
-    is installed and with the NumPy path otherwise; False always takes the NumPy path (the
-    reference path: the same band matrix and right-hand side to round-off).
+    ``compiled`` (class attribute, may be set per instance): None (default) assembles and
+    solves each iterate with the compiled kernels of :mod:`~twofluid.models.reduced_kernel`
+    where numba is installed and with the NumPy path and LAPACK otherwise; False always takes
+    the NumPy path (the reference path: the same band matrix and right-hand side to round-off).
     """
-
-    compiled: bool | None = None
 
     def __init__(self, mesh, materials, closures, bottom, top, element="1VW/0P/0n",
                  solids_flux="upwind", surcharge: float = 0.0):

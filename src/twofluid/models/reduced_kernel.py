@@ -362,71 +362,6 @@ def _step_pressure(W, n, nk, last, mc, sc, liq, viscous, area, top_outlet, p_end
             P[e] = p_end + c
 
 
-def _band_solve(ab, b, kl, ku):
-    """LAPACK ``dgbsv`` in place: band LU with partial pivoting of ``ab`` (2 kl + ku + 1, n; A[i, j]
-    at ab[kl + ku + i − j, j], the first kl rows for the fill-in) and the solve of ``b``; returns
-    LAPACK's ``info`` (0, or j + 1 for a zero pivot in column j).
-
-    The order of operations of LAPACK's unblocked dgbtf2 and dgbtrs (pivot = first largest
-    entry, the column scaled by the reciprocal pivot, rank-one updates, column back substitution),
-    so the results agree with ``dgbsv``'s to round-off (an optimised BLAS may fuse multiply-adds).
-    The f2py call of ``dgbsv`` costs ~20 µs on 401 unknowns, mostly its per-column BLAS calls.
-    """
-    n = b.size
-    kv = kl + ku
-    ipiv = np.empty(n, dtype=np.int64)
-    for j in range(n):  # the fill-in rows start at zero
-        for i in range(kl):
-            ab[i, j] = 0.0
-    ju = 0
-    for j in range(n):
-        km = min(kl, n - 1 - j)
-        p = 0
-        amax = abs(ab[kv, j])
-        for i in range(1, km + 1):
-            a = abs(ab[kv + i, j])
-            if a > amax:
-                amax = a
-                p = i
-        ipiv[j] = j + p
-        piv = ab[kv + p, j]
-        if piv == 0.0 or piv != piv:
-            return j + 1
-        ju = max(ju, min(j + ku + p, n - 1))
-        if p != 0:  # swap rows j and j + p in columns j..ju
-            for c in range(j, ju + 1):
-                t = ab[kv + p + j - c, c]
-                ab[kv + p + j - c, c] = ab[kv + j - c, c]
-                ab[kv + j - c, c] = t
-        if km > 0:
-            rp = 1.0 / piv
-            for i in range(1, km + 1):
-                ab[kv + i, j] *= rp
-            for c in range(j + 1, ju + 1):
-                t = ab[kv + j - c, c]
-                if t != 0.0:
-                    for i in range(1, km + 1):
-                        ab[kv + j + i - c, c] -= ab[kv + i, j] * t
-    for j in range(n - 1):  # L y = P b
-        lm = min(kl, n - 1 - j)
-        q = ipiv[j]
-        if q != j:
-            t = b[q]
-            b[q] = b[j]
-            b[j] = t
-        t = b[j]
-        if t != 0.0:
-            for i in range(1, lm + 1):
-                b[j + i] -= ab[kv + i, j] * t
-    for j in range(n - 1, -1, -1):  # U x = y (U has kl + ku superdiagonals)
-        if b[j] != 0.0:
-            b[j] /= ab[kv, j]
-            t = b[j]
-            for i in range(max(0, j - kv), j):
-                b[i] -= t * ab[kv + i - j, j]
-    return 0
-
-
 _COMPILED = None
 _TRIED = False
 
@@ -435,25 +370,16 @@ def _compile():
     global _COMPILED, _TRIED
     if not _TRIED:
         _TRIED = True
-        try:
-            import numba
-        except ImportError:
-            return None
-        # numba's first compile or cache load imports scipy.linalg (~0.1 s of CPU) only to find
-        # scipy.linalg.cython_blas (np.dot & co., which these kernels do not use): load that
-        # extension module by itself first (scipy_kernels)
-        try:
-            from ..scipy_kernels import _extension
+        from ..fem.banded import band_lu, numba_jit
 
-            _extension("scipy.linalg", "cython_blas")
-        except (ImportError, OSError):
-            pass
-        jit = numba.njit(cache=True, fastmath=False, nogil=True)
+        jit = numba_jit()
+        if jit is None:
+            return None
         g = globals()
         # the helpers are compiled first so that the kernels call them as compiled functions
         g["_fmax"] = jit(_fmax)
         g["_sign"] = jit(_sign)
-        _COMPILED = (jit(_closure_points), jit(_band_system), jit(_band_solve), jit(_step_pressure),
+        _COMPILED = (jit(_closure_points), jit(_band_system), band_lu(), jit(_step_pressure),
                      jit(_shift_points), jit(_shift), jit(_step_constants))
     return _COMPILED
 

@@ -58,6 +58,7 @@ mesh carries. The thesis saw it as oscillations behind fronts (its 4.6.1, 5.1.1)
 """
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
@@ -165,7 +166,18 @@ def _times(params: dict, n: int, reps: int) -> dict:
 
 
 class TwoFluid1D:
-    """Assembles and solves the 1D two-component equations on a LineMesh."""
+    """Assembles and solves the 1D two-component equations on a LineMesh.
+
+    ``compiled`` (class attribute, may be set per instance): True solves each iterate's band
+    system with the compiled band LU of :mod:`twofluid.fem.banded` where numba is installed,
+    False always with LAPACK's ``dgbsv`` (the same algorithm; the reference path), None
+    (default) with the compiled LU only where numba is already imported in the process: it
+    saves 15–25 % of the solve, less than numba's import (~0.5 s of CPU) repays on a run of
+    a few thousand steps (docs/benchmarks.md). :class:`~twofluid.models.reduced_1d.Reduced1D`
+    takes its compiled kernels wherever numba is installed unless ``compiled`` is False.
+    """
+
+    compiled: bool | None = None
 
     def __init__(self, mesh: LineMesh, materials: Materials, closures: Closures,
                  bottom: Boundary, top: Boundary, element: str = "1VW/0P/0n",
@@ -651,7 +663,8 @@ class TwoFluid1D:
     def solve(self, S: BlockSystem, t: float) -> np.ndarray:
         """The iterate's solution by band LU for the increment from the iterate (:mod:`twofluid.fem.banded`)."""
         idx, val = self.dirichlet(t)
-        return self._band.solve(S, S.iterate, idx, val)
+        use = self.compiled if self.compiled is not None else "numba" in sys.modules
+        return self._band.solve(S, S.iterate, idx, val, compiled=bool(use))
 
     def pack(self, s: State) -> np.ndarray:
         return np.concatenate([s.V, s.W, s.P, s.n])
