@@ -186,3 +186,27 @@ def test_the_numpy_path_runs_without_the_kernels(monkeypatch):
     assert s.t == pytest.approx(5 * b.dt)
     assert "sc" not in b.model._step  # nothing of the compiled path was prepared
     assert np.all((s.n > 0.0) & (s.n <= 1.0))
+
+
+@requires_numba
+def test_compiled_extrapolation_is_the_numpy_extrapolation():
+    from twofluid.models.extrapolation import Extrapolator
+
+    rng = np.random.default_rng(3)
+    ref, fast = Extrapolator(), Extrapolator()
+    fast.compiled = True
+    x = rng.standard_normal(40)
+    for t in range(9):
+        x = x + 0.1 * (t % 3) * rng.standard_normal(40)  # steps of changing smoothness: each order wins somewhere
+        if t == 5:
+            x[7] = np.nan  # NaN propagates the same way
+        fields = [x.copy(), 2.0 * x]
+        ref.push(float(t), fields, None)
+        fast.push(float(t), fields, None)
+        for a, b in zip(ref.D, fast.D):
+            np.testing.assert_array_equal(a, b)
+        p, q = ref.predict(t + 1.0), fast.predict(t + 1.0)
+        if p is not None:
+            for a, b in zip(p, q):
+                np.testing.assert_array_equal(a, b)  # the same comparisons and sums: identical
+    assert ref.order == 6

@@ -13,6 +13,45 @@ __all__ = ["Extrapolator"]
 _HISTORY = 6  # backward differences kept (orders up to 4)
 
 
+def _predict_entries(D, order, pred):
+    """:meth:`Extrapolator.predict` of one field entry by entry (same operations): ``pred`` =
+    Σ_{j≤p} ∇ʲx with, per entry, the order p whose next term |∇^{p+1}x| is smallest."""
+    for i in range(D.shape[1]):
+        acc = D[0, i] + D[1, i]
+        p = acc
+        err = abs(D[2, i])
+        for j in range(2, order - 1):
+            acc = acc + D[j, i]
+            e = abs(D[j + 1, i])
+            if e < err:
+                p = acc
+            err = e if (e < err or e != e) else err  # np.minimum: the smaller, NaN if either is
+        pred[i] = p
+
+
+def _push_entries(x, Do, Dn):
+    """The backward differences ``Dn`` of the new state ``x`` from the old ones ``Do``."""
+    m = Dn.shape[0]
+    for i in range(x.size):
+        Dn[0, i] = x[i]
+        for j in range(1, m):
+            Dn[j, i] = Dn[j - 1, i] - Do[j - 1, i]
+
+
+_KERNELS = None
+
+
+def _kernels():
+    """(predict, push) compiled by numba, or None without it."""
+    global _KERNELS
+    if _KERNELS is None:
+        from ..fem.banded import numba_jit
+
+        jit = numba_jit()
+        _KERNELS = () if jit is None else (jit(_predict_entries), jit(_push_entries))
+    return _KERNELS or None
+
+
 class Extrapolator:
     """First iterate of a step from the converged steps before it, for the fields W and n.
 
@@ -30,6 +69,8 @@ class Extrapolator:
     >>> float(e.predict(6.0)[0][0]), e.order  # a cubic in time is extrapolated exactly
     (217.0, 6)
     """
+
+    compiled = False  # the models that run compiled kernels set it: predict and push entry by entry
 
     def __init__(self):
         self.t = self.h = None
@@ -51,8 +92,13 @@ class Extrapolator:
         else:
             m = min(self.order + 1, _HISTORY)
             D = []
+            ker = _kernels() if self.compiled else None
             for x, Do in zip(fields, self.D):
                 Dn = np.empty((m, x.size))
+                if ker is not None:
+                    ker[1](np.ascontiguousarray(x, dtype=float), Do, Dn)
+                    D.append(Dn)
+                    continue
                 Dn[0] = x
                 for j in range(1, m):
                     np.subtract(Dn[j - 1], Do[j - 1], out=Dn[j])  # ∇ʲx_new = ∇ʲ⁻¹x_new − ∇ʲ⁻¹x_old
@@ -67,6 +113,13 @@ class Extrapolator:
         h_new = t - self.t
         if self.order >= 3 and abs(h_new - self.h) <= 1e-9 * self.h:
             out = []
+            ker = _kernels() if self.compiled else None
+            if ker is not None:
+                for D in self.D:
+                    pred = np.empty(D.shape[1])
+                    ker[0](D, self.order, pred)
+                    out.append(pred)
+                return out
             for D in self.D:
                 acc = D[0] + D[1]  # order 1
                 pred, err = acc.copy(), np.abs(D[2])

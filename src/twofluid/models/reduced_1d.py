@@ -162,6 +162,7 @@ class Reduced1D(TwoFluid1D):
             return st
         mat, M0, M1, area = self.mat, self._M0, self._M1, self.vert_area
         ker = self._kernels()
+        self._extrap.compiled = ker is not None  # its predictions entry by entry too (the same numbers)
         if ker is not None:  # the step's constants by the compiled kernel, packed as band_system takes them
             ne = old.n.size
             V = self._mixture_velocity(t_new)
