@@ -40,7 +40,11 @@ viscosity call (at n and n + δn) and one P_s call, about a hundred vectorised
 operations on element arrays (element index last, so the local rows are
 contiguous) and one banded LU solve; what does not change inside the Picard loop
 (the mixture velocity and its element products, the old state's terms, Δt
-factors) is computed once per step, or once per V or Δt. The first iterate of a
+factors) is computed once per step, or once per V or Δt. Where numba is installed the
+iterate, the step's constants, the bed-force shift and the pressure recovery run as compiled
+loops around the same closure calls (:mod:`~twofluid.models.reduced_kernel`, the same
+numbers), which halves the CPU time of a step; ``compiled = False`` keeps the NumPy path,
+the reference the kernels are tested against. The first iterate of a
 step starts from the extrapolation of the last converged steps, of order up to 4
 chosen entry by entry (W and n; V is known exactly; :class:`~twofluid.models.extrapolation.Extrapolator`): on the
 settling column nearly every step then converges at the first iterate, on the

@@ -1,32 +1,34 @@
-"""One Newton iterate of the reduced 1D model as two compiled loops around the closure calls.
+"""The reduced 1D model's Newton iterate and per-step work as compiled loops around the closure calls.
 
 Same arithmetic as the NumPy path of :meth:`Reduced1D.assemble
 <twofluid.models.reduced_1d.Reduced1D.assemble>` (the reference path), operation by
 operation, so the band matrix and right-hand side agree to round-off
 (``tests/unit/test_reduced_kernel.py``):
 
-- :func:`closure_points` — from the iterate (n, W) the porosities and slips at which the
+- :func:`_closure_points` — from the iterate (n, W) the porosities and slips at which the
   drag law is called (n, |s|), (n + δn, |s(n + δn)|), (n, |s| + δs);
 - the closures themselves stay pure vectorised functions from the registry, called once
   per iterate by the model (drag at the three points, μ_s at n and n + δn, P_s);
-- :func:`band_system` — from the closure values, the element integrals of the mixture −
+- :func:`_band_system` — from the closure values, the element integrals of the mixture −
   liquid rows (drag Newton-linearised, P_s Taylor-expanded, μ_s and 1/n Newton) and the
   porosity rows (upwind ratio Newton-linearised), written straight into LAPACK band storage
   (half-width 2, the interleaved (W_0, n_0, W_1, …) numbering) with minus the residual.
 
 What the NumPy path spends on about a hundred array operations of a few hundred entries
-(each ~1–3 µs of call overhead) is here two loops over the elements. Compiled with numba
-when it is installed (the ``fast`` extra; ``cache=True``, so only the first run on a machine
-compiles, ~2 s); without numba the model keeps the NumPy path. Importing numba costs
-~0.3 s of CPU once per process, which the model pays only where the kernel is used.
+(each ~1–3 µs of call overhead) is here a few loops over the elements; the same holds for
+what is done once per step (:func:`_step_constants`, the bed-force shift :func:`_shift_points`
+/ :func:`_shift`, the pressure recovery :func:`_step_pressure`), and the band LU is
+:func:`twofluid.fem.banded.band_lu` (LAPACK's algorithm). The closures then take about half
+of an iterate's time. Compiled with numba when it is installed (the ``fast`` extra;
+``cache=True``, so only the first run after an install or a change compiles, a few seconds);
+without numba the model keeps the NumPy path. Loading numba and the cached kernels costs
+~0.5 s of CPU once per process (docs/benchmarks.md, "Compiled 1D iterate").
 
 >>> ok = available()  # numba installed?
 >>> isinstance(ok, bool)
 True
 """
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -53,7 +55,7 @@ def _sign(x):
 
 def _closure_points(n, W, w0, w1, Vbar, dn, dq1, n3, s3, aux):
     """The drag law's porosities ``n3`` and slips ``s3`` (3, ne) at iterate (n, W); ``aux`` keeps
-    (q̄, 1/(2n(1 − n)), δs) for :func:`band_system`."""
+    (q̄, 1/(2n(1 − n)), δs) for :func:`_band_system`."""
     ne = n.size
     for e in range(ne):
         ni = n[e]
@@ -220,7 +222,7 @@ def _band_system(n, W, kraw, n3, aux, ps, dps, mu2, viscous, mu_f, hc, cw0, upwi
 
 
 def _step_constants(V, oldV, oldW, oldn, alpha, dt, inv2vol, cv0, cw0, cgs, mc, srcT, mR0, area, tb, sc, vc):
-    """The step's constants ``sc`` (16, ne) and ``vc`` (4, nv) of :func:`band_system` (what
+    """The step's constants ``sc`` (16, ne) and ``vc`` (4, nv) of :func:`_band_system` (what
     :meth:`Reduced1D._prepare_step` computes once per step) from the old state, the mixture
     velocity V and the bed-force shift α; ``cgs`` = (ρ_s − ρ_f) g_y."""
     ne = oldn.size
