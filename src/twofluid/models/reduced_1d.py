@@ -236,7 +236,10 @@ class Reduced1D(TwoFluid1D):
         """The compiled (closure_points, band_system, band_solve), or None for the NumPy path."""
         if self.compiled is False or not self._kernel_ok:
             return None
-        return reduced_kernel.kernels()
+        ker = self.__dict__.get("_ker")
+        if ker is None:
+            ker = self._ker = reduced_kernel.kernels() or ()
+        return ker or None
 
     def _upwind(self, n, below, phi):
         """Upwind ratio r = (1 − n_up)/(1 − n_f) at the vertices and φ ∂r/∂n_below, φ ∂r/∂n_above.
