@@ -377,10 +377,16 @@ class LiquefactionColumn:
     def surface_acceleration(self, s: ColumnState) -> float:
         """Absolute horizontal acceleration of the ground surface [m/s²] while the shear wave runs
         (else 0): the reference motion (record) plus the surface's acceleration relative to it."""
-        if s.t > self.shear_end + 1e-12:
-            return 0.0
+        return self.accelerations(s)[1]
+
+    def accelerations(self, s: ColumnState) -> tuple[float, float]:
+        """(:meth:`base_acceleration`, :meth:`surface_acceleration`) [m/s²], the record read once."""
         a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
-        return a_in + float(s.wave.a[-1])
+        running = s.t <= self.shear_end + 1e-12
+        surface = a_in + float(s.wave.a[-1]) if running else 0.0
+        if self.wave.base_impedance is None:
+            return a_in, surface
+        return (a_in + float(s.wave.a[0]) if running else 0.0), surface
 
     def shear_strain(self, s: ColumnState) -> np.ndarray:
         """Shear strain γ of every element of the shear column (crust included) [-]."""
@@ -394,10 +400,7 @@ class LiquefactionColumn:
         """Absolute horizontal acceleration of the base [m/s²] while the shear wave runs (else 0):
         the record on a rigid base; record (outcrop) + the base's relative acceleration on a
         compliant one."""
-        a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
-        if self.wave.base_impedance is None:
-            return a_in
-        return a_in + float(s.wave.a[0]) if s.t <= self.shear_end + 1e-12 else 0.0
+        return self.accelerations(s)[0]
 
     def mixture_density(self, n) -> np.ndarray:
         mat = self.v.mat
