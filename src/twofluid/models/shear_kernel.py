@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-__all__ = ["available", "shear_substeps"]
+__all__ = ["available", "compiled", "shear_substeps"]
 
 _MAX_EXPONENT = 700.0  # as closures.solids_pressure
 _KPA = 1000.0  # as closures.shear_modulus
@@ -209,6 +209,12 @@ def _kernel():
             return None
         _COMPILED = numba.njit(cache=True, fastmath=False, nogil=True)(_substeps)
     return _COMPILED
+
+
+def compiled():
+    """The compiled kernel (a numba dispatcher taking the arguments of ``_substeps``), or None where
+    numba is not installed. The caller holds it, so that a call is the dispatch alone."""
+    return _kernel()
 
 
 def shear_substeps(*args) -> int:

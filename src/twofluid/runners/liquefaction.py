@@ -108,12 +108,14 @@ def build_column(case: dict, reference: bool = False) -> Built:
     sand = sand_for(case, source, site, sigma_v0)
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
+    accel_at = None if motion is None else (lambda t, m=motion: gm.value_at(m, t))
     column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,
                                 shear_step=sw["step"], damping_ratio=sw["damping_ratio"],
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
                                 free_vibration=sw["free_vibration"], settings=settings,
                                 base_impedance=schema_liquefaction.base_impedance(case),
-                                crust=crust_for(case, source, site), fast_shear=not reference)
+                                crust=crust_for(case, source, site), fast_shear=not reference,
+                                base_acceleration_at=accel_at)
     state = column.initial_state(site.porosity, st["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
