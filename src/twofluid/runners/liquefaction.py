@@ -1,8 +1,9 @@
 """Run a ``liquefaction_1d`` case: build the layered column, shake it, let it reconsolidate until
 the excess pore pressure has dissipated (or the end time), write results.
 
-``run_liquefaction`` is what ``twofluid run`` calls for this model (through
-:data:`twofluid.runners.common.RUNNERS`); ``simplified_table`` is what ``twofluid simplified``
+``run_liquefaction`` runs a case from the API; ``twofluid run`` calls ``run_validated`` for this
+model (through :data:`twofluid.runners.common.RUNNERS`, which has validated the case);
+``simplified_table`` is what ``twofluid simplified``
 prints. The run folder holds (depths below the ground surface; columns in docs/outputs.md)
 
 - ``case.resolved.toml`` — every key with the value used;
@@ -55,7 +56,7 @@ from ..verification.terzaghi import consolidation_coefficient
 from . import liquefaction_report as report
 from .liquefaction_site import Site, crust_for, sand_for, site_arrays
 
-__all__ = ["Built", "build_column", "run_liquefaction", "simplified_table", "PROFILE_COLUMNS"]
+__all__ = ["Built", "build_column", "run_liquefaction", "run_validated", "simplified_table", "PROFILE_COLUMNS"]
 
 PROFILE_COLUMNS = ["depth_m", "y_m", "porosity", "reference_porosity", "P_Pa", "excess_P_Pa",
                    "sigma_v_eff_Pa", "sigma_v0_Pa", "r_u", "peak_r_u", "shear_strain",
@@ -244,9 +245,15 @@ def _zone(mask, col) -> list | None:
 def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool = False):
     """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path); ``reference``: the
     full vertical model and the NumPy shear path (:func:`build_column`)."""
+    case = load_case(case) if not isinstance(case, dict) else validated(case)
+    return run_validated(case, out_dir, progress, reference)
+
+
+def run_validated(case: dict, out_dir=None, progress: bool = False, reference: bool = False):
+    """:func:`run_liquefaction` of a case just validated (what ``run_case`` calls: it has validated
+    the case and checked the output folder)."""
     from .common import RunResult, run_guard
 
-    case = load_case(case) if not isinstance(case, dict) else validated(case)
     # reads the record and weights: a bad one stops here, nothing written
     b = build_column(case, reference=True) if reference else build_column(case)
     name = case["case"]["name"]
