@@ -25,6 +25,8 @@ strong-motion earthquake records. Bull. Seismol. Soc. Am. 59(2), 909–922.
 """
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from ..casefile.schema import CaseError
@@ -79,7 +81,11 @@ def _coefficients(omega, z, dt):
 
 
 def _march(a, dt, omega, z, keep):
+    """Peak |u| of each oscillator from rest, and the u, v histories if ``keep``."""
     (e11, e12, e21, e22), (cu, cv), (du, dv) = _coefficients(omega, z, dt)
+    compiled = None if keep else _compiled_peaks()
+    if compiled is not None:
+        return compiled(np.ascontiguousarray(a), e11, e12, e21, e22, cu, cv, du, dv, np.zeros_like(omega)), None
     u = np.zeros_like(omega)
     v = np.zeros_like(omega)
     peak = np.zeros_like(omega)
@@ -91,6 +97,36 @@ def _march(a, dt, omega, z, keep):
         if keep:
             hist[0][:, n + 1], hist[1][:, n + 1] = u, v
     return peak, hist
+
+
+def _peaks(a, e11, e12, e21, e22, cu, cv, du, dv, peak):
+    """:func:`_march`'s peaks, oscillator by oscillator: the same arithmetic in the same order."""
+    for p in range(peak.size):
+        u = 0.0
+        v = 0.0
+        top = 0.0
+        for n in range(a.size - 1):
+            u, v = (e11[p] * u + e12[p] * v + cu[p] * a[n] + du[p] * a[n + 1],
+                    e21[p] * u + e22[p] * v + cv[p] * a[n] + dv[p] * a[n + 1])
+            if not abs(u) <= top:  # as np.maximum: a NaN stays
+                top = abs(u)
+        peak[p] = top
+    return peak
+
+
+_COMPILED = None
+
+
+def _compiled_peaks():
+    """:func:`_peaks` compiled (numba, cached on disk) where numba is already loaded — a
+    liquefaction run's shear kernel loads it; None otherwise, since importing numba for a
+    spectrum costs more (0.2–0.5 s) than the NumPy march (0.03 s for 100 periods and 7 000 samples)."""
+    global _COMPILED
+    if _COMPILED is None and "numba" in sys.modules:
+        import numba
+
+        _COMPILED = numba.njit(cache=True, nogil=True)(_peaks)
+    return _COMPILED
 
 
 def standard_periods(n: int = 100, t_min: float = 0.01, t_max: float = 10.0) -> np.ndarray:
