@@ -85,7 +85,8 @@ def _march(a, dt, omega, z, keep):
     (e11, e12, e21, e22), (cu, cv), (du, dv) = _coefficients(omega, z, dt)
     compiled = None if keep else _compiled_peaks()
     if compiled is not None:
-        return compiled(np.ascontiguousarray(a), e11, e12, e21, e22, cu, cv, du, dv, np.zeros_like(omega)), None
+        args = [np.ascontiguousarray(x, dtype=float) for x in (a, e11, e12, e21, e22, cu, cv, du, dv)]
+        return compiled(*args, np.zeros(omega.size)), None
     u = np.zeros_like(omega)
     v = np.zeros_like(omega)
     peak = np.zeros_like(omega)
@@ -114,19 +115,16 @@ def _peaks(a, e11, e12, e21, e22, cu, cv, du, dv, peak):
     return peak
 
 
-_COMPILED = None
+_PEAKS_SIGNATURE = "f8[::1](" + ", ".join(["f8[::1]"] * 10) + ")"
 
 
 def _compiled_peaks():
-    """:func:`_peaks` compiled (numba, cached on disk) where numba is already loaded — a
-    liquefaction run's shear kernel loads it; None otherwise, since importing numba for a
-    spectrum costs more (0.2–0.5 s) than the NumPy march (0.03 s for 100 periods and 7 000 samples)."""
-    global _COMPILED
-    if _COMPILED is None and "numba" in sys.modules:
-        import numba
+    """:func:`_peaks` compiled (:mod:`twofluid.compiled`: the cached ahead-of-time module, built
+    once where numba is installed, or numba's JIT where numba is already loaded), or None: then
+    the NumPy march (0.03 s for 100 periods and 7 000 samples) costs less than importing numba."""
+    from ..compiled import kernel
 
-        _COMPILED = numba.njit(cache=True, nogil=True)(_peaks)
-    return _COMPILED
+    return kernel("spectra_peaks", _peaks, _PEAKS_SIGNATURE, jit="numba" in sys.modules)
 
 
 def standard_periods(n: int = 100, t_min: float = 0.01, t_max: float = 10.0) -> np.ndarray:
