@@ -14,8 +14,8 @@ same time never load half a file.
 Where a module cannot be built (``numba.pycc`` missing — it is deprecated in numba — no C
 toolchain to link it, no writable cache folder) the kernel is ``numba.njit(cache=True)`` as
 before; without numba :func:`kernel` returns None and the caller keeps its NumPy path. The
-first build costs about 4 s of CPU per kernel on the benchmark VM (the JIT's first compile
-about 2.7 s).
+first build costs 1–4 s of CPU per kernel on the benchmark VM (the shear kernel 3.7 s, where the
+JIT's first compile took 2.7 s).
 
 Cache folder: ``$TWOFLUID_CACHE_DIR`` if set, else the ``__pycache__`` folder beside this
 module if it is writable, else ``~/.cache/twofluid``.
