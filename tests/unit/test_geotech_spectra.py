@@ -116,3 +116,21 @@ def test_bad_arguments_name_the_argument(kwargs, key):
     with pytest.raises(CaseError) as err:
         response_spectrum(**args)
     assert f": {key}:" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_compiled_peaks_are_the_numpy_march():
+    """The compiled march (used where numba is loaded) does the NumPy march's arithmetic in the same
+    order, oscillator by oscillator: peaks equal to round-off (1e-12 relative is far above it)."""
+    pytest.importorskip("numba")
+    from twofluid.geotech import spectra
+
+    rng = np.random.default_rng(3)
+    a = rng.standard_normal(3001)
+    omega = 2.0 * np.pi / np.logspace(-2, 1, 40)
+    ref, _ = spectra._march(a, 0.01, omega, 0.05, keep=True)  # keep: always the NumPy loop
+    (e11, e12, e21, e22), (cu, cv), (du, dv) = spectra._coefficients(omega, 0.05, 0.01)
+    python = spectra._peaks(a[:301], e11, e12, e21, e22, cu, cv, du, dv, np.zeros_like(omega))
+    assert np.allclose(python, spectra._march(a[:301], 0.01, omega, 0.05, keep=True)[0], rtol=1e-12, atol=0.0)
+    assert spectra._compiled_peaks() is not None  # numba is loaded here
+    fast, hist = spectra._march(a, 0.01, omega, 0.05, keep=False)
+    assert hist is None and np.allclose(fast, ref, rtol=1e-12, atol=0.0)

@@ -143,3 +143,19 @@ def test_unknown_units_and_format(tmp_path):
         gm.load(tmp_path / "rec.xyz")
     with pytest.raises(FileNotFoundError, match="RSN6"):
         gm.bundled_record("nope.AT2")
+
+
+def test_a_record_read_again_is_the_one_kept_until_the_file_changes(tmp_path):
+    import os
+
+    p = tmp_path / "r.csv"
+    p.write_text("time_s,acceleration_g\n0,0.1\n0.01,0.2\n")
+    first = gm.load(p)
+    assert gm.load(p) is first  # kept: validation and the run read it once
+    with pytest.raises(ValueError, match="read-only"):
+        first.acceleration[0] = 1.0  # shared by its readers: nobody may change it in place
+    p.write_text("time_s,acceleration_g\n0,0.3\n0.01,0.2\n")  # same size, new contents
+    os.utime(p, ns=(0, os.stat(p).st_mtime_ns + 1_000_000))
+    again = gm.load(p)
+    assert again is not first and again.acceleration[0] == pytest.approx(0.3 * gm.G_STANDARD)
+    assert gm.load(p, units="m/s2").acceleration[0] == pytest.approx(0.3)  # other units: read again

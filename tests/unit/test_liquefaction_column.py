@@ -286,6 +286,26 @@ def test_interrupted_run_keeps_its_results(tmp_path, monkeypatch):
     assert json.loads((tmp_path / "int" / "summary.json").read_text())["status"] == "interrupted"
 
 
+def test_run_case_validates_a_liquefaction_case_once(tmp_path, monkeypatch):
+    """run_case validates the case and calls the inner runner, which does not validate it again;
+    the API's run_liquefaction still validates what it is given."""
+    from twofluid.runners import liquefaction
+    from twofluid.runners.common import run_case
+
+    c = load_case("liquefaction-fine")
+    c["layers"][0]["elements"] = 4
+    c["time"]["end"] = 0.04
+    c["output"].update(times=[], plots=False)
+
+    def refuse(case):
+        raise AssertionError("validated twice")
+
+    monkeypatch.setattr(liquefaction, "validated", refuse)
+    assert run_case(c, tmp_path / "a").status == "completed"
+    with pytest.raises(AssertionError, match="validated twice"):
+        run_liquefaction(c, tmp_path / "b")
+
+
 @pytest.mark.parametrize("section,key,value,words", [
     ("layers", "porosity", 0.95, ["[layers 1 'sand'] porosity", "outside the valid range", "[0, 0.7]"]),
     ("layers", "reference_porosity_law", "finn", ["[layers 1 'sand'] reference_porosity_law", "byrne"]),

@@ -25,6 +25,8 @@ strong-motion earthquake records. Bull. Seismol. Soc. Am. 59(2), 909–922.
 """
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from ..casefile.schema import CaseError
@@ -79,7 +81,12 @@ def _coefficients(omega, z, dt):
 
 
 def _march(a, dt, omega, z, keep):
+    """Peak |u| of each oscillator from rest, and the u, v histories if ``keep``."""
     (e11, e12, e21, e22), (cu, cv), (du, dv) = _coefficients(omega, z, dt)
+    compiled = None if keep else _compiled_peaks()
+    if compiled is not None:
+        args = [np.ascontiguousarray(x, dtype=float) for x in (a, e11, e12, e21, e22, cu, cv, du, dv)]
+        return compiled(*args, np.zeros(omega.size)), None
     u = np.zeros_like(omega)
     v = np.zeros_like(omega)
     peak = np.zeros_like(omega)
@@ -91,6 +98,33 @@ def _march(a, dt, omega, z, keep):
         if keep:
             hist[0][:, n + 1], hist[1][:, n + 1] = u, v
     return peak, hist
+
+
+def _peaks(a, e11, e12, e21, e22, cu, cv, du, dv, peak):
+    """:func:`_march`'s peaks, oscillator by oscillator: the same arithmetic in the same order."""
+    for p in range(peak.size):
+        u = 0.0
+        v = 0.0
+        top = 0.0
+        for n in range(a.size - 1):
+            u, v = (e11[p] * u + e12[p] * v + cu[p] * a[n] + du[p] * a[n + 1],
+                    e21[p] * u + e22[p] * v + cv[p] * a[n] + dv[p] * a[n + 1])
+            if not abs(u) <= top:  # as np.maximum: a NaN stays
+                top = abs(u)
+        peak[p] = top
+    return peak
+
+
+_PEAKS_SIGNATURE = "f8[::1](" + ", ".join(["f8[::1]"] * 10) + ")"
+
+
+def _compiled_peaks():
+    """:func:`_peaks` compiled (:mod:`twofluid.compiled`: the cached ahead-of-time module, built
+    once where numba is installed, or numba's JIT where numba is already loaded), or None: then
+    the NumPy march (0.03 s for 100 periods and 7 000 samples) costs less than importing numba."""
+    from ..compiled import kernel
+
+    return kernel("spectra_peaks", _peaks, _PEAKS_SIGNATURE, jit="numba" in sys.modules)
 
 
 def standard_periods(n: int = 100, t_min: float = 0.01, t_max: float = 10.0) -> np.ndarray:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, replace
+from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
@@ -166,9 +167,27 @@ def _unit_factor(units: str, path) -> float:
 def load(path: str | Path, units: str | None = None) -> GroundMotion:
     """Read a record, choosing the reader by extension (``.at2`` or ``.csv``/``.txt``).
 
-    AT2 records are always in g; ``units`` applies to CSV (default ``"g"``).
+    AT2 records are always in g; ``units`` applies to CSV (default ``"g"``). A run validates its
+    case and then builds it, each reading the record: the last few records read are kept (their
+    arrays read-only) and given again while the file's size and modification time are unchanged.
     """
     path = Path(path)
+    try:
+        st = path.stat()
+    except OSError:
+        return _load(path, units)  # the reader names the problem
+    return _load_cached(str(path.resolve()), st.st_mtime_ns, st.st_size, units)
+
+
+@lru_cache(maxsize=8)
+def _load_cached(path: str, mtime_ns: int, size: int, units: str | None) -> GroundMotion:
+    m = _load(Path(path), units)
+    m.time.flags.writeable = False
+    m.acceleration.flags.writeable = False
+    return m
+
+
+def _load(path: Path, units: str | None) -> GroundMotion:
     suffix = path.suffix.lower()
     if suffix == ".at2":
         if units is not None and _unit_factor(units, path) != G_STANDARD:

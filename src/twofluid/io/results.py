@@ -52,10 +52,13 @@ def check_finite(what: str, t: float, columns: dict[str, np.ndarray], undefined=
     >>> check_finite("probes.csv", 1.0, {"a": np.array([1.0])})
     True
     """
-    for name, values in columns.items():
+    undefined = tuple(undefined)
+    if _all_finite(columns, undefined):  # the usual case: one NumPy test for the whole row block
+        return True
+    for name, values in columns.items():  # name the first bad value
         v = np.asarray(values, dtype=float)
         ok = np.isfinite(v)
-        if any(name.startswith(u) for u in undefined):
+        if undefined and name.startswith(undefined):
             ok |= np.isnan(v)
         if ok.all():
             continue
@@ -70,6 +73,23 @@ def check_finite(what: str, t: float, columns: dict[str, np.ndarray], undefined=
     return True
 
 
+def _all_finite(columns: dict, undefined: tuple) -> bool:
+    """Whether every value is finite (or NaN in an ``undefined`` column), tested on the columns stacked
+    into one array; False also where they do not stack (columns of different shapes): the caller then
+    tests them one by one."""
+    if undefined:
+        strict = [v for k, v in columns.items() if not k.startswith(undefined)]
+        loose = [v for k, v in columns.items() if k.startswith(undefined)]
+    else:
+        strict, loose = list(columns.values()), ()
+    try:
+        if not np.isfinite(np.array(strict, dtype=float)).all():
+            return False
+        return not (loose and np.isinf(np.array(loose, dtype=float)).any())
+    except (ValueError, TypeError):
+        return False
+
+
 def _cell(v) -> str:
     if v is None:
         return ""
@@ -77,6 +97,23 @@ def _cell(v) -> str:
         return v
     v = float(v)
     return "" if np.isnan(v) else f"{v:.10g}"
+
+
+_FORMATS: dict[int, str] = {}
+
+
+def _line(r) -> str | None:
+    """The CSV line of a row of numbers (each as ``_cell`` writes it), formatted by one ``%`` call;
+    None where the row holds anything else (text, None, NaN): ``csv.writer`` takes it then."""
+    n = len(r)
+    fmt = _FORMATS.get(n)
+    if fmt is None:
+        fmt = _FORMATS[n] = ",".join(["%.10g"] * n) + "\r\n"  # csv.writer's line end
+    try:
+        text = fmt % tuple(r)
+    except TypeError:  # text or None: %g takes numbers only
+        return None
+    return None if "nan" in text else text  # NaN is an empty cell
 
 
 class CsvStream:
@@ -89,15 +126,38 @@ class CsvStream:
         self.rows([[str(h) for h in header]])
 
     def rows(self, rows) -> None:
+        """Write ``rows`` (sequences of numbers, text or None; NaN and None as empty cells)."""
         buf = io.StringIO()
-        w = csv.writer(buf)
+        w = None
         for r in rows:
+            line = _line(r)
+            if line is not None:
+                buf.write(line)
+                continue
+            if w is None:
+                w = csv.writer(buf)
             w.writerow([_cell(v) for v in r])
+        self._write(buf.getvalue())
+
+    def table(self, values: np.ndarray, formats: list[str]) -> None:
+        """Write the rows of the 2D float array ``values``, column j formatted by the printf format
+        ``formats[j]`` (e.g. ``"%.6g"``); NaN cells empty. The caller has checked the values
+        (:func:`check_finite`)."""
+        fmt = ",".join(formats) + "\r\n"
+        out = []
+        for row in np.atleast_2d(values).tolist():
+            text = fmt % tuple(row)
+            if "nan" in text:
+                text = ",".join("" if x != x else f % x for f, x in zip(formats, row)) + "\r\n"
+            out.append(text)
+        self._write("".join(out))
+
+    def _write(self, text: str) -> None:
         if self._f.closed:
             self._f = open(self.path, "a", newline="", encoding="utf-8")
         good = self._f.tell()
         try:
-            self._f.write(buf.getvalue())
+            self._f.write(text)
             self._f.flush()
         except OSError:  # disk full: cut back to the last complete row, then report it
             try:
@@ -198,19 +258,29 @@ class ResultWriter:
         self._q = CsvStream(self.out / "probes.csv", ["time_s"] + probe_columns)
         self.profile_columns, self.probe_columns = profile_columns, probe_columns
         self.undefined = tuple(undefined)
+        self._strict = None  # probe columns that must be finite (probe_row)
 
     def profile(self, t: float, fields: dict[str, np.ndarray]) -> None:
         cols = {c: np.asarray(fields[c], dtype=float) for c in self.profile_columns}
         if not check_finite("profiles.csv", t, cols, self.undefined):
             return
-        table = np.column_stack(list(cols.values()))
-        self._p.rows([[t, *row] for row in table])
+        table = np.column_stack([np.full(len(cols[self.profile_columns[0]]), float(t)), *cols.values()])
+        self._p.table(table, ["%.10g"] * table.shape[1])
 
     def probe(self, t: float, values: dict[str, float]) -> None:
         cols = {c: values[c] for c in self.probe_columns}
         if not check_finite("probes.csv", t, cols, self.undefined):
             return
         self._q.rows([[t, *cols.values()]])
+
+    def probe_row(self, t: float, values) -> None:
+        """:meth:`probe` with the values as a sequence in the order of ``probe_columns``."""
+        row = np.asarray(values, dtype=float)
+        if self._strict is None:
+            self._strict = np.array([not c.startswith(self.undefined) for c in self.probe_columns])
+        if not (np.isfinite(row[self._strict]).all() and not np.isinf(row).any()):
+            return self.probe(t, dict(zip(self.probe_columns, row)))  # names the bad value, or drops the row
+        self._q.table(np.concatenate([[float(t)], row])[None, :], ["%.10g"] * (row.size + 1))
 
     def close(self) -> None:
         self._p.close()

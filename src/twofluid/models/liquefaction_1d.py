@@ -70,15 +70,14 @@ viscosity of the shear wave, Newtonian, or a power law η_s (|γ̇|/γ̇_ref)^(m
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields
 from typing import Callable, Iterator
 
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..closures import registry
-from ..closures.reference_porosity import ShearState
+from ..closures.reference_porosity import ShearState, byrne_constants
 from ..closures.shear_modulus import seed_idriss_gmax
 from ..closures.solids_pressure import reference_porosity_for
 from ..closures.viscosity import mooney_pringle
@@ -124,8 +123,8 @@ class Sand:
         for mask, name, params in groups:
             func = registry.get("reference_porosity", name).func
             p = dict(params)
-            if name == "byrne":
-                p.setdefault("c1", 7600.0 * np.asarray(self.dr, dtype=float) ** -2.5)
+            if name == "byrne" and "c1" not in p:
+                p["c1"] = self.byrne_c1()
             funcs.append((mask, func, p))
         liq = np.asarray(self.liquefiable, dtype=bool)
 
@@ -140,6 +139,11 @@ class Sand:
                     out_st = st_k if out_st is None else _select_history(mask, st_k, out_st)
             return np.where(liq, out_nb, nb), out_st
         return law
+
+    def byrne_c1(self) -> np.ndarray:
+        """Byrne's C1 of each element from its Dr (:func:`~twofluid.closures.reference_porosity.byrne_constants`)."""
+        dr = np.asarray(self.dr, dtype=float)
+        return np.array([byrne_constants(float(x))[0] for x in dr.ravel()]).reshape(dr.shape)
 
     def shear_viscosity(self, rate) -> np.ndarray:
         """η_s [Pa·s] at shear-strain rate ``rate`` [1/s]: constant (m = 1) or the power law
@@ -215,6 +219,9 @@ class VerticalColumn(TwoFluid1D):
         stepper halves the step. (SuperLU raises a RuntimeError for both, which used to
         end the run without a summary.)
         """
+        import scipy.sparse as sp  # here: the fast paths need no scipy.sparse (0.2–0.4 s to import)
+        import scipy.sparse.linalg as spla
+
         A = S.matrix()
         idx, val = self.dirichlet(t_new)
         keep = np.ones(S.size)
@@ -279,6 +286,9 @@ class LiquefactionColumn:
         an impervious wall either way.
     fast_shear : the shear sub-steps by the compiled kernel (:mod:`~twofluid.models.shear_kernel`)
         where numba is installed and the case is one it covers; False: always the reference path.
+    base_acceleration_at : the same motion as ``base_acceleration`` at an array of times [s] (e.g.
+        ``np.interp`` of the record), so that the compiled path reads one vertical step's sub-steps
+        in one call; None: ``base_acceleration`` time by time.
     """
 
     def __init__(self, vertical: VerticalColumn, sand: Sand = Sand(),
@@ -287,7 +297,7 @@ class LiquefactionColumn:
                  damping_ratio: float = 0.05, damping_frequencies=(1.0, 10.0),
                  free_vibration: float = 5.0, settings: PicardSettings = PicardSettings(),
                  base_impedance: float | None = None, crust: Crust | None = None,
-                 fast_shear: bool = True):
+                 fast_shear: bool = True, base_acceleration_at: Callable | None = None):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand, self.crust = vertical, sand, crust
@@ -322,6 +332,10 @@ class LiquefactionColumn:
         self.p_hydro = vertical.top.pressure - mat.rho_f * vertical.g_y * (mesh.y[-1] - mesh.centres)
         self.sigma_v0 = None  # set by initial_state
         self.n0 = None
+        self.a_g_at = base_acceleration_at if base_acceleration is not None else None
+        # η_s of a Newtonian liquefied soil is fixed: computed once (None: the power law, per sub-step)
+        self._eta_s = (None if np.any(np.asarray(sand.viscosity_exponent) != 1.0)
+                       else sand.shear_viscosity(np.zeros(ns)))
         self._kernel = self._kernel_arguments() if fast_shear else None
 
     # ------------------------------------------------------------ state
@@ -377,10 +391,16 @@ class LiquefactionColumn:
     def surface_acceleration(self, s: ColumnState) -> float:
         """Absolute horizontal acceleration of the ground surface [m/s²] while the shear wave runs
         (else 0): the reference motion (record) plus the surface's acceleration relative to it."""
-        if s.t > self.shear_end + 1e-12:
-            return 0.0
+        return self.accelerations(s)[1]
+
+    def accelerations(self, s: ColumnState) -> tuple[float, float]:
+        """(:meth:`base_acceleration`, :meth:`surface_acceleration`) [m/s²], the record read once."""
         a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
-        return a_in + float(s.wave.a[-1])
+        running = s.t <= self.shear_end + 1e-12
+        surface = a_in + float(s.wave.a[-1]) if running else 0.0
+        if self.wave.base_impedance is None:
+            return a_in, surface
+        return (a_in + float(s.wave.a[0]) if running else 0.0), surface
 
     def shear_strain(self, s: ColumnState) -> np.ndarray:
         """Shear strain γ of every element of the shear column (crust included) [-]."""
@@ -394,10 +414,7 @@ class LiquefactionColumn:
         """Absolute horizontal acceleration of the base [m/s²] while the shear wave runs (else 0):
         the record on a rigid base; record (outcrop) + the base's relative acceleration on a
         compliant one."""
-        a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
-        if self.wave.base_impedance is None:
-            return a_in
-        return a_in + float(s.wave.a[0]) if s.t <= self.shear_end + 1e-12 else 0.0
+        return self.accelerations(s)[0]
 
     def mixture_density(self, n) -> np.ndarray:
         mat = self.v.mat
@@ -415,19 +432,21 @@ class LiquefactionColumn:
         n = s.vertical.n
         wave.rho[:ns] = self.mixture_density(n)
         mu_m = mooney_pringle(n, v.mat.mu_f)
-        h = wave.h[:ns]
         w, n_bar, hist = s.wave, s.vertical.n_bar, s.shear
-        wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / h)
-        power = np.any(np.asarray(sand.viscosity_exponent) != 1.0)
+        span = t_new - s.t
+        m = max(1, math.ceil(span / self.shear_step - 1e-9))
+        dt = span / m
+        power = self._eta_s is None
+        if not power:  # Newtonian: η_s fixed
+            wave.eta[:ns] = mu_m + self._eta_s
+            if self._kernel is not None:
+                fast = self._shear_compiled(s, w, n, n_bar, hist, m, dt)
+                if fast is not None:
+                    return fast
+        else:
+            wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / wave.h[:ns])
         cap = sand.gamma_law_max
         g_crust = None if self.crust is None else self.crust.g_max
-        span = t_new - s.t
-        m = max(1, int(np.ceil(span / self.shear_step - 1e-9)))
-        dt = span / m
-        if self._kernel is not None and not power:
-            fast = self._shear_compiled(s, w, n, n_bar, hist, m, dt)
-            if fast is not None:
-                return fast
         surface = []
         for i in range(1, m + 1):
             t = s.t + i * dt
@@ -440,7 +459,7 @@ class LiquefactionColumn:
             g_law = np.clip(w.gamma[:ns], -cap, cap)
             n_bar, hist = self.law(g_law - hist.gamma, g_law, n_bar, hist)
             if power:  # shear thinning: η_s from the rate of the last sub-step
-                wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / h)
+                wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / wave.h[:ns])
         return w, n_bar, hist, m, surface
 
     def _kernel_arguments(self):
@@ -454,11 +473,11 @@ class LiquefactionColumn:
                 or not _shear_kernel.available()):
             return None
         full = lambda x, k=ns: np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (k,)))
-        c1 = full(p["c1"] if "c1" in p else 7600.0 * np.asarray(sand.dr, dtype=float) ** -2.5)
+        c1 = full(p["c1"] if "c1" in p else sand.byrne_c1())
         c2 = full(p["c2"]) if "c2" in p else 0.4 / c1
         ne = wave.h.size
         g_crust = np.zeros(0) if self.crust is None else full(self.crust.g_max, ne - ns)
-        return dict(A=full(v.clo.A), p_ref=full(v.clo.p_ref), k2max=full(sand.k2max), g_crust=g_crust,
+        return dict(run=_shear_kernel.compiled(), A=full(v.clo.A), p_ref=full(v.clo.p_ref), k2max=full(sand.k2max), g_crust=g_crust,
                     gamma_ref=full(wave.gamma_ref, ne), c1=c1, c2=c2,
                     liq=full(np.asarray(sand.liquefiable, dtype=float)), cap=full(sand.gamma_law_max),
                     first=0 if wave.base_impedance is not None else 1,
@@ -468,14 +487,15 @@ class LiquefactionColumn:
         """The sub-steps of :meth:`_shear` by the compiled kernel; None if it hands back (the caller
         then takes the reference path from the same start)."""
         k, wave = self._kernel, self.wave
-        times = [s.t + i * dt for i in range(1, m + 1)]
-        a_in = np.array([self.a_g(t) for t in times], dtype=float)
+        times = s.t + np.arange(1.0, m + 1.0) * dt  # as the reference path's s.t + i dt
+        a_in = (np.array([self.a_g(t) for t in times.tolist()], dtype=float) if self.a_g_at is None
+                else np.asarray(self.a_g_at(times), dtype=float))
         u, vel, acc, gam, tau = w.u.copy(), w.v.copy(), w.a.copy(), w.gamma.copy(), w.tau.copy()
         nb = np.array(n_bar, dtype=float)
         eps_v, g_a, g_h, dirn, path = (np.array(x, dtype=float) for x in
                                        (hist.eps_v, hist.gamma_a, hist.gamma, hist.direction, hist.path))
         surface = np.empty(m)
-        code = _shear_kernel.shear_substeps(
+        code = k["run"](
             u, vel, acc, gam, tau, nb, eps_v, g_a, g_h, dirn, path, np.ascontiguousarray(n, dtype=float),
             k["A"], k["p_ref"], k["k2max"], k["g_crust"], wave.rho, wave.eta, wave.h, k["gamma_ref"], k["c1"],
             k["c2"], k["liq"], k["cap"], wave.a0, wave.a1, k["impedance"], k["first"], wave.tol, wave.max_iter,
@@ -486,7 +506,7 @@ class LiquefactionColumn:
         for _ in range(m):  # the wave's clock, summed as the reference path sums it
             t_w = t_w + dt
         out = WaveState(t_w, u, vel, acc, gam, tau)
-        return out, nb, ShearState(eps_v, g_a, g_h, dirn, path), m, list(zip(times, surface.tolist()))
+        return out, nb, ShearState(eps_v, g_a, g_h, dirn, path), m, list(zip(times.tolist(), surface.tolist()))
 
     def _wave_step(self, w, h, a_g, g_max, depth=0):
         if not (np.all(np.isfinite(g_max)) and np.isfinite(a_g)):  # halving cannot help
@@ -509,7 +529,7 @@ class LiquefactionColumn:
                 wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(s.t, dt, str(exc), s) from None
-            if not (np.all(np.isfinite(n_bar)) and np.all(np.isfinite(wave.u))):
+            if not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
                 raise StepFailure(s.t, dt, "shear sub-steps gave a non-finite reference porosity or "
                                   "displacement", s)
         vert = s.vertical.copy(n_bar=n_bar)

@@ -56,12 +56,19 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.linalg import LinAlgError, solve_banded
 
 __all__ = ["WaveState", "ShearColumn", "rayleigh_coefficients", "NewmarkFailure",
            "layer_amplification", "piecewise_reduction"]
 
 BETA, GAMMA = 0.25, 0.5  # average acceleration
+
+
+def _solve_banded(*args):
+    """``scipy.linalg.solve_banded``, imported on first use: the compiled shear path
+    (:mod:`~twofluid.models.shear_kernel`) needs no ``scipy.linalg``, which costs 0.2–0.35 s to import."""
+    from scipy.linalg import solve_banded
+
+    return solve_banded(*args)
 
 
 class NewmarkFailure(RuntimeError):
@@ -275,7 +282,7 @@ class ShearColumn:
         ab[1] = md[first:]
         ab[2, :-1] = mo[first:]
         a = np.zeros_like(md)
-        a[first:] = solve_banded((1, 1), ab, rhs[first:])
+        a[first:] = _solve_banded((1, 1), ab, rhs[first:])
         return WaveState(s.t, s.u.copy(), s.v.copy(), a, gamma, s.tau.copy())
 
     def _damping_bands(self, g_max, gt0):
@@ -331,8 +338,8 @@ class ShearColumn:
             ab[1] = jd[first:]
             ab[2, :-1] = jo[first:]
             try:
-                du = solve_banded((1, 1), ab, -res[first:])
-            except (ValueError, LinAlgError) as exc:  # non-finite or singular system
+                du = _solve_banded((1, 1), ab, -res[first:])
+            except (ValueError, np.linalg.LinAlgError) as exc:  # non-finite or singular system
                 raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: {exc}") from None
             if not np.all(np.isfinite(du)):
                 raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: Newton update is not finite")

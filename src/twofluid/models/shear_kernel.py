@@ -8,9 +8,11 @@ densification of n̄ on the clipped strain. Only the tridiagonal solve differs: 
 elimination here, LAPACK's banded LU with partial pivoting there (the Newmark matrix is
 diagonally dominant, so both are backward stable and agree to round-off).
 
-Compiled with numba when it is installed (the ``fast`` extra; ``cache=True``, so only the
-first run on a machine compiles); without numba the column keeps the reference path, whose
-cost is the Python and NumPy call overhead on arrays of 20–80 entries (docs/benchmarks.md).
+Compiled with numba when it is installed (the ``fast`` extra), ahead of time into a cached
+extension module (:mod:`twofluid.compiled`: the first run on a machine builds it, later runs
+import it without importing numba), or by ``numba.njit(cache=True)`` where that module cannot be
+built; without numba the column keeps the reference path, whose cost is the Python and NumPy
+call overhead on arrays of 20–80 entries (docs/benchmarks.md).
 The kernel covers the common case — hyperbolic G/G_max (per-element reference strain),
 Byrne's law, Newtonian liquefied-soil viscosity, the exponential P_s without a
 fluidized-bed term — and reports anything else it meets (a Newton failure, a non-finite
@@ -27,7 +29,7 @@ import math
 
 import numpy as np
 
-__all__ = ["available", "shear_substeps"]
+__all__ = ["available", "compiled", "shear_substeps"]
 
 _MAX_EXPONENT = 700.0  # as closures.solids_pressure
 _KPA = 1000.0  # as closures.shear_modulus
@@ -192,10 +194,13 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
 
 _COMPILED = None
 _TRIED = False
+#: the kernel's argument types (C-contiguous float64 arrays, floats, integers) for the ahead-of-time build
+SIGNATURE = "i8(" + ", ".join(["f8[::1]"] * 24 + ["f8", "f8", "f8", "i8", "f8", "i8", "f8", "f8", "f8[::1]",
+                                                  "f8", "f8[::1]"]) + ")"
 
 
 def available() -> bool:
-    """Whether the compiled kernel can be used (numba importable and the kernel compiled)."""
+    """Whether the compiled kernel can be used (numba installed, or its module already built)."""
     return _kernel() is not None
 
 
@@ -203,12 +208,16 @@ def _kernel():
     global _COMPILED, _TRIED
     if not _TRIED:
         _TRIED = True
-        try:
-            import numba
-        except ImportError:
-            return None
-        _COMPILED = numba.njit(cache=True, fastmath=False, nogil=True)(_substeps)
+        from ..compiled import kernel
+
+        _COMPILED = kernel("shear_substeps", _substeps, SIGNATURE)
     return _COMPILED
+
+
+def compiled():
+    """The compiled kernel (taking the arguments of ``_substeps``, arrays C-contiguous), or None
+    where numba is not installed. The caller holds it, so that a call is the dispatch alone."""
+    return _kernel()
 
 
 def shear_substeps(*args) -> int:

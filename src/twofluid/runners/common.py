@@ -138,11 +138,12 @@ def run_guard(t_end: float, progress: bool, *closing):
                 pass
 
 
-# The runner of each model: "module:function", imported on use.
+# The runner of each model: "module:function", imported on use; called with a case that
+# run_case has just validated (the liquefaction runner's inner function does not validate it again).
 RUNNERS = {"two_fluid_1d": "twofluid.runners.column_1d:run_1d",
            "reduced_1d": "twofluid.runners.column_1d:run_1d",
            "two_fluid_2d": "twofluid.runners.flow_2d:run_2d",
-           "liquefaction_1d": "twofluid.runners.liquefaction:run_liquefaction"}
+           "liquefaction_1d": "twofluid.runners.liquefaction:run_validated"}
 
 
 def validated_case(case) -> dict:

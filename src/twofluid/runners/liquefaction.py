@@ -1,8 +1,9 @@
 """Run a ``liquefaction_1d`` case: build the layered column, shake it, let it reconsolidate until
 the excess pore pressure has dissipated (or the end time), write results.
 
-``run_liquefaction`` is what ``twofluid run`` calls for this model (through
-:data:`twofluid.runners.common.RUNNERS`); ``simplified_table`` is what ``twofluid simplified``
+``run_liquefaction`` runs a case from the API; ``twofluid run`` calls ``run_validated`` for this
+model (through :data:`twofluid.runners.common.RUNNERS`, which has validated the case);
+``simplified_table`` is what ``twofluid simplified``
 prints. The run folder holds (depths below the ground surface; columns in docs/outputs.md)
 
 - ``case.resolved.toml`` — every key with the value used;
@@ -55,7 +56,7 @@ from ..verification.terzaghi import consolidation_coefficient
 from . import liquefaction_report as report
 from .liquefaction_site import Site, crust_for, sand_for, site_arrays
 
-__all__ = ["Built", "build_column", "run_liquefaction", "simplified_table", "PROFILE_COLUMNS"]
+__all__ = ["Built", "build_column", "run_liquefaction", "run_validated", "simplified_table", "PROFILE_COLUMNS"]
 
 PROFILE_COLUMNS = ["depth_m", "y_m", "porosity", "reference_porosity", "P_Pa", "excess_P_Pa",
                    "sigma_v_eff_Pa", "sigma_v0_Pa", "r_u", "peak_r_u", "shear_strain",
@@ -108,12 +109,14 @@ def build_column(case: dict, reference: bool = False) -> Built:
     sand = sand_for(case, source, site, sigma_v0)
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
+    accel_at = None if motion is None else (lambda t, m=motion: gm.value_at(m, t))
     column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,
                                 shear_step=sw["step"], damping_ratio=sw["damping_ratio"],
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
                                 free_vibration=sw["free_vibration"], settings=settings,
                                 base_impedance=schema_liquefaction.base_impedance(case),
-                                crust=crust_for(case, source, site), fast_shear=not reference)
+                                crust=crust_for(case, source, site), fast_shear=not reference,
+                                base_acceleration_at=accel_at)
     state = column.initial_state(site.porosity, st["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
@@ -175,21 +178,23 @@ class _Recorder:
 
     def record(self, s: ColumnState, field: bool, surface=()):
         col = self.col
-        ru = col.excess_ratio(s)
+        excess = col.excess_pressure(s)
+        ru = excess / col.sigma_v0  # = col.excess_ratio(s)
         up = ru > self.peak
-        self.peak = np.where(up, ru, self.peak)
-        self.t_peak = np.where(up, s.t, self.t_peak)
+        self.peak[up] = ru[up]
+        self.t_peak[up] = s.t
         liq = ru > self.ru_liq
-        self.first = np.where(np.isnan(self.first) & liq, s.t, self.first)
+        self.first[np.isnan(self.first) & liq] = s.t
         self.ever |= liq
-        self.peak_strain = np.maximum(self.peak_strain, np.abs(s.wave.gamma))
+        np.maximum(self.peak_strain, np.abs(s.wave.gamma), out=self.peak_strain)
         self.last_contribution = col.settlement_contributions(s)
-        self.max_contribution = np.maximum(self.max_contribution, self.last_contribution)
+        np.maximum(self.max_contribution, self.last_contribution, out=self.max_contribution)
+        self.ps = col.granular_pressure(s)  # the probes' σ′_v too
         self.t.append(s.t)
         self.ru.append(ru[self.elem])
-        self.sig.append(col.granular_pressure(s)[self.elem] / col.sigma_v0[self.elem])
+        self.sig.append(self.ps[self.elem] / col.sigma_v0[self.elem])
         self.settle.append(float(np.sum(self.last_contribution)))  # = col.settlement(s)
-        self.pbase.append(float(col.excess_pressure(s)[0]))
+        self.pbase.append(float(excess[0]))
         self.ru_top.append(float(ru[-1]))
         self.flux_top.append(col.surface_seepage(s))
         for t, a in surface:
@@ -200,21 +205,20 @@ class _Recorder:
             self.field.append(ru)
         return ru
 
-    def probe_values(self, s: ColumnState, ru) -> dict:
+    def probe_names(self) -> list[str]:
+        """Columns of probes.csv after time_s (:meth:`probe_row`)."""
+        return (["base_acceleration_m_s2", "surface_acceleration_m_s2", "surface_settlement_m",
+                 "base_pore_pressure_Pa", "base_excess_pore_pressure_Pa", "surface_displacement_m",
+                 "water_table_seepage_m_s"] + [f"r_u@{z:g}m" for z in self.depths]
+                + [f"sigma_v_eff_Pa@{z:g}m" for z in self.depths])
+
+    def probe_row(self, s: ColumnState, ru) -> np.ndarray:
+        """The probes of the state last recorded (:meth:`record`), in the order of :meth:`probe_names`."""
         col = self.col
-        ps = col.granular_pressure(s)
-        vals = {"base_acceleration_m_s2": col.base_acceleration(s),
-                "surface_acceleration_m_s2": col.surface_acceleration(s),
-                "surface_settlement_m": self.settle[-1],
-                "base_pore_pressure_Pa": float(s.vertical.P[0]),
-                "base_excess_pore_pressure_Pa": self.pbase[-1],
-                "surface_displacement_m": col.surface_displacement(s),
-                "water_table_seepage_m_s": self.flux_top[-1]}
-        for z, e in zip(self.depths, self.elem):
-            vals[f"r_u@{z:g}m"] = float(ru[e])
-        for z, e in zip(self.depths, self.elem):
-            vals[f"sigma_v_eff_Pa@{z:g}m"] = float(ps[e])
-        return vals
+        base, surface = col.accelerations(s)
+        head = [base, surface, self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
+                col.surface_displacement(s), self.flux_top[-1]]
+        return np.concatenate([head, ru[self.elem], self.ps[self.elem]])
 
 
 def _profile(col: LiquefactionColumn, s: ColumnState, peak) -> dict:
@@ -223,7 +227,7 @@ def _profile(col: LiquefactionColumn, s: ColumnState, peak) -> dict:
     ns = col.n_sat
     return {"depth_m": col.depth, "y_m": mesh.centres, "porosity": v.n, "reference_porosity": v.n_bar,
             "P_Pa": v.P, "excess_P_Pa": col.excess_pressure(s), "sigma_v_eff_Pa": col.granular_pressure(s),
-            "sigma_v0_Pa": col.sigma_v0, "r_u": col.excess_ratio(s), "peak_r_u": peak,
+            "sigma_v0_Pa": col.sigma_v0, "r_u": col.excess_ratio(s), "peak_r_u": peak.copy(),
             "shear_strain": s.wave.gamma[:ns], "shear_stress_Pa": s.wave.tau[:ns],
             "hydraulic_conductivity_m_s": hydraulic_conductivity(col, v.n)}
 
@@ -241,9 +245,15 @@ def _zone(mask, col) -> list | None:
 def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool = False):
     """Run a ``liquefaction_1d`` case (resolved dict, bundled name or TOML path); ``reference``: the
     full vertical model and the NumPy shear path (:func:`build_column`)."""
+    case = load_case(case) if not isinstance(case, dict) else validated(case)
+    return run_validated(case, out_dir, progress, reference)
+
+
+def run_validated(case: dict, out_dir=None, progress: bool = False, reference: bool = False):
+    """:func:`run_liquefaction` of a case just validated (what ``run_case`` calls: it has validated
+    the case and checked the output folder)."""
     from .common import RunResult, run_guard
 
-    case = load_case(case) if not isinstance(case, dict) else validated(case)
     # reads the record and weights: a bad one stops here, nothing written
     b = build_column(case, reference=True) if reference else build_column(case)
     name = case["case"]["name"]
@@ -256,16 +266,16 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
     depths = sorted(set(rep["depths"]) | {H - y for y in case["output"]["probes"]})  # y above the base
     rec = _Recorder(col, depths, rep["ru_liquefied"])
     ru0 = rec.record(state, True)
-    probe_cols = list(rec.probe_values(state, ru0))
-    writer = ResultWriter(out, PROFILE_COLUMNS, probe_cols)
+    writer = ResultWriter(out, PROFILE_COLUMNS, rec.probe_names())
     ffile = CsvStream(out / "ru_field.csv", ["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth])
+    field_formats = ["%.10g"] + ["%.6g"] * col.n_sat
 
     def write_field(s, ru):  # whole rows, finite values only (io.results)
         if check_finite("ru_field.csv", s.t, {"r_u": ru}):
-            ffile.rows([[s.t, *(f"{x:.6g}" for x in ru)]])
+            ffile.table(np.concatenate([[s.t], ru])[None, :], field_formats)
 
     write_field(state, ru0)
-    writer.probe(state.t, rec.probe_values(state, ru0))
+    writer.probe_row(state.t, rec.probe_row(state, ru0))
     out_times = sorted({*case["output"]["times"], col.shaking_end, b.t_end} - {0.0})
     out_times = [t for t in out_times if 0.0 < t <= b.t_end]
     profiles = {0.0: _profile(col, state, rec.peak)}
@@ -292,7 +302,7 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
                 next_field = s.t + rep["field_interval"]
             probed = False
             if s.t >= next_probe - 1e-12 or at_mark:
-                writer.probe(s.t, rec.probe_values(s, ru))
+                writer.probe_row(s.t, rec.probe_row(s, ru))
                 next_probe = s.t + case["output"]["probe_interval"]
                 probed = True
             if settle_shaking is None and s.t >= col.shaking_end - 1e-9:
@@ -305,7 +315,7 @@ def run_liquefaction(case, out_dir=None, progress: bool = False, reference: bool
             profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
             writer.profile(last.t, profiles[round(last.t, 9)])
             if not probed:
-                writer.probe(last.t, rec.probe_values(last, col.excess_ratio(last)))
+                writer.probe_row(last.t, rec.probe_row(last, col.excess_ratio(last)))
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if round(last.t, 9) not in profiles:

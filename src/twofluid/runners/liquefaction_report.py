@@ -161,6 +161,20 @@ def _write_csv(path, header, rows):
             w.writerow(["" if x is None else (f"{x:.8g}" if isinstance(x, float) else x) for x in r])
 
 
+def _write_numbers(path, header, table) -> None:
+    """:func:`_write_csv` of a table of floats (columns of one length), each row formatted by one
+    ``%`` call; a NaN goes through :func:`_write_csv`, which refuses it naming where."""
+    table = np.column_stack([np.asarray(c, dtype=float) for c in table])
+    if np.isnan(table).any():
+        return _write_csv(path, header, table.tolist())
+    import csv
+
+    fmt = ",".join(["%.8g"] * len(header)) + "\r\n"  # csv.writer's line end
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        csv.writer(f).writerow(header)
+        f.write("".join(fmt % tuple(r) for r in table.tolist()))
+
+
 LAYER_COLUMNS = ["layer", "depth_top_m", "depth_bottom_m", "saturated", "liquefiable",
                  "hydraulic_conductivity_m_s", "peak_r_u", "time_first_liquefied_s", "liquefied_top_m",
                  "liquefied_bottom_m", "liquefied_thickness_m", "peak_shear_strain", "settlement_end_m",
@@ -199,10 +213,9 @@ def write_tables(out, summary: dict, extra: dict, rec) -> None:
                      float(run.FS[e]), float(inp.FS[e]), float(run.eps_v[e])])
     _write_csv(out / "elements.csv", ELEMENT_COLUMNS, rows)
     if rec.surface_t:
-        _write_csv(out / "surface_motion.csv", ["time_s", "surface_acceleration_m_s2"],
-                   [[float(t), float(a)] for t, a in zip(rec.surface_t, rec.surface_a)])
+        _write_numbers(out / "surface_motion.csv", ["time_s", "surface_acceleration_m_s2"],
+                       [rec.surface_t, rec.surface_a])
     spec = extra["spectra"]
     if spec is not None:
-        _write_csv(out / "spectra.csv", ["period_s", "Sa_input_g", "Sa_surface_g", "amplification"],
-                   [[float(T), float(a), float(b), float(r)] for T, a, b, r in
-                    zip(spec["period_s"], spec["Sa_input_g"], spec["Sa_surface_g"], spec["amplification"])])
+        _write_numbers(out / "spectra.csv", ["period_s", "Sa_input_g", "Sa_surface_g", "amplification"],
+                       [spec["period_s"], spec["Sa_input_g"], spec["Sa_surface_g"], spec["amplification"]])

@@ -61,7 +61,6 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import erfc
 
 __all__ = [
     "time_factor", "excess_pressure_ratio", "average_degree",
@@ -70,6 +69,14 @@ __all__ = [
 
 Array = NDArray[np.float64]
 _T_SWITCH = 0.1  # below: image series; above: Fourier series
+
+
+def erfc(x):
+    """``scipy.special.erfc``, imported on first use: the liquefaction runner takes only
+    :func:`consolidation_coefficient` from here, and ``scipy.special`` costs ~0.25 s to import."""
+    from scipy.special import erfc as _erfc
+
+    return _erfc(x)
 
 
 def _ierfc(x: Array) -> Array:

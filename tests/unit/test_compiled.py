@@ -1,0 +1,83 @@
+"""Compiled kernels (twofluid.compiled): built once ahead of time, then imported without numba; the
+JIT where no module can be built; None without numba (the callers keep their NumPy paths)."""
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from twofluid import compiled
+
+KERNEL = textwrap.dedent('''
+    def scaled_sum(x, c):
+        s = 0.0
+        for i in range(x.size):
+            s += c * x[i]
+        return s
+''')
+SIGNATURE = "f8(f8[::1], f8)"
+
+
+@pytest.fixture
+def kernel_module(tmp_path, monkeypatch):
+    (tmp_path / "kmod.py").write_text(KERNEL)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("TWOFLUID_CACHE_DIR", str(tmp_path / "cache"))
+    import importlib
+
+    import kmod
+
+    importlib.reload(kmod)
+    yield kmod
+    compiled._LOADED.clear()
+
+
+def test_a_kernel_is_built_once_and_then_imported_without_numba(kernel_module, tmp_path):
+    pytest.importorskip("numba")
+    f = compiled.kernel("scaled_sum_test", kernel_module.scaled_sum, SIGNATURE)
+    x = np.linspace(0.0, 1.0, 11)
+    assert f(x, 2.0) == pytest.approx(kernel_module.scaled_sum(x, 2.0), rel=1e-15)
+    built = list((tmp_path / "cache").glob("_twofluid_scaled_sum_test_*"))
+    if not built:
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    code = textwrap.dedent(f'''
+        import sys
+        sys.path.insert(0, {str(tmp_path)!r})
+        import numpy as np
+        import kmod
+        from twofluid import compiled
+        f = compiled.kernel("scaled_sum_test", kmod.scaled_sum, {SIGNATURE!r}, build=False, jit=False)
+        print(f(np.linspace(0.0, 1.0, 11), 2.0), "numba" in sys.modules)
+    ''')
+    env = {"TWOFLUID_CACHE_DIR": str(tmp_path / "cache"), "PATH": "/usr/bin:/bin"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env).stdout
+    value, numba_loaded = out.split()
+    assert float(value) == pytest.approx(11.0, rel=1e-15) and numba_loaded == "False"
+
+
+def test_an_edited_kernel_gets_a_module_of_its_own(kernel_module, tmp_path):
+    name = compiled._module_name("k", kernel_module.scaled_sum, SIGNATURE)
+    (tmp_path / "kmod.py").write_text(KERNEL.replace("c * x[i]", "x[i] * c"))
+    import importlib
+
+    importlib.reload(kernel_module)
+    assert compiled._module_name("k", kernel_module.scaled_sum, SIGNATURE) != name
+    assert compiled._module_name("k", kernel_module.scaled_sum, "f8(f8[:], f8)") != \
+        compiled._module_name("k", kernel_module.scaled_sum, SIGNATURE)
+
+
+def test_where_no_module_can_be_built_the_jit_is_used(kernel_module, monkeypatch):
+    numba = pytest.importorskip("numba")
+    monkeypatch.setattr(compiled, "_build", lambda *a: None)
+    f = compiled.kernel("scaled_sum_jit", kernel_module.scaled_sum, SIGNATURE)
+    assert isinstance(f, numba.core.registry.CPUDispatcher)
+    assert compiled.kernel("scaled_sum_nojit", kernel_module.scaled_sum, SIGNATURE, jit=False) is None
+
+
+def test_without_numba_there_is_no_kernel(kernel_module, monkeypatch):
+    monkeypatch.setitem(sys.modules, "numba", None)  # import numba now raises ImportError
+    monkeypatch.setitem(sys.modules, "numba.pycc", None)
+    assert compiled.kernel("scaled_sum_none", kernel_module.scaled_sum, SIGNATURE) is None
