@@ -26,6 +26,7 @@ True
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -59,12 +60,19 @@ def cache_dir() -> Path | None:
     return None
 
 
-def _module_name(name: str, func: Callable, signature: str) -> str:
+def _module_name(name: str, func: Callable, signature: str, helpers: tuple = ()) -> str:
+    return _group_name(name, {name: (func, signature)}, helpers)
+
+
+def _group_name(group: str, exports: dict, helpers: tuple = ()) -> str:
+    """The module of a group of kernels: named after a hash of their sources and signatures, the
+    sources of the helpers they call, the Python ABI and the NumPy version."""
     import numpy
 
-    source = textwrap.dedent(inspect.getsource(func))
-    key = "\n".join([source, signature, sys.implementation.cache_tag, numpy.__version__])
-    return f"_twofluid_{name}_{hashlib.sha256(key.encode()).hexdigest()[:16]}"
+    parts = [textwrap.dedent(inspect.getsource(f)) + sig for f, sig in exports.values()]
+    parts += [textwrap.dedent(inspect.getsource(f)) for f in helpers]
+    key = "\n".join(parts + [sys.implementation.cache_tag, numpy.__version__])
+    return f"_twofluid_{group}_{hashlib.sha256(key.encode()).hexdigest()[:16]}"
 
 
 def _import(path: Path, module: str):
@@ -74,8 +82,9 @@ def _import(path: Path, module: str):
     return mod
 
 
-def _build(folder: Path, module: str, name: str, func: Callable, signature: str) -> Path | None:
-    """Compile ``func`` into ``folder/<module><ext>``; None if it cannot be done here."""
+def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Path | None:
+    """Compile ``exports`` {name: (func, signature)} into ``folder/<module><ext>``, the ``helpers``
+    they call compiled with them; None if it cannot be done here."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # numba.pycc's pending deprecation
@@ -89,8 +98,9 @@ def _build(folder: Path, module: str, name: str, func: Callable, signature: str)
         cc = CC(module)
         cc.output_dir = str(work)
         cc.verbose = False
-        cc.export(name, signature)(func)
-        with warnings.catch_warnings():
+        for name, (func, signature) in exports.items():
+            cc.export(name, signature)(func)
+        with _compiled_helpers(helpers), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -104,23 +114,52 @@ def _build(folder: Path, module: str, name: str, func: Callable, signature: str)
         shutil.rmtree(work, ignore_errors=True)
 
 
+@contextlib.contextmanager
+def _compiled_helpers(helpers: tuple):
+    """The ``helpers`` replaced in their modules by their ``numba.njit`` versions while a kernel that
+    calls them compiles (a compiled function can call only compiled functions); restored after."""
+    if not helpers:
+        yield
+        return
+    import numba
+
+    saved = [(f.__globals__, f.__name__, f) for f in helpers]
+    try:
+        for g, name, f in saved:
+            g[name] = numba.njit(nogil=True)(f)
+        yield
+    finally:
+        for g, name, f in saved:
+            g[name] = f
+
+
 def kernel(name: str, func: Callable, signature: str, build: bool = True, jit: bool = True) -> Callable | None:
     """``func`` compiled for ``signature`` (a numba signature such as ``"i8(f8[::1], f8)"``; its
     arrays must then be passed C-contiguous with exactly these types): the cached ahead-of-time
     module, built now if ``build`` and possible, else (if ``jit``) ``numba.njit(cache=True)`` of
     ``func``, else None (also without numba). The same object for every call in a process."""
-    if _LOADED.get(name) is not None:
-        return _LOADED[name]
+    out = group(name, {name: (func, signature)}, build=build, jit=jit)
+    return None if out is None else out[name]
+
+
+def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = True,
+          jit: bool = True) -> dict | None:
+    """Several kernels in one ahead-of-time module (one build, one import): ``exports`` {name:
+    (func, signature)}, ``helpers`` the plain functions they call (compiled with them). Returns
+    {name: compiled function} as :func:`kernel` does for one, or None."""
+    if group_name in _LOADED:
+        return _LOADED[group_name]
     out = None
     folder = cache_dir()
-    module = _module_name(name, func, signature)
+    module = _group_name(group_name, exports, helpers)
     if folder is not None:
         path = folder / f"{module}{importlib.machinery.EXTENSION_SUFFIXES[0]}"
         if not path.is_file() and build:
-            path = _build(folder, module, name, func, signature) or path
+            path = _build(folder, module, exports, helpers) or path
         if path.is_file():
             try:
-                out = getattr(_import(path, module), name)
+                mod = _import(path, module)
+                out = {name: getattr(mod, name) for name in exports}
             except (ImportError, AttributeError, OSError):
                 out = None
     if out is None and jit:
@@ -129,6 +168,10 @@ def kernel(name: str, func: Callable, signature: str, build: bool = True, jit: b
         except ImportError:
             numba = None
         if numba is not None:
-            out = numba.njit(cache=True, nogil=True)(func)
-    _LOADED[name] = out
+            njit = numba.njit(cache=True, nogil=True)
+            for f in helpers:  # the module's own name for each helper now calls the compiled one
+                f.__globals__[f.__name__] = njit(f)
+            out = {name: njit(func) for name, (func, _sig) in exports.items()}
+    if out is not None or not jit:
+        _LOADED[group_name] = out
     return out

@@ -119,8 +119,9 @@ def band_lu():
     global _LU, _TRIED
     if not _TRIED:
         _TRIED = True
-        jit = numba_jit()
-        _LU = None if jit is None else jit(_gbsv)
+        from ..compiled import kernel
+
+        _LU = kernel("band_lu", _gbsv, "i8(f8[:,:], f8[:], i8, i8)")
     return _LU
 
 

@@ -45,10 +45,11 @@ def _kernels():
     """(predict, push) compiled by numba, or None without it."""
     global _KERNELS
     if _KERNELS is None:
-        from ..fem.banded import numba_jit
+        from ..compiled import group
 
-        jit = numba_jit()
-        _KERNELS = () if jit is None else (jit(_predict_entries), jit(_push_entries))
+        ker = group("extrapolation", {"predict": (_predict_entries, "void(f8[:,:], i8, f8[:])"),
+                                      "push": (_push_entries, "void(f8[:], f8[:,:], f8[:,:])")})
+        _KERNELS = () if ker is None else (ker["predict"], ker["push"])
     return _KERNELS or None
 
 

@@ -368,21 +368,36 @@ _COMPILED = None
 _TRIED = False
 
 
+A1, A2 = "f8[:]", "f8[:,:]"  # arrays of any layout (C or Fortran order, as the model passes them)
+# the kernels' signatures for the ahead-of-time build (twofluid.compiled): the argument types the
+# model passes, in order
+SIGNATURES = {
+    "closure_points": "void(" + ",".join([A1] * 7 + [A2] * 3) + ")",
+    "band_system": "void(" + ",".join([A1] * 3 + [A2] * 2 + [A1] * 3 + ["b1", "f8", "f8", "f8", "b1", A1, "b1"]
+                                      + [A2] * 4 + [A1, A2]) + ")",
+    "step_pressure": "void(" + ",".join([A1] * 3 + [A2] * 4 + ["b1", A1, "b1", "f8", A1]) + ")",
+    "shift_points": "void(" + ",".join([A1] * 7) + ")",
+    "shift": "void(" + ",".join([A1] * 6 + [A2, A1, A1, "f8", "f8", "f8", A1]) + ")",
+    "step_constants": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "f8", A2, A2, A1, A1, A1, A2, A2]) + ")",
+}
+
+
 def _compile():
     global _COMPILED, _TRIED
     if not _TRIED:
         _TRIED = True
-        from ..fem.banded import band_lu, numba_jit
+        from ..compiled import group
+        from ..fem.banded import band_lu
 
-        jit = numba_jit()
-        if jit is None:
+        funcs = {"closure_points": _closure_points, "band_system": _band_system,
+                 "step_pressure": _step_pressure, "shift_points": _shift_points, "shift": _shift,
+                 "step_constants": _step_constants}
+        ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=(_fmax, _sign))
+        lu = band_lu()
+        if ker is None or lu is None:
             return None
-        g = globals()
-        # the helpers are compiled first so that the kernels call them as compiled functions
-        g["_fmax"] = jit(_fmax)
-        g["_sign"] = jit(_sign)
-        _COMPILED = (jit(_closure_points), jit(_band_system), band_lu(), jit(_step_pressure),
-                     jit(_shift_points), jit(_shift), jit(_step_constants))
+        _COMPILED = (ker["closure_points"], ker["band_system"], lu, ker["step_pressure"],
+                     ker["shift_points"], ker["shift"], ker["step_constants"])
     return _COMPILED
 
 
