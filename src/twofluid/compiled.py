@@ -6,10 +6,11 @@ code (``numba.njit(cache=True)``; numba 0.68 on the 2-core benchmark VM), more t
 liquefaction column's 7 000 shear sub-steps spend in the kernel itself (0.03 s). So a kernel
 is compiled ahead of time instead, with ``numba.pycc``, into an ordinary extension module
 kept in a cache folder; later processes import that module (about 1 ms) and do not import
-numba at all. The module is named after a hash of the function's source, its signature, the
-Python ABI and the NumPy version, so an edited kernel or another interpreter builds a new
-one; it is written under a temporary name and renamed, so that processes building at the
-same time never load half a file.
+numba at all. Kernels used together are built into one module (:func:`group`: one build,
+one import). A module is named after a hash of the source files of its functions, their
+signatures, the Python ABI and the NumPy version, so an edited kernel module or another
+interpreter builds a new one; it is written under a temporary name and renamed, so that
+processes building at the same time never load half a file.
 
 Where a module cannot be built (``numba.pycc`` missing — it is deprecated in numba — no C
 toolchain to link it, no writable cache folder) the kernel is ``numba.njit(cache=True)`` as
@@ -30,13 +31,8 @@ import contextlib
 import hashlib
 import importlib.machinery
 import importlib.util
-import inspect
 import os
-import shutil
 import sys
-import tempfile
-import textwrap
-import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -65,14 +61,19 @@ def _module_name(name: str, func: Callable, signature: str, helpers: tuple = ())
 
 
 def _group_name(group: str, exports: dict, helpers: tuple = ()) -> str:
-    """The module of a group of kernels: named after a hash of their sources and signatures, the
-    sources of the helpers they call, the Python ABI and the NumPy version."""
+    """The module of a group of kernels: named after a hash of the source files of the kernels and
+    the helpers they call, their names and signatures, the Python ABI and the NumPy version."""
     import numpy
 
-    parts = [textwrap.dedent(inspect.getsource(f)) + sig for f, sig in exports.values()]
-    parts += [textwrap.dedent(inspect.getsource(f)) for f in helpers]
-    key = "\n".join(parts + [sys.implementation.cache_tag, numpy.__version__])
-    return f"_twofluid_{group}_{hashlib.sha256(key.encode()).hexdigest()[:16]}"
+    digest = hashlib.sha256()
+    funcs = [f for f, _sig in exports.values()] + list(helpers)
+    for file in sorted({f.__code__.co_filename for f in funcs}):
+        # the whole source file: reading it costs microseconds where inspect.getsource of each
+        # function tokenizes the module (~40 ms for the project's kernels); any edit rebuilds
+        digest.update(Path(file).read_bytes())
+    key = [f"{f.__qualname__}:{sig}" for f, sig in exports.values()] + [f.__qualname__ for f in helpers]
+    digest.update("\n".join(key + [sys.implementation.cache_tag, numpy.__version__]).encode())
+    return f"_twofluid_{group}_{digest.hexdigest()[:16]}"
 
 
 def _import(path: Path, module: str):
@@ -85,6 +86,10 @@ def _import(path: Path, module: str):
 def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Path | None:
     """Compile ``exports`` {name: (func, signature)} into ``folder/<module><ext>``, the ``helpers``
     they call compiled with them; None if it cannot be done here."""
+    import shutil  # here, not at the top: only a build needs them
+    import tempfile
+    import warnings
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # numba.pycc's pending deprecation
