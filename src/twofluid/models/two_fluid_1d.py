@@ -167,6 +167,9 @@ def _times(params: dict, n: int, reps: int) -> dict:
 class TwoFluid1D:
     """Assembles and solves the 1D two-component equations on a LineMesh."""
 
+    # with linearisation "newton" the iterates are Newton's: the stepper may accept one on its predicted error
+    newton_iterates = property(lambda self: self.linearisation == "newton")
+
     def __init__(self, mesh: LineMesh, materials: Materials, closures: Closures,
                  bottom: Boundary, top: Boundary, element: str = "1VW/0P/0n",
                  solids_flux: str = "upwind", linearisation: str = "newton",
