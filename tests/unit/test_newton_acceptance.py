@@ -25,21 +25,22 @@ from twofluid.timestepping.newton import NewtonTest
 @pytest.fixture
 def audit(monkeypatch):
     """Every Newton-tested step is repeated with the plain test on a copy of the model."""
-    real = be.picard_step
+    real = be._step  # what ``integrate`` calls
     rows = []
 
-    def spy(model, old, dt, settings=be.PicardSettings(), accept_unconverged=False):
+    def spy(model, old, dt, settings, accept_unconverged=False):
         if not (settings.newton_test and getattr(model, "newton_iterates", False)):
             return real(model, old, dt, settings, accept_unconverged)
         plain_model = copy.deepcopy(model, memo={id(old): old})  # its caches still know ``old``
-        plain, plain_its = real(plain_model, old, dt, replace(settings, newton_test=False), accept_unconverged)
-        new, its = real(model, old, dt, settings, accept_unconverged)
+        plain, plain_its, _ = real(plain_model, old, dt, replace(settings, newton_test=False), accept_unconverged)
+        new, its, predicted = real(model, old, dt, settings, accept_unconverged)
         assert (new is None) == (plain is None), (old.t, dt, its, plain_its)
         if new is not None:
+            assert its + predicted <= plain_its  # the step-size control sees at most the plain count
             rows.append((max(be.relative_change(model, new, plain)) / settings.tol, its, plain_its))
-        return new, its
+        return new, its, predicted
 
-    monkeypatch.setattr(be, "picard_step", spy)
+    monkeypatch.setattr(be, "_step", spy)
     return rows
 
 
@@ -107,18 +108,23 @@ def test_whole_column_runs_agree(name):
     assert abs(col.settlement(new) - h) < bound
 
 
-def test_whole_bed_runs_agree():
-    c = load_case("fluidized-bed-step")
-    c["case"]["model"], c["time"]["end"] = "reduced_1d", 8.0
+@pytest.mark.parametrize("name, t_end", [("fluidized-bed-step", 8.0), ("slis-step-change", 20.0)])
+def test_whole_bed_runs_agree(name, t_end):
+    """The same steps (the step-size control counts the iterate a prediction saved, so the
+    rejected and regrown steps of slis-step-change are the plain test's) and states that agree
+    to the accumulated per-step differences."""
+    c = load_case(name)
+    c["case"]["model"], c["time"]["end"] = "reduced_1d", t_end
     out = {}
     for newton_test in (False, True):
         b = build(c)
-        for st in be.integrate(b.model, b.state, b.t_end, b.dt, settings=replace(b.settings, newton_test=newton_test)):
-            pass
-        out[newton_test] = st
-    plain, new = out[False], out[True]
+        out[newton_test] = [st for st in be.integrate(b.model, b.state, b.t_end, b.dt,
+                                                      settings=replace(b.settings, newton_test=newton_test))]
+    assert [st.t for st in out[True]] == [st.t for st in out[False]]
+    assert [st.rejected for st in out[True]] == [st.rejected for st in out[False]]
+    assert sum(st.rejected for st in out[False]) > 0 or name == "fluidized-bed-step"
+    plain, new = out[False][-1], out[True][-1]
     tol = b.settings.tol
-    assert new.t == plain.t and new.n_steps == plain.n_steps
     assert np.abs(new.state.n - plain.state.n).max() < plain.n_steps * tol
     assert np.abs(new.state.W - plain.state.W).max() < plain.n_steps * tol * b.model.velocity_scale(plain.state)
 

@@ -96,6 +96,13 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
     step even if it has not met ``settings.tol`` (pseudo-transient continuation, where
     the intermediate states are not wanted); it must still pass ``model.check``.
     """
+    new, info, _ = _step(model, old, dt, settings, accept_unconverged)
+    return new, info
+
+
+def _step(model, old, dt, settings, accept_unconverged=False):
+    """:func:`picard_step`, and whether the last iterate was accepted on a prediction (the plain
+    test would have taken at least one more)."""
     t_new = old.t + dt
     k = old.copy(t=t_new)
     hook = getattr(model, "begin_iteration", None)
@@ -111,7 +118,7 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
         new = model.unpack(a, k, t_new)
         if not np.all(np.isfinite(a)):
             close(None)
-            return None, "linear solve gave non-finite values"
+            return None, "linear solve gave non-finite values", False
         dn, dv = relative_change(model, new, k)
         plain = dv < settings.tol and dn < settings.tol
         done = newton.converged(it, new, k, max(dn, dv)) if newton else plain
@@ -123,12 +130,12 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
                 continue  # accepted on a prediction but not admissible: iterate on as the plain test would
             if reason:
                 close(None)
-                return None, reason
+                return None, reason, False
             out = model.end_step(old, new, dt)
             close(out)
-            return out, it
+            return out, it, not plain
     close(None)
-    return None, f"Picard did not converge in {settings.max_iter} iterations (dv={dv:.2e}, dn={dn:.2e})"
+    return None, f"Picard did not converge in {settings.max_iter} iterations (dv={dv:.2e}, dn={dn:.2e})", False
 
 
 def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = (),
@@ -143,7 +150,7 @@ def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = ()
             h_try = min(h, stop - state.t)
             if stop - state.t - h_try < 0.01 * dt:  # avoid a sliver before the stop
                 h_try = stop - state.t
-            new, info = picard_step(model, state, h_try, settings)
+            new, info, predicted = _step(model, state, h_try, settings)
             if new is None:
                 if h_try / 2 < settings.dt_min:
                     raise StepFailure(state.t, h_try, info, state)
@@ -152,7 +159,9 @@ def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = ()
                 continue
             n_steps += 1
             state = new
-            if info <= settings.easy_iters and h < dt:
+            # easy by the plain test's count (one iterate more where a prediction ended the step),
+            # so that the step sizes are those of the plain test
+            if info + predicted <= settings.easy_iters and h < dt:
                 h = min(dt, h * settings.grow)
             yield Step(state.t, h_try, info, state, n_steps, rejected)
             rejected = 0
