@@ -50,6 +50,7 @@ a prediction saved, so the steps (and rejected attempts) are those of the plain 
 from __future__ import annotations
 
 import weakref
+from collections import deque
 
 import numpy as np
 
@@ -70,7 +71,7 @@ class _Run:
     def __init__(self):
         self.last = None  # the state the last accepted step returned
         self.steps = 0  # accepted steps
-        self.samples = []  # (index of the step, largest |δ_{j+1}|/|δ_j|² of its iterates)
+        self.samples = deque()  # (index of the step, largest |δ_{j+1}|/|δ_j|² of its iterates), oldest first
 
     def continues(self, old) -> bool:
         s = self.last
@@ -106,8 +107,9 @@ class NewtonTest:
         if run is None or not run.continues(old):
             run = _RUNS[model] = _Run()
         self.model, self.tol, self.run = model, tol, run
-        self.C = max((c for _, c in run.samples), default=None)  # carried C (``close`` keeps WINDOW steps)
-        self.fresh = any(i >= run.steps - FRESH for i, _ in run.samples)
+        samples = run.samples
+        self.C = max(c for _, c in samples) if samples else None  # carried C (``close`` keeps WINDOW steps)
+        self.fresh = bool(samples) and samples[-1][0] >= run.steps - FRESH
         self.step_C = None  # the largest C of this step's pairs of iterates
         self.e = None  # change of the last iterate
         self.before = None  # the iterate the last call's ``prev`` came from (for its per-entry changes)
@@ -153,5 +155,6 @@ class NewtonTest:
         if accepted is not None:
             run.steps += 1
             run.last = accepted
-        first = run.steps - WINDOW
-        run.samples = [(i, c) for i, c in run.samples if i >= first]
+        first, samples = run.steps - WINDOW, run.samples
+        while samples and samples[0][0] < first:
+            samples.popleft()
