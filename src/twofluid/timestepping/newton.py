@@ -119,7 +119,7 @@ class NewtonTest:
         test (e < tol) or on the predicted change of the next iterate."""
         tol, e_prev, before = self.tol, self.e, self.before
         self.e, self.before = e, prev
-        if e_prev is not None:  # e_prev ≥ tol, or the step would have ended
+        if e_prev:  # ≥ tol (or the step would have ended), unless tol = 0 and an iterate did not move
             c = e / (e_prev * e_prev)
             self.step_C = c if self.step_C is None else max(self.step_C, c)
         if e < tol:
