@@ -81,6 +81,9 @@ class Reduced1D(TwoFluid1D):
     the NumPy path (the reference path: the same band matrix and right-hand side to round-off).
     """
 
+    # the iterates are Newton's: the stepper may accept one on its predicted error (timestepping.newton)
+    newton_iterates = True
+
     def __init__(self, mesh, materials, closures, bottom, top, element="1VW/0P/0n",
                  solids_flux="upwind", surcharge: float = 0.0):
         if element != "1VW/0P/0n":

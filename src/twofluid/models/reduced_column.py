@@ -35,6 +35,9 @@ class ReducedVerticalColumn(Reduced1D):
     Picard test; the solids flux defaults to the Galerkin form.
     """
 
+    # the iterates are Newton's: the stepper may accept one on its predicted error (timestepping.newton)
+    newton_iterates = True
+
     def __init__(self, mesh, materials, closures, *args, surcharge: float = 0.0,
                  velocity_floor: float = 1e-2, **kw):
         kw.setdefault("solids_flux", "galerkin")

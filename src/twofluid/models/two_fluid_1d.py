@@ -179,6 +179,9 @@ class TwoFluid1D:
 
     compiled: bool | None = None
 
+    # with linearisation "newton" the iterates are Newton's: the stepper may accept one on its predicted error
+    newton_iterates = property(lambda self: self.linearisation == "newton")
+
     def __init__(self, mesh: LineMesh, materials: Materials, closures: Closures,
                  bottom: Boundary, top: Boundary, element: str = "1VW/0P/0n",
                  solids_flux: str = "upwind", linearisation: str = "newton",

@@ -12,6 +12,15 @@ The model must provide ``assemble(k, old, dt, t) -> BlockSystem``,
 ``end_step`` (see :class:`twofluid.models.two_fluid_1d.TwoFluid1D`); optional
 hooks: ``begin_iteration(it, k)`` before each Picard iteration and
 ``solve(system, t)`` to replace the default sparse direct solve.
+
+Convergence: an iterate is the step when its change (:func:`relative_change`: absolute in
+porosity, relative to ``velocity_scale`` in V and W) is below ``PicardSettings.tol``. A model
+whose iterates are Newton iterates says so with a true ``newton_iterates`` (class attribute or
+property); then an iterate is also the step when the change of the next one is predicted to be
+below tol/1000 (:class:`~twofluid.timestepping.newton.NewtonTest`: quadratic contraction
+carried from the last steps of the same run, an entry-by-entry contraction test, no change of
+the upwind side), which saves the iterate that only confirmed convergence. Other models, and
+``PicardSettings(newton_test=False)``, keep the plain test.
 """
 from __future__ import annotations
 
@@ -19,6 +28,8 @@ from dataclasses import dataclass
 from typing import Iterable, Iterator
 
 import numpy as np
+
+from .newton import NewtonTest
 
 __all__ = ["Step", "StepFailure", "PicardSettings", "picard_step", "relative_change", "integrate"]
 
@@ -30,6 +41,7 @@ class PicardSettings:
     dt_min: float = 1e-7  # [s]
     grow: float = 1.5
     easy_iters: int = 4  # grow Δt again after a step needing at most this many iterations
+    newton_test: bool = True  # models with ``newton_iterates``: accept on the predicted next change too
 
 
 @dataclass(frozen=True)
@@ -84,9 +96,19 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
     step even if it has not met ``settings.tol`` (pseudo-transient continuation, where
     the intermediate states are not wanted); it must still pass ``model.check``.
     """
+    new, info, _ = _step(model, old, dt, settings, accept_unconverged)
+    return new, info
+
+
+def _step(model, old, dt, settings, accept_unconverged=False):
+    """:func:`picard_step`, and whether the last iterate was accepted on a prediction (the plain
+    test would have taken at least one more)."""
     t_new = old.t + dt
     k = old.copy(t=t_new)
     hook = getattr(model, "begin_iteration", None)
+    newton = NewtonTest(model, old, settings.tol) \
+        if settings.newton_test and getattr(model, "newton_iterates", False) else None
+    close = newton.close if newton else (lambda accepted: None)  # tells the test how the step ended
     for it in range(1, settings.max_iter + 1):
         if hook:
             hook(it, k)
@@ -95,15 +117,25 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
             a = model.solve(S, t_new) if hasattr(model, "solve") else _solve(model, S, t_new)
         new = model.unpack(a, k, t_new)
         if not np.all(np.isfinite(a)):
-            return None, "linear solve gave non-finite values"
+            close(None)
+            return None, "linear solve gave non-finite values", False
         dn, dv = relative_change(model, new, k)
+        plain = dv < settings.tol and dn < settings.tol
+        done = newton.converged(it, new, k, max(dn, dv)) if newton else plain
         k = new
-        if (dv < settings.tol and dn < settings.tol) or (accept_unconverged and it == settings.max_iter):
+        last = accept_unconverged and it == settings.max_iter
+        if done or last:
             reason = model.check(new)
+            if reason and not (plain or last):
+                continue  # accepted on a prediction but not admissible: iterate on as the plain test would
             if reason:
-                return None, reason
-            return model.end_step(old, new, dt), it
-    return None, f"Picard did not converge in {settings.max_iter} iterations (dv={dv:.2e}, dn={dn:.2e})"
+                close(None)
+                return None, reason, False
+            out = model.end_step(old, new, dt)
+            close(out)
+            return out, it, not plain
+    close(None)
+    return None, f"Picard did not converge in {settings.max_iter} iterations (dv={dv:.2e}, dn={dn:.2e})", False
 
 
 def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = (),
@@ -118,7 +150,7 @@ def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = ()
             h_try = min(h, stop - state.t)
             if stop - state.t - h_try < 0.01 * dt:  # avoid a sliver before the stop
                 h_try = stop - state.t
-            new, info = picard_step(model, state, h_try, settings)
+            new, info, predicted = _step(model, state, h_try, settings)
             if new is None:
                 if h_try / 2 < settings.dt_min:
                     raise StepFailure(state.t, h_try, info, state)
@@ -127,7 +159,9 @@ def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = ()
                 continue
             n_steps += 1
             state = new
-            if info <= settings.easy_iters and h < dt:
+            # easy by the plain test's count (one iterate more where a prediction ended the step),
+            # so that the step sizes are those of the plain test
+            if info + predicted <= settings.easy_iters and h < dt:
                 h = min(dt, h * settings.grow)
             yield Step(state.t, h_try, info, state, n_steps, rejected)
             rejected = 0
