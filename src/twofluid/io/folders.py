@@ -75,7 +75,7 @@ def _existing_ancestor(p: Path) -> Path:
 
 
 def _check_parent(p: Path, what: str) -> None:
-    anc = _existing_ancestor(p.parent if not p.exists() else p)
+    anc = _existing_ancestor(p if p.is_dir() else p.parent)  # an existing file is checked by its folder
     if not anc.is_dir():
         raise CaseError(str(p), what, f"lies under {anc}, which is a file, not a folder")
     if not os.access(anc, os.W_OK | os.X_OK):
