@@ -3,7 +3,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import matplotlib
+
 from .agg import new_figure, write_png
+
+# The figure does not use pyplot; the backend is set for callers that import pyplot after
+# this module (models.element_test closes pyplot's figures), as this module did before.
+matplotlib.use("Agg")
 
 __all__ = ["plot_element_test"]
 
