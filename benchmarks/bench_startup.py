@@ -22,6 +22,7 @@ plotting modules of twofluid, and ``matplotlib.pyplot`` for comparison.
     python benchmarks/bench_startup.py --end 5          # the 1D runs cut to 5 s simulated
     python benchmarks/bench_startup.py --worker --cases fluidized-bed-step
     python benchmarks/bench_startup.py --floor --repeat 7
+    python benchmarks/bench_startup.py --compare /tmp/old/src --repeat 5   # alternated with another tree
 """
 from __future__ import annotations
 
@@ -155,9 +156,11 @@ def floor(code: str) -> float:
     return time.process_time() - t0
 
 
-def _run(args: list[str]) -> tuple[dict, float]:
+def _run(args: list[str], src: str | None = None) -> tuple[dict, float]:
+    """Run this script as a child (``src``: a source tree whose twofluid it imports instead)."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, os.environ.get("PYTHONPATH", "")])} if src else None
     t0 = time.perf_counter()
-    out = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True, check=True, env=env)
     return json.loads(out.stdout.strip().splitlines()[-1]), time.perf_counter() - t0
 
 
@@ -180,6 +183,8 @@ def main(argv=None) -> int:
     p.add_argument("--repeat", type=int, default=3, help="processes per case (median reported)")
     p.add_argument("--worker", action="store_true", help="1D plots in a process forked at the start of the run")
     p.add_argument("--floor", action="store_true", help="time the imports of matplotlib alone")
+    p.add_argument("--compare", metavar="SRC", help="alternate every process with one that imports twofluid "
+                   "from the source tree SRC (e.g. an export of another commit's src/)")
     a = p.parse_args(argv)
     if a.child:
         print(json.dumps(child(a.child[0], a.child[1], float(a.child[2]), a.child[3] == "1")))
@@ -196,26 +201,27 @@ def main(argv=None) -> int:
             print(f"| {label} | {statistics.median(t):.3f} ({t[0]:.3f}–{t[-1]:.3f}) |", flush=True)
         print(f"\nload average (1 min) {os.getloadavg()[0]:.2f} after")
         return 0
-    print(f"\n| case | steps | CPU before the first step [s] (median, min–max) | CPU of the run [s] | plots [s] "
-          "| plots' share | wall [s] |")
-    print("|---|---|---|---|---|---|---|")
+    trees = {"this tree": None, **({a.compare: a.compare} if a.compare else {})}
+    print(f"\n| case | code | steps | CPU before the first step [s] (median, min–max) | CPU of the run [s] "
+          "| plots [s] | plots' share | wall [s] |")
+    print("|---|---|---|---|---|---|---|---|")
     for case in a.cases.split(","):
         if a.worker and case not in CASES_1D:
             continue
-        runs, walls = [], []
+        runs = {t: [] for t in trees}
         for _ in range(a.repeat):
-            with tempfile.TemporaryDirectory() as td:
-                r, wall = _run(["--child", case, td, str(a.end), "1" if a.worker else "0"])
-            runs.append(r)
-            walls.append(wall)
-        runs.sort(key=lambda r: r["before_first_step_s"])
-        mid = runs[len(runs) // 2]
-        first = [r["before_first_step_s"] for r in runs]
-        share = sorted(r["plots_s"] / r["run_s"] for r in runs)
-        print(f"| {case} | {mid['steps']} | {mid['before_first_step_s']:.3f} ({min(first):.3f}–{max(first):.3f}) | "
-              f"{statistics.median(r['run_s'] for r in runs):.2f} | "
-              f"{statistics.median(r['plots_s'] for r in runs):.2f} | {100 * share[len(share) // 2]:.1f} % "
-              f"({100 * share[0]:.1f}–{100 * share[-1]:.1f} %) | {statistics.median(walls):.2f} |", flush=True)
+            for label, src in trees.items():  # alternated: A B A B
+                with tempfile.TemporaryDirectory() as td:
+                    r, wall = _run(["--child", case, td, str(a.end), "1" if a.worker else "0"], src)
+                runs[label].append({**r, "wall_s": wall})
+        for label, rs in runs.items():
+            first = sorted(r["before_first_step_s"] for r in rs)
+            share = sorted(r["plots_s"] / r["run_s"] for r in rs)
+            med = lambda k: statistics.median(r[k] for r in rs)  # noqa: E731
+            print(f"| {case} | {label} | {rs[0]['steps']} | {med('before_first_step_s'):.3f} "
+                  f"({first[0]:.3f}–{first[-1]:.3f}) | {med('run_s'):.2f} | {med('plots_s'):.2f} | "
+                  f"{100 * statistics.median(share):.1f} % ({100 * share[0]:.1f}–{100 * share[-1]:.1f} %) | "
+                  f"{med('wall_s'):.2f} |", flush=True)
     print(f"\nload average (1 min) {os.getloadavg()[0]:.2f} after")
     return 0
 

@@ -1,8 +1,9 @@
 """Figures of 1D runs: porosity and pressure profiles, bed height or interfaces in time.
 
 Margins are fixed (``subplots_adjust``) rather than computed by ``tight_layout``,
-which draws each figure once more: ~60 ms a figure, a fifth of the plotting time
-of a 1D run (docs/benchmarks.md).
+which lays out each figure's text once more: ~60 ms a figure, a fifth of the plotting
+time of a 1D run (docs/benchmarks.md). Figures are drawn and written by
+:mod:`twofluid.plots.agg` (no pyplot).
 """
 from __future__ import annotations
 
