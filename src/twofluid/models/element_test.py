@@ -316,8 +316,5 @@ def run_element_test(*, csr: float | None = None, gamma_amplitude: float | None 
                    "liquefied": bool(np.isfinite(n_liq)),
                    "final_r_u": float(result.r_u[-1, 0]), "settings": result.settings}
         (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-        plot_element_test(result, out / "element_test.png")
-        import matplotlib.pyplot as plt
-
-        plt.close("all")
+        plot_element_test(result, out / "element_test.png")  # on its own canvas: nothing to close
     return result

@@ -5,10 +5,16 @@ from pathlib import Path
 
 import matplotlib
 
+from .agg import new_figure, write_png
+
+# The figure does not use pyplot; the backend is set for callers that import pyplot after
+# this module (models.element_test closes pyplot's figures), as this module did before.
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
 __all__ = ["plot_element_test"]
+
+#: resolution of the PNG [dots per inch]
+DPI = 120
 
 
 def plot_element_test(result, path: str | Path | None = None, element: int = 0,
@@ -31,7 +37,8 @@ def plot_element_test(result, path: str | Path | None = None, element: int = 0,
     matplotlib.figure.Figure
     """
     cyc = result.cycles
-    fig, (ax_p, ax_n, ax_t) = plt.subplots(1, 3, figsize=(14, 4.2), constrained_layout=True)
+    fig = new_figure((14, 4.2), DPI, layout="constrained")
+    ax_p, ax_n, ax_t = fig.subplots(1, 3)
 
     ax_p.plot(cyc, result.p_s[:, element] / 1e3, color="tab:blue", label="$P_s$")
     ax_p.set_xlabel("cycles")
@@ -61,5 +68,5 @@ def plot_element_test(result, path: str | Path | None = None, element: int = 0,
         title = f"{drained} cyclic simple shear ({mode}-controlled): {told}"
     fig.suptitle(title)
     if path is not None:
-        fig.savefig(path, dpi=120)
+        write_png(fig, path)
     return fig

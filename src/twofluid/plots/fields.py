@@ -3,12 +3,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.collections import PolyCollection
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.collections import PolyCollection  # noqa: E402
+from .agg import new_figure, write_png
 
 __all__ = ["field_plot", "velocity_plot", "profile_plot", "single_fluid_plot", "robust_limits"]
 
@@ -16,18 +14,19 @@ __all__ = ["field_plot", "velocity_plot", "profile_plot", "single_fluid_plot", "
 PERCENTILES = (1.0, 99.0)
 
 
+#: resolution of the PNGs [dots per inch]
+DPI = 130
+
 #: a domain taller (or wider) than this ratio is drawn stretched to it, the axis label says so
 MAX_RATIO = 4.0
 
 
 def _save(fig, path: Path, title: str | None = None) -> Path:
-    """Title (if any), layout, write ``path`` at 130 dpi and free the figure."""
+    """Title (if any), layout, write ``path`` at :data:`DPI`."""
     if title is not None:
         fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return write_png(fig, path)
 
 
 def _labels(axi: bool) -> tuple[str, str]:
@@ -93,7 +92,8 @@ def field_plot(mesh, values, path: Path, title: str, label: str, cmap="viridis_r
     of the element values (:func:`robust_limits`, said in the colour-bar label).
     """
     h = np.ptp(mesh.points[:, 1]) / max(np.ptp(mesh.points[:, 0]), 1e-12) * _aspect(mesh)  # as drawn
-    fig, ax = plt.subplots(figsize=(min(3.0 + 6.0 / max(h, 0.5), 9.0), 7.0))
+    fig = new_figure((min(3.0 + 6.0 / max(h, 0.5), 9.0), 7.0), DPI)
+    ax = fig.subplots()
     extend = "neither"
     if robust and vmin is None and vmax is None:
         vmin, vmax, note = robust_limits(values)
@@ -140,7 +140,8 @@ def _quiver(ax, xc, vec, n_arrows=22, aspect=1.0):
 def velocity_plot(mesh, fields: dict, path: Path, title: str) -> Path:
     """Liquid and solid velocity: |U| coloured per element with in-plane arrows (two panels)."""
     xc = np.column_stack([fields["x_m"], fields["y_m"]])
-    fig, axes = plt.subplots(1, 2, figsize=(10, 7))
+    fig = new_figure((10, 7), DPI)
+    axes = fig.subplots(1, 2)
     for ax, key, name in zip(axes, ("Uf_m_s", "Us_m_s"), ("liquid U_f", "solid U_s")):
         u = fields[key]
         mag = np.sqrt(np.nansum(u[:, :2] ** 2, axis=1))
@@ -164,7 +165,8 @@ def profile_plot(profiles: dict, path: Path, title: str, axi: bool, extra: dict 
     ``extra``: {label: (x, u)} reference curves drawn on the velocity panel.
     """
     swirl = any("Uf_theta" in p for p in profiles.values())
-    fig, axes = plt.subplots(1, 3 if swirl else 2, figsize=(13 if swirl else 9, 4.5))
+    fig = new_figure((13 if swirl else 9, 4.5), DPI)
+    axes = fig.subplots(1, 3 if swirl else 2)
     xl = _labels(axi)[0]
     for h, p in sorted(profiles.items()):
         axes[0].plot(p["x_m"], p["porosity"], drawstyle="steps-mid", label=f"height {h:g} m")
@@ -187,7 +189,8 @@ def profile_plot(profiles: dict, path: Path, title: str, axi: bool, extra: dict 
 
 def single_fluid_plot(r, uz, ut, r_exact, uz_exact, ut_exact, path: Path, title: str) -> Path:
     """Single-fluid check: axial and swirl velocity along r, FEM nodes against the exact annulus."""
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.5))
+    fig = new_figure((10, 4.5), DPI)
+    axes = fig.subplots(1, 2)
     for ax, u, ex, name, exact in ((axes[0], uz, uz_exact, "axial velocity u_z [m/s]",
                                     "annular Poiseuille flow, same flow rate [m/s]"),
                                    (axes[1], ut, ut_exact, "swirl velocity u_θ [m/s]",

@@ -4,13 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib import colormaps
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .agg import new_figure, write_png
 
 __all__ = ["liquefaction_plots"]
+
+#: resolution of the PNGs [dots per inch]
+DPI = 110
 
 
 def _shade(ax, col):
@@ -27,8 +29,9 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
     ru = np.array(rec.ru)
     paths = []
 
-    fig, axes = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
-    colors = plt.cm.viridis(np.linspace(0.0, 0.9, max(len(rec.depths), 1)))
+    fig = new_figure((8, 7), DPI)
+    axes = fig.subplots(2, 1, sharex=True)
+    colors = colormaps["viridis"](np.linspace(0.0, 0.9, max(len(rec.depths), 1)))
     for j, z in enumerate(rec.depths):
         axes[0].plot(t, ru[:, j], lw=1.0, color=colors[j], label=f"{z:g} m")
     axes[0].axhline(ru_liq, color="k", ls=":", lw=0.8)
@@ -43,13 +46,12 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
     _shade(axes[1], col)
     axes[0].set_title(f"{title}: excess pore-pressure ratio")
     fig.tight_layout()
-    paths.append(out / "ru_histories.png")
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    paths.append(write_png(fig, out / "ru_histories.png"))
 
     if len(rec.field_t) > 1:
         ft, field = np.array(rec.field_t), np.array(rec.field)
-        fig, ax = plt.subplots(figsize=(8, 4.5))
+        fig = new_figure((8, 4.5), DPI)
+        ax = fig.subplots()
         depth = col.depth
         pc = ax.pcolormesh(ft, depth, field.T, shading="nearest", cmap="viridis",
                            vmin=0.0, vmax=max(1.0, float(np.nanmax(field))))
@@ -73,11 +75,10 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
             ax.set_xscale("symlog", linthresh=max(col.shear_end, 1.0))
         fig.colorbar(pc, ax=ax, label="r_u [-]")
         fig.tight_layout()
-        paths.append(out / "ru_map.png")
-        fig.savefig(paths[-1], dpi=110)
-        plt.close(fig)
+        paths.append(write_png(fig, out / "ru_map.png"))
 
-    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig = new_figure((8, 6), DPI)
+    axes = fig.subplots(2, 1, sharex=True)
     axes[0].plot(t, 100.0 * np.array(rec.settle), "k", lw=1.2)
     axes[0].set_ylabel("surface settlement [cm]")
     axes[0].invert_yaxis()
@@ -88,9 +89,7 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
     axes[1].set_xlabel("time [s]")
     _shade(axes[1], col)
     fig.tight_layout()
-    paths.append(out / "settlement.png")
-    fig.savefig(paths[-1], dpi=110)
-    plt.close(fig)
+    paths.append(write_png(fig, out / "settlement.png"))
     if case is not None and summary is not None and extra is not None:
         paths.append(_profile_plot(rec, col, out, title, ru_liq, summary, extra))
         if extra.get("spectra") is not None:
@@ -101,7 +100,8 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
 def _profile_plot(rec, col, out: Path, title: str, ru_liq: float, summary: dict, extra: dict) -> Path:
     """Peak r_u, peak shear strain and FS against depth, layers and water table drawn."""
     ns = col.n_sat
-    fig, axes = plt.subplots(1, 3, figsize=(11, 6), sharey=True)
+    fig = new_figure((11, 6), DPI)
+    axes = fig.subplots(1, 3, sharey=True)
     z = col.depth_all
     run, inp = extra["simplified_run"], extra["simplified_input"]
     axes[0].plot(np.clip(rec.peak, 0.0, None), z[:ns], "k.-", lw=1.0, ms=3, label="two-fluid peak r_u")
@@ -134,14 +134,12 @@ def _profile_plot(rec, col, out: Path, title: str, ru_liq: float, summary: dict,
     fig.suptitle(f"{title}: profile (settlement {100 * summary['settlement_end_m']:.2f} cm two-fluid, "
                  f"{100 * run.total_settlement_m:.2f} cm simplified)", fontsize=10)
     fig.tight_layout()
-    path = out / "profile.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return write_png(fig, out / "profile.png")
 
 
 def _spectra_plot(out: Path, title: str, spec: dict) -> Path:
-    fig, axes = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    fig = new_figure((8, 7), DPI)
+    axes = fig.subplots(2, 1, sharex=True)
     T = spec["period_s"]
     axes[0].loglog(T, spec["Sa_input_g"], "k", lw=1.2, label="input")
     axes[0].loglog(T, spec["Sa_surface_g"], "r", lw=1.2, label="surface")
@@ -155,7 +153,4 @@ def _spectra_plot(out: Path, title: str, spec: dict) -> Path:
     for ax in axes:
         ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
-    path = out / "spectra.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return write_png(fig, out / "spectra.png")

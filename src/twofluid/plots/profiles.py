@@ -1,20 +1,25 @@
 """Figures of 1D runs: porosity and pressure profiles, bed height or interfaces in time.
 
 Margins are fixed (``subplots_adjust``) rather than computed by ``tight_layout``,
-which draws each figure once more: ~60 ms a figure, a fifth of the plotting time
-of a 1D run (docs/benchmarks.md).
+which lays out each figure's text once more: ~60 ms a figure, a fifth of the plotting
+time of a 1D run (docs/benchmarks.md). Figures are drawn and written by
+:mod:`twofluid.plots.agg` (no pyplot).
 """
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import Normalize
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .agg import new_figure, write_png
 
 __all__ = ["profile_plots", "history_plot"]
+
+#: resolution of the PNGs [dots per inch]
+DPI = 120
 
 
 def _by_time(profiles: dict[float, dict]):
@@ -31,18 +36,19 @@ def _edges(y: np.ndarray) -> np.ndarray:
 
 def _time_bar(fig, ax, cmap, norm):
     """A colour bar for the output time of the curves [s]."""
-    sm = plt.cm.ScalarMappable(cmap=cmap, norm=norm)
+    sm = ScalarMappable(cmap=cmap, norm=norm)
     fig.colorbar(sm, ax=ax, label="time t [s]")
 
 
 def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> list[Path]:
     """porosity.png (n against height at each output time) and pressure.png (P, P_s)."""
     out = []
-    fig, ax = plt.subplots(figsize=(6.2, 6))
-    cmap = plt.get_cmap("viridis")
+    fig = new_figure((6.2, 6), DPI)
+    ax = fig.subplots()
+    cmap = colormaps["viridis"]
     items = _by_time(profiles)
     times = [t for t, _ in items]
-    norm = plt.Normalize(min(times), max(max(times), min(times) + 1e-12))
+    norm = Normalize(min(times), max(max(times), min(times) + 1e-12))
     for t, f in items:  # one curve per output time, its colour on the time bar (no legend of 30 entries)
         ax.stairs(f["porosity"], _edges(np.asarray(f["y_m"])), orientation="horizontal", baseline=None,
                   color=cmap(norm(t)))
@@ -52,11 +58,10 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
     ax.grid(alpha=0.3)
     fig.subplots_adjust(left=0.15, right=0.96, bottom=0.09, top=0.94)  # fixed margins: tight_layout is slow
     _time_bar(fig, ax, cmap, norm)
-    out.append(Path(out_dir) / "porosity.png")
-    fig.savefig(out[-1], dpi=120)
-    plt.close(fig)
+    out.append(write_png(fig, Path(out_dir) / "porosity.png"))
 
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 5.5), sharey=True)
+    fig = new_figure((10, 5.5), DPI)
+    a1, a2 = fig.subplots(1, 2, sharey=True)
     for t, f in items:
         c = cmap(norm(t))
         a1.plot(f["P_Pa"], f["y_m"], color=c)
@@ -69,9 +74,7 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
     fig.subplots_adjust(left=0.09, right=0.98, bottom=0.1, top=0.92, wspace=0.06)
     _time_bar(fig, [a1, a2], cmap, norm)
     fig.suptitle(title)
-    out.append(Path(out_dir) / "pressure.png")
-    fig.savefig(out[-1], dpi=120)
-    plt.close(fig)
+    out.append(write_png(fig, Path(out_dir) / "pressure.png"))
     return out
 
 
@@ -83,7 +86,8 @@ def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, t
     ``marks``: vertical lines, name -> time [s] or (time [s], label); ``levels``:
     horizontal dashed lines, label -> value (e.g. a theoretical final height).
     """
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    fig = new_figure((6.5, 4.5), DPI)
+    ax = fig.subplots()
     for name, y in series.items():
         ax.plot(t, y, label=name)
     for label, value in (levels or {}).items():
@@ -100,6 +104,4 @@ def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, t
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)
-    fig.savefig(out_path, dpi=120)
-    plt.close(fig)
-    return Path(out_path)
+    return write_png(fig, out_path)

@@ -1,0 +1,76 @@
+"""The figures' PNG writer (twofluid.plots.agg) against matplotlib's own ``savefig``."""
+import numpy as np
+import pytest
+from PIL import Image
+
+from twofluid.plots.agg import new_figure, write_png
+
+
+def _figure(face_alpha=1.0):
+    fig = new_figure((3.0, 2.0), dpi=80)
+    ax = fig.subplots()
+    x = np.linspace(0.0, 1.0, 50)
+    ax.plot(x, np.sin(6 * x), label="a line")
+    ax.stairs(np.cos(3 * x[:-1]), x, baseline=None)
+    ax.set_xlabel("x [m]")
+    ax.legend()
+    fig.colorbar(ax.pcolormesh(np.outer(x[:5], x[:4])), ax=ax)
+    fig.patch.set_alpha(face_alpha)
+    fig.tight_layout()
+    return fig
+
+
+@pytest.mark.parametrize("face_alpha, mode", [(1.0, "RGB"), (0.0, "RGBA")])
+def test_same_pixels_as_savefig(tmp_path, face_alpha, mode):
+    """Pixel for pixel what savefig writes at the figure's dpi; RGB only when every pixel is opaque."""
+    fig = _figure(face_alpha)
+    ours = write_png(fig, tmp_path / "ours.png")
+    fig.savefig(tmp_path / "savefig.png", dpi=fig.dpi)
+    with Image.open(ours) as a, Image.open(tmp_path / "savefig.png") as b:
+        assert a.mode == mode and b.mode == "RGBA"
+        assert a.size == b.size == (240, 160)
+        assert a.info["dpi"] == pytest.approx(b.info["dpi"])
+        assert a.info["Software"] == b.info["Software"]
+        np.testing.assert_array_equal(np.asarray(a.convert("RGBA")), np.asarray(b))
+        assert (np.asarray(b)[..., 3] == 255).all() == (mode == "RGB")
+
+
+def test_a_second_write_draws_again(tmp_path):
+    """A figure changed after it was written is drawn anew, not taken from the last picture."""
+    fig = _figure()
+    with Image.open(write_png(fig, tmp_path / "a.png")) as im:
+        first = np.asarray(im)
+    fig.axes[0].set_title("a title")
+    with Image.open(write_png(fig, tmp_path / "b.png")) as im:
+        assert (np.asarray(im) != first).any()
+
+
+def test_plot_modules_do_not_import_pyplot():
+    """The figures of runs need neither pyplot nor its backend machinery (their import is the floor)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, twofluid.plots.profiles, twofluid.plots.liquefaction, twofluid.plots.fields; "
+            "print('matplotlib.pyplot' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_1d_figures_keep_their_size_and_resolution(tmp_path):
+    """porosity.png and pressure.png at 120 dpi: 6.2 × 6 in and 10 × 5.5 in, as before the Agg canvas."""
+    from twofluid.plots.profiles import history_plot, profile_plots
+
+    y = np.linspace(0.005, 0.995, 100)
+    profiles = {t: {"y_m": y, "porosity": 0.5 + 0.1 * t * y, "P_Pa": 9.81e3 * (1 - y), "Ps_Pa": 50 * t * (1 - y)}
+                for t in (0.0, 1.0, 2.0)}
+    paths = profile_plots(profiles, tmp_path, "a title")
+    t = np.linspace(0.0, 2.0, 30)
+    paths.append(history_plot(t, {"bed surface": 0.5 + 0.1 * t}, tmp_path / "heights.png", "a title",
+                              marks={"t1": 1.0}, levels={"theory": 0.7}))
+    sizes = {}
+    for p in paths:
+        with Image.open(p) as im:
+            sizes[p.name] = (im.size, im.mode, tuple(round(d) for d in im.info["dpi"]))
+    assert sizes == {"porosity.png": ((744, 720), "RGB", (120, 120)),
+                     "pressure.png": ((1200, 660), "RGB", (120, 120)),
+                     "heights.png": ((780, 540), "RGB", (120, 120))}
