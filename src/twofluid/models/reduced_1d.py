@@ -162,10 +162,11 @@ class Reduced1D(TwoFluid1D):
     def _prepare_step(self, old: State, dt: float, t_new: float) -> dict:
         """What does not change inside the Picard loop of a step (cached on ``old``, Δt, t_new)."""
         st = self._step
-        if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new:
+        ker = self._kernels()
+        if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new \
+                and ("sc" in st) == (ker is not None):  # (and of the same path)
             return st
         mat, M0, M1, area = self.mat, self._M0, self._M1, self.vert_area
-        ker = self._kernels()
         self._extrap.compiled = ker is not None  # its predictions entry by entry too (the same numbers)
         if ker is not None:  # the step's constants by the compiled kernel, packed as band_system takes them
             ne = old.n.size
@@ -439,7 +440,7 @@ class Reduced1D(TwoFluid1D):
         """Increment of (W, n) from the banded solve; returns [V, W, n]."""
         ab, rhs, k, st = S
         if "sc" in st:  # assembled by the compiled kernels: their band LU (dgbsv's algorithm)
-            info, x = self._kernels()[2](ab, rhs, _KL, _KL), rhs
+            info, x = reduced_kernel.kernels()[2](ab, rhs, _KL, _KL), rhs
         else:
             _, _, x, info = dgbsv(_KL, _KL, ab, rhs, overwrite_ab=1, overwrite_b=1)
         nv = self.nv
@@ -476,7 +477,7 @@ class Reduced1D(TwoFluid1D):
         if "sc" in st:  # assembled by the compiled kernels: the same recovery compiled
             P = np.empty(nk.size)
             top = self.top.kind == "outlet"
-            self._kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src, m_l is not None,
+            reduced_kernel.kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src, m_l is not None,
                                self.vert_area, top, self.top.pressure if top else self.bottom.pressure, P)
             new.P = P
             self._remember(old, new, lambda s: [s.W, s.n])
