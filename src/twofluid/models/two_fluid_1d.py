@@ -211,7 +211,7 @@ class TwoFluid1D:
         node = np.arange(self.nv) / p
         self._pattern = {}  # global indices of the element blocks, the same at every iterate
         self._step_full = None  # the terms of the current step that do not depend on the iterate
-        self._stacked_mat = None  # materials with per-element arrays repeated, per repeat count, for the fused closure calls
+        self._stacked_mat = None  # materials with per-element arrays repeated (per count), for the fused closure calls
         self._M_twice = None  # the mass matrices twice over, for the fused drag call of ``bed_force_shift``
         self._B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1): −∫ ∇·N_i dΩ
         e = self._elements = np.arange(ne)
