@@ -91,6 +91,11 @@ def test_compiled_band_system_matches_the_numpy_path(name):
         m = b.model
         seen = _iterates(b, 10 * b.dt)
     assert seen
+    shifts = {}
+    for compiled in (False, None):  # the bed-force shift of the step (its own kernels and drag call)
+        m.compiled = compiled
+        shifts[compiled] = m._force_shift_at(seen[0][1])
+    assert np.abs(shifts[False] - shifts[None]).max() <= 1e-12 * max(np.abs(shifts[False]).max(), 1e-300)
     for k, old, dt, t in seen:
         out = {}
         for compiled in (False, None):

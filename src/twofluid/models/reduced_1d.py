@@ -165,17 +165,18 @@ class Reduced1D(TwoFluid1D):
     def _prepare_step(self, old: State, dt: float, t_new: float) -> dict:
         """What does not change inside the Picard loop of a step (cached on ``old``, Δt, t_new)."""
         st = self._step
-        if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new:
+        ker = self._kernels()
+        if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new \
+                and ("sc" in st) == (ker is not None):  # (and of the same path)
             return st
         mat, M0, M1, area = self.mat, self._M0, self._M1, self.vert_area
-        ker = self._kernels()
         self._extrap.compiled = ker is not None  # its predictions entry by entry too (the same numbers)
         if ker is not None:  # the step's constants by the compiled kernel, packed as band_system takes them
             ne = old.n.size
             V = self._mixture_velocity(t_new)
             sc, vc = np.empty((16, ne)), np.empty((4, ne + 1))
             alpha = np.ascontiguousarray(self.bed_force_shift(old), dtype=float)
-            ker[6](V, old.V, old.W, old.n, alpha, dt, self._inv2vol, 0.5 * (mat.rho_s + mat.rho_f) / dt,
+            ker[6](V, old.V, old.W, old.n, alpha, float(dt), self._inv2vol, 0.5 * (mat.rho_s + mat.rho_f) / dt,
                    -0.5 * (mat.rho_s - mat.rho_f) / dt, float((mat.rho_s - mat.rho_f) * self.g_y), self._mc,
                    self._srcT, self._mR0, area, self._tb, sc, vc)
             st = self._step = {"old": old, "dt": dt, "t": t_new, "V": V, "sc": sc, "vc": vc, "mR": vc[3],
@@ -236,7 +237,7 @@ class Reduced1D(TwoFluid1D):
         return alpha
 
     def _kernels(self):
-        """The compiled (closure_points, band_system, band_solve), or None for the NumPy path."""
+        """The compiled kernels (:func:`~twofluid.models.reduced_kernel.kernels`), or None for the NumPy path."""
         if self.compiled is False or not self._kernel_ok:
             return None
         ker = self.__dict__.get("_ker")
@@ -426,7 +427,7 @@ class Reduced1D(TwoFluid1D):
         rhs = np.empty(N)
         last = np.empty((len(reduced_kernel.LAST_ROWS), ne))
         band(n, W, kraw, n3, aux, np.ascontiguousarray(ps, dtype=float), np.ascontiguousarray(dps, dtype=float),
-             mu2, clo.viscous, mat.mu_f, st["hc"], st["cw0"], upwind, belf, below is not None,
+             mu2, bool(clo.viscous), float(mat.mu_f), st["hc"], st["cw0"], upwind, belf, below is not None,
              self._mc, st["sc"], st["vc"], ab, rhs, last)
         self._last_rows = last
         self._last_iterate = (W, n, last[0], last[1], last[2] if clo.viscous else None, last[3:5], last[5],
@@ -442,7 +443,7 @@ class Reduced1D(TwoFluid1D):
         """Increment of (W, n) from the banded solve; returns [V, W, n]."""
         ab, rhs, k, st = S
         if "sc" in st:  # assembled by the compiled kernels: their band LU (dgbsv's algorithm)
-            info, x = self._kernels()[2](ab, rhs, _KL, _KL), rhs
+            info, x = reduced_kernel.kernels()[2](ab, rhs, _KL, _KL), rhs
         else:
             _, _, x, info = dgbsv(_KL, _KL, ab, rhs, overwrite_ab=1, overwrite_b=1)
         nv = self.nv
@@ -479,8 +480,9 @@ class Reduced1D(TwoFluid1D):
         if "sc" in st:  # assembled by the compiled kernels: the same recovery compiled
             P = np.empty(nk.size)
             top = self.top.kind == "outlet"
-            self._kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src, m_l is not None,
-                               self.vert_area, top, self.top.pressure if top else self.bottom.pressure, P)
+            reduced_kernel.kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src,
+                                        m_l is not None, self.vert_area, top,
+                                        float(self.top.pressure if top else self.bottom.pressure), P)
             new.P = P
             self._remember(old, new, lambda s: [s.W, s.n])
             return new

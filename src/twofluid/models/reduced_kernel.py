@@ -83,8 +83,8 @@ def _band_system(n, W, kraw, n3, aux, ps, dps, mu2, viscous, mu_f, hc, cw0, upwi
     """Band storage ``ab`` (7, 2 nv − 1) and minus the residual ``rhs`` of the iterate; ``last``
     (LAST_ROWS, ne) the pieces of the pressure recovery.
 
-    ``mc`` (19, ne) the model's element constants: M0 (2), M1 (2), w0, w1, BN (2), ψ-load area
-    factors psA (2), Mt (2×2), Kt (2×2), κ; ``sc`` (16, ne) the step's: V̄, MVe (2), U (2), saV
+    ``mc`` (19, ne) the model's element constants: M0 (2), M1 (2), w0, w1, BN (2), the P_s jump
+    areas psA (2), Mt (2×2), Kt (2×2), κ; ``sc`` (16, ne) the step's: V̄, MVe (2), U (2), saV
     (2), sa (2), gs (2), kv, δn, nᵗ, δq, cdt; ``vc`` (4, nv) per vertex: A V, A, t_b, mR.
     """
     ne = n.size

@@ -214,7 +214,7 @@ class TwoFluid1D:
         node = np.arange(self.nv) / p
         self._pattern = {}  # global indices of the element blocks, the same at every iterate
         self._step_full = None  # the terms of the current step that do not depend on the iterate
-        self._stacked_mat = None  # materials with per-element arrays repeated, per repeat count, for the fused closure calls
+        self._stacked_mat = None  # materials with per-element arrays repeated (per count), for the fused closure calls
         self._M_twice = None  # the mass matrices twice over, for the fused drag call of ``bed_force_shift``
         self._B0T = -np.swapaxes(self.B0, 1, 2)  # (ne, nl, 1): −∫ ∇·N_i dΩ
         e = self._elements = np.arange(ne)
@@ -419,17 +419,6 @@ class TwoFluid1D:
         S.add(row, "n", self.vdofs, self.edofs, d[:, :, None])
         S.add_rhs(row, self.vdofs, d * k.n[:, None])
 
-    def _drag_force(self, n, V, W, Mt=None):
-        """Element drag vectors ∫ ψ_i β s dΩ (n_el, nl) with β from the element-mean slip.
-
-        ``Mt`` = ∫ ψ_i N_j dΩ (default the mass matrix: Galerkin, ψ = N).
-        """
-        q = (1.0 - 2.0 * n)[:, None] * V[self.vdofs] + W[self.vdofs]
-        s_abs = np.abs(self.slip(V, W, n))
-        K = self.clo.beta_per_solids(n, s_abs, self.mat)
-        Mt = self.M if Mt is None else Mt
-        return (K / (2.0 * n * n))[:, None] * np.einsum("eij,ej->ei", Mt, q), K, s_abs, q
-
     def force_shift(self, n: np.ndarray, phi_n: np.ndarray, dps: np.ndarray) -> np.ndarray:
         """Shift α_e ∈ (−½, ½) of element e's bed forces towards its top vertex (``1VW/0P/0n``).
 
@@ -507,7 +496,8 @@ class TwoFluid1D:
         ne = n.size
         _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
-        # the element drag totals of :meth:`_drag_force` at n and n + δn, both in one closure call
+        # the elements' drag totals Σ_i ∫ N_i β s dΩ (β from the element-mean slip) at n and n + δn,
+        # both in one closure call
         x = np.concatenate((n, n + dn))
         vd = self.vdofs
         v, w = self.element_mean(s.V), self.element_mean(s.W)
