@@ -173,6 +173,13 @@ def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = Tru
         except ImportError:
             numba = None
         if numba is not None:
+            try:  # numba's first compile or cache load imports all of scipy.linalg (~0.1 s) only to
+                # find its cython_blas, which these kernels do not use: that module is loaded alone
+                from .scipy_kernels import _extension
+
+                _extension("scipy.linalg", "cython_blas")
+            except (ImportError, OSError):
+                pass
             njit = numba.njit(cache=True, nogil=True)
             for f in helpers:  # the module's own name for each helper now calls the compiled one
                 f.__globals__[f.__name__] = njit(f)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
-__all__ = ["BandSolver", "band_lu", "numba_jit"]
+__all__ = ["BandSolver", "band_lu"]
 
 
 def _gbsv(ab, b, kl, ku):
@@ -92,26 +92,6 @@ def _gbsv(ab, b, kl, ku):
 
 _LU = None
 _TRIED = False
-
-
-def numba_jit():
-    """numba's ``njit(cache=True)`` decorator, or None where numba is not installed.
-
-    numba's first compile or cache load imports scipy.linalg (~0.1 s of CPU) only to find
-    scipy.linalg.cython_blas (for np.dot & co., which the project's kernels do not use): that
-    extension module is loaded by itself first (:mod:`twofluid.scipy_kernels`).
-    """
-    try:
-        import numba
-    except ImportError:
-        return None
-    try:
-        from ..scipy_kernels import _extension
-
-        _extension("scipy.linalg", "cython_blas")
-    except (ImportError, OSError):
-        pass
-    return numba.njit(cache=True, fastmath=False, nogil=True)
 
 
 def band_lu():
