@@ -16,6 +16,10 @@ the solve is relative to the increment, not to the unknowns: on a slowly settlin
 column (velocities ~1e-6 m/s beside pressures ~1e3 Pa, condition number ~1e11)
 solving for the unknowns themselves left a change of ~2e-7 of the velocity scale
 between iterates, above the Picard tolerance, while the increment form gives ~1e-12.
+
+Where numba is installed, :func:`band_lu` is LAPACK's band LU (dgbtf2/dgbtrs) compiled: the
+same operations without f2py's and the per-column BLAS calls' overhead (``BandSolver.solve``
+takes it with ``compiled=True``; the models choose, see ``TwoFluid1D.compiled``).
 """
 from __future__ import annotations
 
@@ -95,7 +99,14 @@ _TRIED = False
 
 
 def band_lu():
-    """:func:`_gbsv` compiled by numba (``lu(ab, b, kl, ku) -> info``, in place), or None without numba."""
+    """:func:`_gbsv` compiled by numba (``lu(ab, b, kl, ku) -> info``, in place), or None without numba.
+
+    >>> lu = band_lu()
+    >>> ab = np.array([[0.0, 0.0, 0.0], [0.0, 1.0, 1.0], [2.0, 2.0, 2.0], [1.0, 1.0, 0.0]], order="F")
+    >>> b = np.array([3.0, 4.0, 3.0])  # [[2, 1, 0], [1, 2, 1], [0, 1, 2]] x = b, kl = ku = 1
+    >>> lu is None or (lu(ab, b, 1, 1) == 0 and b.round(12).tolist() == [1.0, 1.0, 1.0])
+    True
+    """
     global _LU, _TRIED
     if not _TRIED:
         _TRIED = True

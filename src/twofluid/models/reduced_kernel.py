@@ -402,11 +402,20 @@ def _compile():
 
 
 def available() -> bool:
-    """Whether the compiled kernels can be used (numba importable)."""
+    """Whether the compiled kernels can be used (numba importable).
+
+    >>> available() == (kernels() is not None)
+    True
+    """
     return _compile() is not None
 
 
 def kernels():
     """(closure_points, band_system, band_solve, step_pressure, shift_points, shift, step_constants)
-    compiled, or None without numba."""
+    compiled, or None without numba.
+
+    >>> k = kernels()
+    >>> k is None or len(k) == 7
+    True
+    """
     return _compile()
