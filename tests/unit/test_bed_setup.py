@@ -136,3 +136,17 @@ def test_bed_height_off_the_element_faces_says_where_the_surface_went():
     with warnings.catch_warnings():
         warnings.simplefilter("error", CaseWarning)
         built(bed(bed_height=0.7))  # on a face: no word
+
+
+@pytest.mark.parametrize("element", ["1VW/0P/0n", "2VW/1P/0n"])
+def test_bed_pressure_drop_per_step_equals_the_one_from_the_element_fields(element):
+    """The runner's per-step pressure drop reads the lowest element's centre pressure alone; it is
+    the same number as from the element fields (both elements: P0 and the linear, discontinuous P)."""
+    from twofluid.runners.column_1d import bed_pressure_drop
+
+    case = load_case("fluidized-bed-step")
+    case["mesh"]["element"] = element
+    b = build(revalidate(case, "<test>"))
+    s = b.state.copy()
+    s.P[:] = np.linspace(5e3, 1e2, s.P.size)  # any pressure field with distinct entries
+    assert bed_pressure_drop(b.model, s) == bed_pressure_drop(b.model, s, b.model.element_fields(s))

@@ -96,7 +96,10 @@ def bed_pressure_drop(model, s, f: dict | None = None) -> float:
     """
     if model.top.kind != "outlet":
         return float("nan")
-    P0 = float((model.element_fields(s) if f is None else f)["P_Pa"][0])
+    if f is not None:
+        P0 = float(f["P_Pa"][0])
+    else:  # the lowest element's centre alone, as element_fields gives it (every step: no other field)
+        P0 = float(s.P[0] if model.p_order == 0 else 0.5 * (s.P[0] + s.P[1]))
     head = -model.mat.rho_f * model.g_y * (model.mesh.y[-1] - model.mesh.centres[0])
     return P0 - model.top.pressure - head
 
