@@ -58,7 +58,6 @@ mesh carries. The thesis saw it as oscillations behind fronts (its 4.6.1, 5.1.1)
 """
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
@@ -72,12 +71,18 @@ from ..fem.assembly import BlockSystem
 from ..fem.banded import BandSolver
 from ..fem.line import LINE1, LINE2, element_values
 from ..mesh.line import LineMesh
+from . import full_kernel
 from .extrapolation import Extrapolator
 
 __all__ = ["Materials", "Closures", "Boundary", "State", "TwoFluid1D", "ELEMENTS"]
 
 ELEMENTS = {"1VW/0P/0n": (LINE1, 0), "2VW/1P/0n": (LINE2, 1)}
 _CLEAR = 1e-6  # floor of 1 − n in the slip and the upwind flux ratio (clear liquid)
+# the methods whose equations the compiled iterate (full_kernel) reproduces: a subclass overriding
+# one of them keeps the NumPy path
+_KERNEL_METHODS = ("assemble", "solve", "_step_terms", "_drag", "_liquid_pressure", "_solids_flux",
+                   "_upwind_ratio", "_newton_in_n", "psi_mass", "psi_source", "_force_shift_at", "force_shift",
+                   "vertex_porosity", "pack", "unpack")
 
 
 @dataclass(frozen=True)
@@ -168,13 +173,14 @@ def _times(params: dict, n: int, reps: int) -> dict:
 class TwoFluid1D:
     """Assembles and solves the 1D two-component equations on a LineMesh.
 
-    ``compiled`` (class attribute, may be set per instance): True solves each iterate's band
-    system with the compiled band LU of :mod:`twofluid.fem.banded` where numba is installed,
-    False always with LAPACK's ``dgbsv`` (the same algorithm; the reference path), None
-    (default) with the compiled LU only where numba is already imported in the process: it
-    saves 15–25 % of the solve, less than numba's import (~0.5 s of CPU) repays on a run of
-    a few thousand steps (docs/benchmarks.md). :class:`~twofluid.models.reduced_1d.Reduced1D`
-    takes its compiled kernels wherever numba is installed unless ``compiled`` is False.
+    ``compiled`` (class attribute, may be set per instance): None (default) or True assembles
+    and solves each iterate of the ``1VW/0P/0n`` element with the Newton linearisation by the
+    compiled kernels of :mod:`~twofluid.models.full_kernel` where numba is installed (built
+    ahead of time: a run imports them without numba), and the other elements' band systems
+    with the compiled band LU of :mod:`twofluid.fem.banded`; False always takes the NumPy
+    path and LAPACK's ``dgbsv`` (the reference path: the same band matrix and right-hand side
+    to round-off, the same algorithm). A subclass that overrides a method of the equations
+    (e.g. to add a load term to the assembled system) keeps the NumPy path.
     """
 
     compiled: bool | None = None
@@ -222,6 +228,12 @@ class TwoFluid1D:
         self._flux_maps = (np.concatenate((e, e)), np.concatenate((vn[1:], vn[:-1])),  # n rows: V, W at vertices
                            np.concatenate((e[1:], e, e[:-1])), np.concatenate((e[:-1], e, e[1:])))  # n_{e−1}, n_e, n_{e+1}
         self._band = BandSolver(np.concatenate([node, node, pos_p, ecentre]))
+        # the compiled iterate (full_kernel): the element, the Newton linearisation, scalar densities
+        # and viscosity, and the equations of this class (a subclass that adds terms keeps the NumPy path)
+        self._fk_ok = (element == "1VW/0P/0n" and linearisation == "newton" and self.BN is not None
+                       and all(np.ndim(getattr(materials, f)) == 0 for f in ("rho_f", "rho_s", "mu_f", "g"))
+                       and all(getattr(type(self), f) is getattr(TwoFluid1D, f) for f in _KERNEL_METHODS))
+        self._fk = self._fk_step = self._fk_below = self._fk_fixed = None
 
     # ------------------------------------------------------------------ setup
     def _precompute(self):
@@ -316,8 +328,28 @@ class TwoFluid1D:
         return idx, val
 
     # -------------------------------------------------------------- assembly
+    def _full_kernels(self) -> dict | None:
+        """The compiled kernels of the iterate (:mod:`~twofluid.models.full_kernel`), or None for the
+        NumPy path (``compiled`` False, numba missing, or an element or subclass they do not cover)."""
+        if self.compiled is False or not self._fk_ok:
+            self._extrap.compiled = False
+            return None
+        ker = self._fk
+        if ker is None:
+            ker = full_kernel.kernels() or {}
+            if ker:
+                self._fk_constants = full_kernel.constants(self)
+            self._fk = ker
+        self._extrap.compiled = bool(ker)  # its predictions entry by entry too (the same numbers)
+        return ker or None
+
     def assemble(self, k: State, old: State, dt: float, t_new: float):
-        """Matrix and right-hand side of one Picard iterate (see module docstring)."""
+        """Matrix and right-hand side of one Picard iterate (see module docstring): a
+        :class:`~twofluid.fem.assembly.BlockSystem`, or with the compiled kernels a
+        :class:`~twofluid.models.full_kernel.BandIterate` (the same ``matrix()`` and ``rhs``)."""
+        ker = self._full_kernels()
+        if ker is not None:
+            return full_kernel.assemble(self, ker, k, old, dt, t_new)
         mat, clo = self.mat, self.clo
         S = self._step_terms(old, dt, t_new).copy()
         S.iterate = self.pack(k)  # the linearisation point (the band solve is for the increment from it)
@@ -493,6 +525,10 @@ class TwoFluid1D:
         n = s.n
         if self.BN is None or self.bed_forces == "galerkin":  # force_shift's Galerkin tests: α = 0
             return np.zeros_like(n)
+        if self._full_kernels() is not None:
+            alpha = full_kernel.force_shift(self, s)
+            if alpha is not None:
+                return alpha
         ne = n.size
         _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
         dn = 1e-8 * np.where(n < 0.5, 1.0, -1.0)
@@ -655,9 +691,10 @@ class TwoFluid1D:
     # ------------------------------------------------ interface to the stepper
     def solve(self, S: BlockSystem, t: float) -> np.ndarray:
         """The iterate's solution by band LU for the increment from the iterate (:mod:`twofluid.fem.banded`)."""
+        if isinstance(S, full_kernel.BandIterate):
+            return full_kernel.solve(self, self._fk, S, t)
         idx, val = self.dirichlet(t)
-        use = self.compiled if self.compiled is not None else "numba" in sys.modules
-        return self._band.solve(S, S.iterate, idx, val, compiled=bool(use))
+        return self._band.solve(S, S.iterate, idx, val, compiled=self.compiled is not False)
 
     def pack(self, s: State) -> np.ndarray:
         return np.concatenate([s.V, s.W, s.P, s.n])
