@@ -1,8 +1,8 @@
 """CPU time of one Newton iterate and of one time step of the 1D models, in process, best of rounds.
 
 For each case (the two OpenFOAM peers' twofluid cases and the bundled 1D cases) and model
-(``two_fluid_1d``; ``reduced_1d`` on its NumPy path and, where numba is installed, on its
-compiled path), the case is run for ``--warm`` seconds of simulated time, then:
+(``two_fluid_1d`` and ``reduced_1d``, each on its NumPy path and, where numba is installed, on
+its compiled path), the case is run for ``--warm`` seconds of simulated time, then:
 
 - *iterate*: ``assemble`` + ``solve`` of the first iterate of the next step (the captured
   iterate, assembled again and again; the step's constants are cached as in a run);
@@ -13,8 +13,8 @@ compiled path), the case is run for ``--warm`` seconds of simulated time, then:
 
 CPU time (``time.process_time``), best of ``--rounds`` rounds: the machine may be shared,
 and the minimum is the least disturbed. Run with ``PYTHONPATH`` pointing at an export of an
-older commit for a before/after table (the ``compiled`` switch is then ignored, and both
-reduced rows time the same code).
+older commit for a before/after table (the ``compiled`` switch is then ignored where that
+version has no compiled path, and both rows of the model time the same code).
 
     python benchmarks/bench_iterate.py
     python benchmarks/bench_iterate.py --cases openfoam-fluidized-bed --rounds 9
@@ -30,7 +30,7 @@ CASES = {"openfoam-fluidized-bed": HERE / "peers" / "openfoam-fluidized-bed.toml
          "openfoam-sedimentation": HERE / "peers" / "openfoam-sedimentation.toml",
          "fluidized-bed-step": "fluidized-bed-step", "settling-illite": "settling-illite",
          "slis-step-change": "slis-step-change"}
-CONFIGS = (("two_fluid_1d", None), ("reduced_1d", False), ("reduced_1d", None))
+CONFIGS = (("two_fluid_1d", False), ("two_fluid_1d", None), ("reduced_1d", False), ("reduced_1d", None))
 
 
 def _best(f, number: int, rounds: int) -> float:
@@ -75,7 +75,7 @@ def measure(case_ref, model: str, compiled, warm: float, span: float, rounds: in
 
     per_iterate = _best(iterate, 100, rounds)
     def step():
-        m._step = m._step_full = m._shift_cache = None  # the step's constants and bed-force shift anew
+        m._step = m._step_full = m._shift_cache = m._fk_step = None  # the step's constants and bed-force shift anew
         picard_step(m, s, b.dt, b.settings)
 
     per_step = _best(step, 30, rounds)
@@ -86,7 +86,7 @@ def measure(case_ref, model: str, compiled, warm: float, span: float, rounds: in
         for step in integrate(m, s, s.t + span, b.dt, settings=b.settings):
             n_steps, n_its = n_steps + 1, n_its + step.iterations
         best_span = min(best_span, (time.process_time() - t0) / max(n_steps, 1))
-    label = model if model == "two_fluid_1d" else f"{model} ({'NumPy' if compiled is False else 'compiled'})"
+    label = f"{model} ({'NumPy' if compiled is False else 'compiled'})"
     return {"case": Path(str(case_ref)).stem if str(case_ref).endswith(".toml") else str(case_ref),
             "model": label, "elements": m.mesh.n_elements, "iterate_us": 1e6 * per_iterate,
             "step_us": 1e6 * per_step, "step_its": its, "steps_us": 1e6 * best_span,
@@ -100,16 +100,17 @@ def main(argv=None) -> int:
     p.add_argument("--warm", type=float, default=5.0, help="simulated seconds before the measurement")
     p.add_argument("--span", type=float, default=2.0, help="simulated seconds of the per-step mean")
     a = p.parse_args(argv)
-    try:
-        from twofluid.models import reduced_kernel
-        compiled_ok = reduced_kernel.available()
-    except ImportError:  # an older version
-        compiled_ok = False
+    compiled_ok = {}
+    for model, module in (("reduced_1d", "reduced_kernel"), ("two_fluid_1d", "full_kernel")):
+        try:
+            compiled_ok[model] = __import__(f"twofluid.models.{module}", fromlist=["available"]).available()
+        except ImportError:  # an older version
+            compiled_ok[model] = False
     print("| case | elements | model | iterate [µs] | step [µs] (its) | per step over a span [µs] | its/step |")
     print("|---|---|---|---|---|---|---|")
     for name in a.cases:
         for model, compiled in CONFIGS:
-            if compiled is None and model == "reduced_1d" and not compiled_ok:
+            if compiled is None and not compiled_ok[model]:
                 continue
             r = measure(CASES[name], model, compiled, a.warm, a.span, a.rounds)
             print(f"| {name} | {r['elements']} | {r['model']} | {r['iterate_us']:.0f} | {r['step_us']:.0f} "

@@ -131,12 +131,14 @@ def test_compiled_runs_give_the_numpy_paths_results(name, seconds):
                                                     ("fluidized-bed-step", "2VW/1P/0n", 1.0),
                                                     ("settling-illite", "1VW/0P/0n", 5.0)])
 def test_full_model_with_the_compiled_band_lu_gives_dgbsvs_results(name, element, seconds):
+    # (with the linear element the whole iterate is compiled: models/full_kernel.py)
     runs = {c: _advance(_model(name, "two_fluid_1d", element), seconds, c) for c in (False, True)}
     ref, fast = runs[False], runs[True]
     assert fast.t == pytest.approx(ref.t, rel=1e-14)
+    vscale = max(np.abs(ref.V).max(), np.abs(ref.W).max())  # V is round-off where a wall stops it
     for f in ("V", "W", "n", "P"):
         a, c = getattr(ref, f), getattr(fast, f)
-        assert np.abs(a - c).max() <= 1e-8 * np.abs(a).max(), f
+        assert np.abs(a - c).max() <= 1e-8 * (vscale if f in "VW" else np.abs(a).max()), f
 
 
 @requires_numba
