@@ -26,7 +26,7 @@ Picard tolerance, and hit the iteration limit again and again). Where numba is
 installed the iterate of the ``1VW/0P/0n`` element with ``"newton"`` — its terms written
 straight into band storage, the residual, the band LU — runs as compiled loops around the
 same closure calls (:mod:`~twofluid.models.full_kernel`, the same numbers to round-off),
-about a quarter of the NumPy path's CPU time per step; ``compiled = False`` keeps the
+a quarter to a half of the NumPy path's CPU time per step; ``compiled = False`` keeps the
 NumPy path, the reference the kernels are tested against.
 
 Pressure gradients (P constant per element): the mixture term is integrated by
