@@ -136,8 +136,8 @@ def _band_system(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, 
         BN0, BN1, w0, w1 = mc[12, e], mc[13, e], mc[14, e], mc[15, e]
         Va, Vb, Wa, Wb = V[e], V[e + 1], W[e], W[e + 1]
         al = alpha[e]
-        # matrix entries of the element: a[local row][column] for the V and W rows
-        # columns: 0 V_a, 1 W_a, 2 V_b, 3 W_b, 4 n_e
+        # the element's entries: vV_ij row V_i, column V_j (local i, j), vW_ij column W_j, vn_i column
+        # n_e; wV, wW, wn the W rows; fV, fW the right-hand side
         # ---- the step's terms (TwoFluid1D._step_terms): inertia, pressure, weight
         vV00, vV01, vV10, vV11 = cV * M00, cV * M01, cV * M10, cV * M11
         vW00, vW01, vW10, vW11 = cW * M00, cW * M01, cW * M10, cW * M11
@@ -302,8 +302,8 @@ def _band_system(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, 
         _put(ab, Aa, ak, pW, pP, -area[ne])
         f[pW] += (-area[ne]) * p_top
         f[4 * ne] += (-1.0 * p_top) * area[ne]
-    g_prev = 0.0
-    drb_prev = 0.0  # g dr_b, g dr_a of the vertex below the element
+    g_prev = 0.0  # 2 A F, dr_b, dr_a and A r of the vertex below the element
+    drb_prev = 0.0
     dra_prev = 0.0
     a_prev = 0.0
     for v in range(nv):
