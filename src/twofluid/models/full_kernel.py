@@ -154,9 +154,7 @@ def _band_system(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, 
         fV1 += gb * sp1
         fW0 = gsrc * s0
         fW1 = gsrc * s1
-        c2 = 2.0 * mc[16, e] / dt
-        _put(ab, Aa, ak, pN, pN, c2)
-        f[pN] += c2 * oldn[e]
+        f[pN] += 2.0 * mc[16, e] / dt * oldn[e]  # the porosity rows: 2 Vol/Δt nᵗ
         _put(ab, Aa, ak, pV0, pP, -B0)  # −∫ ∇·δV P
         _put(ab, Aa, ak, pV1, pP, -B1)
         _put(ab, Aa, ak, pP, pV0, B0)  # continuity
@@ -331,23 +329,26 @@ def _band_system(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, 
         if v > 0:  # element e = v − 1 through its top vertex v
             e = v - 1
             pN = 4 * e + 3
+            # in the order of the sparse scatter's sums: V, W entries, then n (below, diag, above)
             _put(ab, Aa, ak, pN, 4 * v, -av)  # V_{e+1}
-            _put(ab, Aa, ak, pN, 4 * v + 1, av)  # W_{e+1}
             _put(ab, Aa, ak, pN, 4 * e, a_prev)  # V_e
+            _put(ab, Aa, ak, pN, 4 * v + 1, av)  # W_{e+1}
             _put(ab, Aa, ak, pN, 4 * e + 1, -a_prev)  # W_e
             diag = g_prev * dra_prev - g * drb
-            _put(ab, Aa, ak, pN, pN, diag)
             rhs = diag * n[e]
             if e > 0:
                 bl = g_prev * drb_prev
                 _put(ab, Aa, ak, pN, pN - 4, bl)
                 rhs += bl * n[e - 1]
+            _put(ab, Aa, ak, pN, pN, diag)
             if e < ne - 1:
                 abv = -g * dra
                 _put(ab, Aa, ak, pN, pN + 4, abv)
                 rhs += abv * n[e + 1]
             f[pN] += rhs
         g_prev, drb_prev, dra_prev, a_prev = g, drb, dra, av
+    for e in range(ne):  # the porosity rows' 2 Vol/Δt, the step's block: summed after the fluxes' entries
+        _put(ab, Aa, ak, 4 * e + 3, 4 * e + 3, 2.0 * mc[16, e] / dt)
 
 
 def _residual(ab, f, Aa, V, W, n, fixed, vals, abo, b):
