@@ -22,13 +22,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from kernel_paths import advance as _advance, model_of
 
-from twofluid.casefile.builder import build
-from twofluid.casefile.loader import load_case
 from twofluid.fem.assembly import BlockSystem
 from twofluid.models import full_kernel
 from twofluid.models.two_fluid_1d import Boundary, TwoFluid1D
-from twofluid.timestepping.backward_euler import integrate, picard_step
+from twofluid.timestepping.backward_euler import picard_step
 
 PEERS = Path(__file__).resolve().parents[2] / "benchmarks" / "peers"
 CASES = ("fluidized-bed-step", "settling-illite", "slis-step-change",
@@ -38,19 +37,7 @@ requires_numba = pytest.mark.skipif(not full_kernel.available(), reason="numba n
 
 
 def _model(name, element=None):
-    case = load_case(name)
-    case["case"]["model"] = "two_fluid_1d"
-    if element:
-        case["mesh"]["element"] = element
-    return build(case)
-
-
-def _advance(b, t_end, compiled):
-    b.model.compiled = compiled
-    s = b.state
-    for step in integrate(b.model, s, t_end, b.dt, settings=b.settings):
-        s = step.state
-    return s
+    return model_of(name, "two_fluid_1d", element)
 
 
 def _iterates(b, t_end):

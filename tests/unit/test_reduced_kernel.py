@@ -20,33 +20,21 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from kernel_paths import advance as _advance, model_of
 
-from twofluid.casefile.builder import build
 from twofluid.casefile.loader import load_case
 from twofluid.fem.banded import band_lu
 from twofluid.models import reduced_kernel
 from twofluid.runners.liquefaction import build_column
 from twofluid.scipy_kernels import dgbsv
-from twofluid.timestepping.backward_euler import integrate, picard_step
+from twofluid.timestepping.backward_euler import picard_step
 
 CASES = ("fluidized-bed-step", "settling-illite", "slis-step-change")
 EPS = np.finfo(float).eps
 
 
 def _model(name, model="reduced_1d", element=None):
-    case = load_case(name)
-    case["case"]["model"] = model
-    if element:
-        case["mesh"]["element"] = element
-    return build(case)
-
-
-def _advance(b, t_end, compiled):
-    b.model.compiled = compiled
-    s = b.state
-    for step in integrate(b.model, s, t_end, b.dt, settings=b.settings):
-        s = step.state
-    return s
+    return model_of(name, model, element)
 
 
 def _dense(ab, kl=2):
