@@ -486,7 +486,7 @@ def constants(model) -> tuple[np.ndarray, np.ndarray]:
 def assemble(model, ker: dict, k, old, dt: float, t_new: float) -> BandIterate:
     """:meth:`TwoFluid1D.assemble` by the kernels (the closures called as there)."""
     from ..closures.viscosity import solid_viscosity
-    from .two_fluid_1d import _times
+    from .data_1d import _times
 
     mat, clo = model.mat, model.clo
     mc, vc = model._fk_constants
