@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from kernel_paths import advance as _advance, model_of
+from kernel_paths import advance as _advance, assert_same_state, band_to_dense, model_of
 
 from twofluid.casefile.loader import load_case
 from twofluid.fem.banded import band_lu
@@ -122,11 +122,7 @@ def test_full_model_with_the_compiled_band_lu_gives_dgbsvs_results(name, element
     # (with the linear element the whole iterate is compiled: models/full_kernel.py)
     runs = {c: _advance(_model(name, "two_fluid_1d", element), seconds, c) for c in (False, True)}
     ref, fast = runs[False], runs[True]
-    assert fast.t == pytest.approx(ref.t, rel=1e-14)
-    vscale = max(np.abs(ref.V).max(), np.abs(ref.W).max())  # V is round-off where a wall stops it
-    for f in ("V", "W", "n", "P"):
-        a, c = getattr(ref, f), getattr(fast, f)
-        assert np.abs(a - c).max() <= 1e-8 * (vscale if f in "VW" else np.abs(a).max()), f
+    assert_same_state(ref, fast)
 
 
 @requires_numba
@@ -155,7 +151,7 @@ def test_band_lu_matches_lapack_dgbsv(N, kl, ku):
     ab = np.asfortranarray(rng.standard_normal((2 * kl + ku + 1, N)))  # no diagonal dominance: pivoting
     b = rng.standard_normal(N)
     ref = dgbsv(kl, ku, ab.copy(order="F"), b.copy())[2]
-    A = _dense_general(ab, kl, ku)
+    A = band_to_dense(ab, kl, ku)
     x = b.copy()
     assert band_lu()(ab.copy(order="F"), x, kl, ku) == 0
     kappa = np.linalg.cond(A)
@@ -163,15 +159,6 @@ def test_band_lu_matches_lapack_dgbsv(N, kl, ku):
     assert np.abs(x - ref).max() <= 50 * N * kappa * EPS * np.abs(ref).max()
     singular = np.zeros_like(ab)
     assert band_lu()(singular, b.copy(), kl, ku) == 1
-
-
-def _dense_general(ab, kl, ku):
-    N = ab.shape[1]
-    A = np.zeros((N, N))
-    for i in range(N):
-        for j in range(max(0, i - kl), min(N, i + ku + 1)):
-            A[i, j] = ab[kl + ku + i - j, j]
-    return A
 
 
 def test_the_numpy_path_runs_without_the_kernels(monkeypatch):

@@ -1,6 +1,7 @@
 """The reduced-variable 1D model (Pringle 2001 sec. 4.6.2) against the full model."""
 import numpy as np
 import pytest
+from kernel_paths import band_to_dense
 
 from twofluid.casefile.builder import build
 from twofluid.casefile.loader import load_case
@@ -88,15 +89,6 @@ def test_pressure_recovery_is_hydrostatic_at_rest():
     assert np.allclose(grad, -rho_bar * m.mat.g, rtol=1e-6)
 
 
-def _band_to_dense(ab, kl=2, ku=2):
-    N = ab.shape[1]
-    A = np.zeros((N, N))
-    for j in range(N):
-        for i in range(max(0, j - ku), min(N, j + kl + 1)):
-            A[i, j] = ab[kl + ku + i - j, j]
-    return A
-
-
 @pytest.mark.parametrize("name, t_end", [("fluidized-bed-step", 3.0), ("settling-illite", 40.0)])
 def test_banded_jacobian_is_the_derivative_of_the_residual(name, t_end):
     """Each iterate is a Newton step: the pentadiagonal (W, n) matrix equals the central
@@ -115,7 +107,7 @@ def test_banded_jacobian_is_the_derivative_of_the_residual(name, t_end):
         return -rhs, ab
 
     _, ab = residual(k.W, k.n)
-    J = _band_to_dense(ab.copy())
+    J = band_to_dense(ab.copy(), 2, 2)
     N = J.shape[0]
     J_fd = np.zeros_like(J)
     step_W = 1e-6 * np.abs(k.W).max()
