@@ -10,10 +10,8 @@ __all__ = ["main"]
 def _cmd_run(args) -> int:
     from .io.folders import default_out_dir
     from .runners import run_case
-    from .runners.common import validated_case
 
-    case = validated_case(args.case)
-    res = run_case(case, args.out or default_out_dir(case), progress=not args.quiet and sys.stderr.isatty(),
+    res = run_case(args.case, args.out or default_out_dir, progress=not args.quiet and sys.stderr.isatty(),
                    plots=False if args.no_plots else None)
     s = res.summary
     clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" and not s.get("stepping_fallback") \

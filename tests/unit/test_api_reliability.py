@@ -133,3 +133,29 @@ def test_the_resolved_2d_case_holds_only_what_acts(tmp_path):
     one_d = load_case("settling-illite")
     write_resolved_case(tmp_path / "s.toml", one_d)
     assert "area_top" not in (tmp_path / "s.toml").read_text()
+
+
+def test_the_cli_validates_a_case_once_and_runs_it_in_its_default_folder(tmp_path, monkeypatch):
+    """`twofluid run CASE` loads and checks the case once (run_case does it), and without --out
+    the results go to twofluid-out/<[case] name> of the working folder."""
+    import tomli_w
+
+    from twofluid.casefile import loader, schema
+
+    c = load_case("settling-illite")
+    c["time"]["end"], c["output"]["times"], c["output"]["plots"] = c["time"]["step"], [], False
+    case = tmp_path / "short.toml"
+    case.write_text(tomli_w.dumps({k: v for k, v in c.items() if not k.startswith("_")}))
+    calls = []
+    real = schema.validate
+
+    def counted(*a, **k):
+        calls.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(loader, "validate", counted)  # a case file's check
+    monkeypatch.setattr(schema, "validate", counted)  # a dict's (schema.revalidate)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", str(case), "--quiet"]) == 0
+    assert len(calls) == 1
+    assert (tmp_path / "twofluid-out" / c["case"]["name"] / "summary.json").is_file()

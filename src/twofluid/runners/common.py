@@ -204,7 +204,8 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
     """Run ``case`` (resolved or edited dict, bundled name or TOML path).
 
     ``out_dir``: the folder for the results (created; it must be new, empty or hold an earlier
-    run, whose files are removed first); None keeps the results in memory only: no file is
+    run, whose files are removed first), or a function of the validated case that gives it
+    (e.g. :func:`~twofluid.io.folders.default_out_dir`); None keeps the results in memory only: no file is
     kept, the CSV tables are in ``RunResult.tables`` and no plots are made. The case is
     validated before anything is written (:func:`validated_case`); bad input is a
     :class:`CaseError`. A run interrupted (Ctrl-C, SIGTERM) or failed, in the time loop or
@@ -221,6 +222,8 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
     case = validated_case(case)
     if plots is not None:
         case = {**case, "output": {**case["output"], "plots": bool(plots)}}
+    if callable(out_dir):  # the folder follows from the validated case (the CLI's default_out_dir)
+        out_dir = out_dir(case)
     memory = out_dir is None
     if memory:
         case = {**case, "output": {**case["output"], "plots": False}}
