@@ -35,6 +35,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..closures.viscosity import solid_viscosity
+from . import reduced_kernel
+from .data_1d import _times
+
 __all__ = ["available", "kernels", "KL", "KU", "LDAB", "band_position"]
 
 _CLEAR = 1e-6  # as two_fluid_1d._CLEAR: floor of 1 − n in the slip and the upwind ratio
@@ -485,8 +489,6 @@ def constants(model) -> tuple[np.ndarray, np.ndarray]:
 
 def assemble(model, ker: dict, k, old, dt: float, t_new: float) -> BandIterate:
     """:meth:`TwoFluid1D.assemble` by the kernels (the closures called as there)."""
-    from ..closures.viscosity import solid_viscosity
-    from .data_1d import _times
 
     mat, clo = model.mat, model.clo
     mc, vc = model._fk_constants
@@ -550,8 +552,6 @@ def force_shift(model, s) -> np.ndarray | None:
     """:meth:`TwoFluid1D._force_shift_at` by the reduced model's compiled shift kernels (the same
     arithmetic, :mod:`~twofluid.models.reduced_kernel`; they read the mass matrix from rows 10–13
     of their element constants), or None where they are not available."""
-    from . import reduced_kernel
-
     rk = reduced_kernel.kernels()
     if rk is None:
         return None
