@@ -16,7 +16,6 @@ import warnings
 import numpy as np
 from ..scipy_kernels import brentq  # scipy.optimize's, without importing scipy.optimize (0.35 s)
 
-from ..closures import drag as drag_laws
 from .schema import CaseError, CaseWarning
 
 __all__ = ["volume_below", "height_of_volume", "bed_porosity", "fluidized_porosity", "initial_bed"]
@@ -71,8 +70,7 @@ def fluidized_porosity(clo, mat, u: float, source: str = "<case>") -> float:
     key = "[initial] state = 'fluidized'"
 
     def U(n):
-        return drag_laws.steady_fluidization_velocity(clo.saturated_drag, n, mat.d, mat.rho_s, mat.rho_f,
-                                                      mat.mu_f, mat.g, **clo.drag_params)
+        return clo.fluidization_velocity(n, mat)
 
     if not u > 0.0:
         raise CaseError(source, key, f"needs an upward inlet velocity at t = 0 (got {u:g} m/s)")

@@ -76,9 +76,7 @@ def inlet_velocities(b: dict, clo: Closures, mat: Materials) -> tuple[float, ...
     fluidize a uniform bed at each of its ``porosities`` with the model's drag law."""
     if not b["porosities"]:
         return tuple(b["velocities"])
-    return tuple(drag_laws.steady_fluidization_velocity(
-        clo.saturated_drag, n, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **clo.drag_params)
-        for n in b["porosities"])
+    return tuple(clo.fluidization_velocity(n, mat) for n in b["porosities"])
 
 
 def _closures(case: dict, pressure_section: str) -> Closures:

@@ -59,8 +59,6 @@ def _steps(case: dict, source: str) -> None:
 
 
 def _inlets(case: dict, source: str, clo, mat) -> None:
-    from ..closures import drag as drag_laws
-
     for where, b in case.items():
         if not (where.startswith("boundary.") and isinstance(b, dict)) or b.get("kind") != "inlet":
             continue
@@ -73,8 +71,7 @@ def _inlets(case: dict, source: str, clo, mat) -> None:
                             f"liquid_density = {mat.rho_f:g} kg/m³): give velocities [m/s] instead")
         for n in b["porosities"]:
             try:
-                u = drag_laws.steady_fluidization_velocity(clo.saturated_drag, n, mat.d, mat.rho_s, mat.rho_f,
-                                                           mat.mu_f, mat.g, **clo.drag_params)
+                u = clo.fluidization_velocity(n, mat)
             except (ValueError, ArithmeticError) as exc:
                 raise CaseError(source, key, f"no velocity fluidizes a bed at porosity {n:g} with "
                                 f"{_MATERIAL_KEYS} and the drag law ({exc})") from None

@@ -60,6 +60,12 @@ class Closures:
         """The drag law with this run's |slip| saturation (same signature as the laws)."""
         return self.drag(n, drag_laws.saturated_slip(slip, self.slip_max), *args, **kw)
 
+    def fluidization_velocity(self, n: float, mat: Materials) -> float:
+        """The superficial velocity [m/s] that holds a uniform bed of porosity ``n`` with this run's
+        drag law (:func:`~twofluid.closures.drag.steady_fluidization_velocity`)."""
+        return drag_laws.steady_fluidization_velocity(self.saturated_drag, n, mat.d, mat.rho_s, mat.rho_f,
+                                                      mat.mu_f, mat.g, **self.drag_params)
+
     def beta_per_solids(self, n, slip, mat: Materials):
         return self.saturated_drag(n, slip, mat.d, mat.rho_f, mat.mu_f, per_solids=True, **self.drag_params)
 
