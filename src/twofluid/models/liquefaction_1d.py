@@ -207,39 +207,6 @@ class VerticalColumn(TwoFluid1D):
                       np.array([-self.surcharge * self.vert_area[-1]]))
         return S
 
-    def solve(self, S, t_new: float) -> np.ndarray:
-        """Sparse LU with the prescribed V, W as identity rows (no sub-matrix slicing).
-
-        Same solution as the stepper's default solve, several times faster for a
-        column: slicing a sparse matrix costs more than factorising it here.
-
-        A system that cannot be solved — non-finite entries (assembled about a Picard
-        iterate that has run away: P_s = p_ref exp(…) overflows) or an exactly singular
-        matrix — gives NaN, which ``picard_step`` rejects as a failed iterate, so the
-        stepper halves the step. (SuperLU raises a RuntimeError for both, which used to
-        end the run without a summary.)
-        """
-        import scipy.sparse as sp  # here: the fast paths need no scipy.sparse (0.2–0.4 s to import)
-        import scipy.sparse.linalg as spla
-
-        A = S.matrix()
-        idx, val = self.dirichlet(t_new)
-        keep = np.ones(S.size)
-        keep[idx] = 0.0
-        scale = np.zeros(S.size)
-        scale[idx] = np.abs(A.diagonal()[idx]) + 1.0  # keep the rows on the matrix's scale
-        A = (sp.diags(keep) @ A + sp.diags(scale)).tocsc()
-        rhs = keep * S.rhs
-        rhs[idx] = scale[idx] * val
-        if not (np.all(np.isfinite(A.data)) and np.all(np.isfinite(rhs))):
-            return np.full(S.size, np.nan)
-        try:
-            lu = spla.splu(A)
-        except RuntimeError:  # "Factor is exactly singular"
-            return np.full(S.size, np.nan)
-        a = lu.solve(rhs)
-        return a + lu.solve(rhs - A @ a)  # one step of iterative refinement
-
     def velocity_scale(self, s: State) -> float:
         return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), self.velocity_floor)
 
