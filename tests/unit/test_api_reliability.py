@@ -159,3 +159,21 @@ def test_the_cli_validates_a_case_once_and_runs_it_in_its_default_folder(tmp_pat
     assert main(["run", str(case), "--quiet"]) == 0
     assert len(calls) == 1
     assert (tmp_path / "twofluid-out" / c["case"]["name"] / "summary.json").is_file()
+
+
+@pytest.mark.parametrize("preset, expected", [(None, "1"), ("3", "3")])
+def test_the_cli_runs_with_one_blas_thread_unless_the_user_set_one(preset, expected):
+    """The command line sets OPENBLAS/OMP/MKL_NUM_THREADS to 1 before NumPy is imported, unless
+    the user set them (a BLAS pool costs a 1D run CPU and buys it nothing)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
+                                                             "MKL_NUM_THREADS")}
+    if preset is not None:
+        env["OPENBLAS_NUM_THREADS"] = preset
+    code = ("import os, sys; from twofluid.cli import main; main(['cases']); "
+            "print(os.environ['OPENBLAS_NUM_THREADS'], os.environ['OMP_NUM_THREADS'])")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.split()[-2:] == [expected, "1"]
