@@ -139,8 +139,9 @@ def test_a_rerun_skips_completed_members_and_runs_failed_or_missing_ones(tmp_pat
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGTERM")
 def test_sigterm_stops_the_ensemble_keeping_every_finished_member(tmp_path, client):
     path = tmp_path / "long.toml"
-    # 12 members, more than the driver's window (8 members with 2 worker threads)
-    path.write_text(GRID.replace('"time.end" = 2.0', '"time.end" = 4.0').replace(
+    # 12 members, more than the driver's window (8 members with 2 worker threads), each of
+    # 4000 steps (about 0.5 s of CPU): the signal comes while members are still to be sent
+    path.write_text(GRID.replace('"time.end" = 2.0', '"time.end" = 4.0\n"time.step" = 0.001').replace(
         '"output.times" = [2.0]', '"output.times" = [4.0]').replace("[0.1, 0.2, -1.0]",
                                                                    "[0.1, 0.12, 0.14, 0.16, 0.18, 0.2]"))
     out = tmp_path / "out"

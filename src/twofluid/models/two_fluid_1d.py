@@ -67,6 +67,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..closures import kernels as closure_kernels
 from ..closures.viscosity import solid_viscosity
 from ..fem import terms_1d as terms
 from ..fem.assembly import BlockSystem
@@ -98,10 +99,13 @@ class TwoFluid1D(UpwindBedForces):
     with the compiled band LU of :mod:`twofluid.fem.banded`; False always takes the NumPy
     path and LAPACK's ``dgbsv`` (the reference path: the same band matrix and right-hand side
     to round-off, the same algorithm). A subclass that overrides a method of the equations
-    (e.g. to add a load term to the assembled system) keeps the NumPy path.
+    (e.g. to add a load term to the assembled system) keeps the NumPy path. The compiled
+    iterates also call the run's drag, P_s and μ_s laws compiled (:meth:`compiled_laws`; a few ulp
+    from the registry's functions), unless ``compiled_closures`` is False.
     """
 
     compiled: bool | None = None
+    compiled_closures: bool = True  # False: the compiled iterates call the registry's closures (tests)
 
     # with linearisation "newton" the iterates are Newton's: the stepper may accept one on its predicted error
     newton_iterates = property(lambda self: self.linearisation == "newton")
@@ -350,6 +354,18 @@ class TwoFluid1D(UpwindBedForces):
         self._step_full = {"old": old, "dt": dt, "t": t_new, "S": S, "M_psi": self.psi_mass(alpha),
                       "M_VWold": np.einsum("eij,ej->ei", M, Vold + Wold)}
         return S
+
+    def compiled_laws(self):
+        """The run's drag, P_s and μ_s laws compiled (:func:`twofluid.closures.kernels.for_closures`),
+        which the compiled iterates call in place of the registry functions; None where there are
+        none (no numba, another law), and on the NumPy path (``compiled = False``). Kept while
+        ``clo`` and ``mat`` are the same objects."""
+        if self.compiled is False or not self.compiled_closures:
+            return None
+        hit = self.__dict__.get("_laws")
+        if hit is None or hit[0] is not self.clo or hit[1] is not self.mat:
+            hit = self._laws = (self.clo, self.mat, closure_kernels.for_closures(self.clo, self.mat))
+        return hit[2]
 
     def _materials_times(self, reps: int) -> Materials:
         """The materials for a closure call on ``reps`` stacked copies of the element arrays

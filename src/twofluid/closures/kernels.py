@@ -1,0 +1,243 @@
+"""Compiled forms of the closure laws the 1D models' compiled iterates call, element by element.
+
+The closures are pure vectorised NumPy functions in the registry (:mod:`.registry`), and they
+stay the reference. On arrays of a few hundred entries each of them costs 15–30 µs, nearly all
+of it NumPy's per-operation overhead, and a compiled 1D iterate calls three of them: about a
+third of a compiled step (docs/benchmarks.md). So each law those iterates use has a compiled
+form here as well: the same formula for one element, in the same order of operations, looped
+over the entries in one call. Tests check every form against its registry function over the
+laws' ranges (``tests/unit/test_closure_kernels.py``); the two differ by the last bits of
+``exp`` and ``pow`` (libm against NumPy's), a few ulp.
+
+Covered: the drag laws ``ergun``, ``wen_yu`` and ``gidaspow`` (with the |slip| saturation of
+:func:`.drag.saturated_slip`), the exponential P_s with the Foscolo–Gibilaro term, and the
+solid-phase viscosity from ``mooney_pringle``. :func:`for_closures` returns None for a run that
+uses any other law (or per-element values where these take one value): its model then calls the
+registry functions, as it does on the NumPy path. A new law in the registry needs nothing
+here; a compiled form only makes it faster.
+
+>>> from twofluid.models.data_1d import Closures, Materials
+>>> laws = for_closures(Closures(), Materials(1000.0, 1e-3, 2600.0, 1e-3))
+>>> laws is None or laws.drag_law == "gidaspow"
+True
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import drag as drag_laws
+from . import solids_pressure as ps_laws
+from .viscosity import K1, K2, _blend_coefficients
+
+__all__ = ["for_closures", "CompiledLaws"]
+
+ERGUN, WEN_YU, GIDASPOW = 0, 1, 2
+_DRAG_IDS = {drag_laws.ergun: ERGUN, drag_laws.wen_yu: WEN_YU, drag_laws.gidaspow: GIDASPOW}
+_DRAG_PARAMS = {ERGUN: {"stokes"}, WEN_YU: {"stokes"}, GIDASPOW: {"stokes", "n_switch", "blend_width"}}
+_MAX_EXPONENT = 700.0  # as solids_pressure._MAX_EXPONENT
+
+
+def _ergun(n, s, d, rho_f, mu_f, stokes):
+    """:func:`.drag.ergun` per solids (β/(1 − n)) at one point."""
+    k = 150.0 * (1.0 - n) * mu_f / (n * d * d)
+    if not stokes:
+        k = k + 1.75 * rho_f * abs(s) / d
+    return k
+
+
+def _wen_yu(n, s, d, rho_f, mu_f, stokes):
+    """:func:`.drag.wen_yu` per solids at one point (Schiller–Naumann C_D Re)."""
+    if stokes:
+        cd_re = 24.0
+    else:
+        re = rho_f * n * abs(s) * d / mu_f
+        cd_re = 24.0 * (1.0 + 0.15 * re ** 0.687) if re < 1000.0 else 0.44 * re
+    return 0.75 * cd_re * mu_f / (d * d) * n ** -2.65
+
+
+def _drag(law, n, s, d, rho_f, mu_f, stokes, n_switch, blend_width):
+    """β/(1 − n) of drag law ``law`` (ERGUN, WEN_YU, GIDASPOW) at one point."""
+    if law == ERGUN:
+        return _ergun(n, s, d, rho_f, mu_f, stokes)
+    if law == WEN_YU:
+        return _wen_yu(n, s, d, rho_f, mu_f, stokes)
+    if blend_width > 0.0:
+        x = (n - n_switch + blend_width) / (2.0 * blend_width)
+        x = 0.0 if x < 0.0 else (1.0 if x > 1.0 else x)  # np.clip (NaN stays NaN)
+        phi = x * x * (3.0 - 2.0 * x)
+    else:
+        phi = 1.0 if n >= n_switch else 0.0
+    # outside the blend one law alone: (1 − φ) β_E + φ β_W is that law's value exactly where the
+    # other is finite (n > 0 and a finite slip), and the other law's pow calls are saved
+    one = n > 0.0 and abs(s) < math.inf
+    if phi == 0.0 and one:
+        return _ergun(n, s, d, rho_f, mu_f, stokes)
+    if phi == 1.0 and one:
+        return _wen_yu(n, s, d, rho_f, mu_f, stokes)
+    ke = _ergun(n, s, d, rho_f, mu_f, stokes)
+    kw = _wen_yu(n, s, d, rho_f, mu_f, stokes)
+    return (1.0 - phi) * ke + phi * kw
+
+
+def _beta_per_solids(law, stokes, n_switch, blend_width, slip_max, n, slip, d, rho_f, mu_f, out):
+    """``out[i]`` = β/(1 − n)(n[i], saturated |slip[i]|) with ``d[i % d.size]`` (d per element
+    or one value): :meth:`Closures.beta_per_solids <twofluid.models.data_1d.Closures.beta_per_solids>`."""
+    m = d.size
+    finite = slip_max < math.inf
+    for i in range(n.size):
+        s = slip[i]
+        if finite:  # drag.saturated_slip with p = 4: s/(1 + r⁴)^¼, r = s/s_max (s itself where r⁴
+            # is below half an ulp of 1, as there)
+            r = s / slip_max
+            if r > 1e6:
+                s = slip_max
+            else:
+                r4 = (r * r) * (r * r)
+                if not r4 < 1e-16:
+                    s = s / math.sqrt(math.sqrt(1.0 + r4))
+        out[i] = _drag(law, n[i], s, d[i % m], rho_f, mu_f, stokes, n_switch, blend_width)
+
+
+def _solids_pressure(n, n_bar, A, p_ref, modulus, fluidized, ps, dps):
+    """P_s and ∂P_s/∂n: :func:`.solids_pressure.exponential` with ``A[i % A.size]`` and
+    ``p_ref[i % p_ref.size]``, plus the Foscolo–Gibilaro term of modulus ``modulus[i % modulus.size]``
+    if ``fluidized``."""
+    ma, mp, mm = A.size, p_ref.size, modulus.size
+    for i in range(n.size):
+        one_m = 1.0 - n[i]
+        a = A[i % ma]
+        if one_m > 0.0:
+            s_bar = 1.0 - n_bar[i]
+            x = (1.0 - s_bar / one_m) / a
+            p = p_ref[i % mp] * math.exp(x if not x > _MAX_EXPONENT else _MAX_EXPONENT)
+            dp = -p * s_bar / (a * one_m * one_m)
+        else:
+            p = 0.0
+            dp = 0.0
+        if fluidized:
+            mod = modulus[i % mm]
+            p = p + 0.5 * mod * one_m * one_m
+            dp = dp + -mod * one_m
+        ps[i] = p
+        dps[i] = dp
+
+
+def _solid_viscosity(n, mu_f, k1, k2, eps_blend, n_c, b, c, out):
+    """μ_s [Pa·s]: :func:`.viscosity.solid_viscosity` of :func:`.viscosity.mooney_pringle`, with the
+    blend's cubic coefficients ``b``, ``c``."""
+    top = 1.0 - n_c
+    for i in range(n.size):
+        e = 1.0 - n[i]
+        eps = e if not e < 0.0 else 0.0  # np.maximum / np.minimum: NaN propagates
+        eps = eps if not eps > top else top
+        if eps < eps_blend:
+            mu_m = mu_f * (1.0 + eps * (2.5 + eps * (b + c * eps)))
+        else:
+            mu_m = mu_f * math.exp(math.exp(eps / (k1 + k2 * eps)))
+        out[i] = (mu_m - n[i] * mu_f) / e if e > 1e-6 else 3.5 * mu_f
+
+
+A1 = "f8[:]"
+SIGNATURES = {
+    "beta_per_solids": f"void(i8,b1,f8,f8,f8,{A1},{A1},{A1},f8,f8,{A1})",
+    "solids_pressure": f"void({A1},{A1},{A1},{A1},{A1},b1,{A1},{A1})",
+    "solid_viscosity": f"void({A1},f8,f8,f8,f8,f8,f8,f8,{A1})",
+}
+_KERNELS = None
+_TRIED = False
+
+
+def _compiled():
+    """{name: compiled kernel} (:func:`twofluid.compiled.group`), or None without numba."""
+    global _KERNELS, _TRIED
+    if not _TRIED:
+        _TRIED = True
+        from ..compiled import group
+
+        funcs = {"beta_per_solids": _beta_per_solids, "solids_pressure": _solids_pressure,
+                 "solid_viscosity": _solid_viscosity}
+        _KERNELS = group("closures_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()},
+                         helpers=(_ergun, _wen_yu, _drag))
+    return _KERNELS
+
+
+def _vector(x) -> np.ndarray | None:
+    """``x`` as a 1D float array (a scalar as one entry), or None if it is not numeric."""
+    try:
+        a = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    return np.ascontiguousarray(a.reshape(-1))
+
+
+class CompiledLaws:
+    """A run's drag, P_s and μ_s laws compiled, with the registry calls' results (:func:`for_closures`)."""
+
+    def __init__(self, kernels: dict, law: int, drag_law: str, drag_args: tuple, slip_max: float,
+                 d: np.ndarray, rho_f: float, mu_f: float, A: np.ndarray, p_ref: np.ndarray,
+                 modulus: np.ndarray | None, viscosity_args: tuple | None):
+        self._k = kernels
+        self.drag_law = drag_law
+        self._drag = (law, *drag_args, slip_max)
+        self._d, self._rho_f, self._mu_f = d, rho_f, mu_f
+        self._ps = (A, p_ref, modulus if modulus is not None else np.zeros(1), modulus is not None)
+        self._visc = viscosity_args
+
+    def beta_per_solids(self, n: np.ndarray, slip: np.ndarray) -> np.ndarray:
+        """β/(1 − n) [N·s/m⁴] at porosities ``n`` and |slip| ``slip`` [m/s] (1D float arrays of one
+        size, or a whole number of copies of the elements, each with its element's diameter)."""
+        out = np.empty(n.size)
+        self._k["beta_per_solids"](*self._drag, n, slip, self._d, self._rho_f, self._mu_f, out)
+        return out
+
+    def solids_pressure(self, n: np.ndarray, n_bar: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(P_s, ∂P_s/∂n) [Pa] at porosities ``n`` of the elements with reference porosities ``n_bar``."""
+        ps, dps = np.empty(n.size), np.empty(n.size)
+        self._k["solids_pressure"](n, n_bar, *self._ps, ps, dps)
+        return ps, dps
+
+    def solid_viscosity(self, n: np.ndarray) -> np.ndarray:
+        """μ_s [Pa·s] at porosities ``n``."""
+        out = np.empty(n.size)
+        self._k["solid_viscosity"](n, self._mu_f, *self._visc, out)
+        return out
+
+
+def for_closures(clo, mat) -> CompiledLaws | None:
+    """The compiled laws of a run's :class:`~twofluid.models.data_1d.Closures` and
+    :class:`~twofluid.models.data_1d.Materials`, or None: without numba, for a law with no
+    compiled form here, or for per-element liquid properties or drag and viscosity parameters
+    (the registry calls take those; the particle diameter, A and p_ref may be per element)."""
+    law = _DRAG_IDS.get(clo.drag)
+    if law is None or not set(clo.drag_params) <= _DRAG_PARAMS[law]:
+        return None
+    if clo.fluidized_pressure not in (None, ps_laws.foscolo_gibilaro) or set(clo.fluidized_params) - {"coefficient"}:
+        return None
+    if set(clo.viscosity_params) - {"k1", "k2", "eps_blend", "n_c"}:
+        return None
+    scalars = [clo.drag_params.get("n_switch", 0.6), clo.drag_params.get("blend_width", 0.0), clo.slip_max,
+               mat.rho_f, mat.mu_f, mat.rho_s, mat.g, *clo.viscosity_params.values(),
+               *clo.fluidized_params.values()]
+    if any(np.ndim(v) != 0 for v in scalars) or np.ndim(clo.drag_params.get("stokes", False)) != 0:
+        return None
+    d, A, p_ref = _vector(mat.d), _vector(clo.A), _vector(clo.p_ref)
+    if d is None or A is None or p_ref is None:
+        return None
+    kernels = _compiled()
+    if kernels is None:
+        return None
+    modulus = None
+    if clo.fluidized_pressure is not None:  # foscolo_gibilaro's c g d (ρ_s − ρ_f), per element if d is
+        c = clo.fluidized_params.get("coefficient", 3.2)
+        modulus = np.ascontiguousarray(c * mat.g * d * (mat.rho_s - mat.rho_f), dtype=float)
+    vp = clo.viscosity_params
+    k1, k2 = float(vp.get("k1", K1)), float(vp.get("k2", K2))
+    eps_b, n_c = float(vp.get("eps_blend", 0.2)), float(vp.get("n_c", 0.5))
+    b, c = _blend_coefficients(eps_b, k1, k2)
+    drag_args = (bool(clo.drag_params.get("stokes", False)), float(clo.drag_params.get("n_switch", 0.6)),
+                 float(clo.drag_params.get("blend_width", 0.0)))
+    return CompiledLaws(kernels, law, clo.drag.__name__, drag_args, float(clo.slip_max), d, float(mat.rho_f),
+                        float(mat.mu_f), A, p_ref, modulus,
+                        (k1, k2, eps_b, n_c, float(b), float(c)) if clo.viscous else None)
