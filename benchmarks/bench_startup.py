@@ -202,6 +202,11 @@ def main(argv=None) -> int:
         print(f"\nload average (1 min) {os.getloadavg()[0]:.2f} after")
         return 0
     trees = {"this tree": None, **({a.compare: a.compare} if a.compare else {})}
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from bench_peers import compile_bytecode
+
+    for src in trees.values():  # as an installed package has it (bench_peers.compile_bytecode)
+        compile_bytecode(src)
     print(f"\n| case | code | steps | CPU before the first step [s] (median, min–max) | CPU of the run [s] "
           "| plots [s] | plots' share | wall [s] |")
     print("|---|---|---|---|---|---|---|---|")

@@ -35,9 +35,10 @@ def _extension(package: str, name: str):
     if full in sys.modules:
         return sys.modules[full]
     if package not in sys.modules:
-        import scipy
-
-        folder = Path(scipy.__file__).parent.joinpath(*package.split(".")[1:])
+        top = importlib.util.find_spec("scipy")  # where SciPy is, without running its __init__ (~10 ms)
+        if top is None or not top.submodule_search_locations:
+            return importlib.import_module(full)
+        folder = Path(top.submodule_search_locations[0]).joinpath(*package.split(".")[1:])
         for suffix in importlib.machinery.EXTENSION_SUFFIXES:
             path = folder / (name + suffix)
             if path.is_file():
