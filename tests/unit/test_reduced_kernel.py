@@ -193,3 +193,31 @@ def test_compiled_extrapolation_is_the_numpy_extrapolation():
             for a, b in zip(p, q):
                 np.testing.assert_array_equal(a, b)  # the same comparisons and sums: identical
     assert ref.order == 6
+
+
+@requires_numba
+@pytest.mark.parametrize("model", ["reduced_1d", "two_fluid_1d"])
+def test_the_compiled_iterate_test_is_the_steppers(model):
+    """TwoFluid1D.iterate_change (one compiled pass) gives relative_change's numbers exactly (max
+    and abs are exact), and says when the solve's output is not finite."""
+    from twofluid.timestepping.backward_euler import relative_change
+
+    b = _model("fluidized-bed-step", model)
+    m = b.model
+    old = _advance(b, 1.0, False)
+    k = old.copy()
+    rng = np.random.default_rng(5)
+    new = old.copy(V=old.V + 1e-4 * rng.standard_normal(old.V.size), W=old.W * 1.01,
+                   n=old.n + 1e-5 * rng.standard_normal(old.n.size))
+    a = m.pack(new)
+    m.compiled = None
+    finite, dn, dv = m.iterate_change(a, new, k)
+    assert finite and (dn, dv) == relative_change(m, new, k) and dn > 0 and dv > 0
+    a[a.size // 2] = np.inf
+    assert not m.iterate_change(a, new, k)[0]
+    a[a.size // 2] = np.nan
+    assert not m.iterate_change(a, new, k)[0]
+    m.compiled = False  # the NumPy form
+    assert not m.iterate_change(a, new, k)[0]
+    a[a.size // 2] = 0.0
+    assert m.iterate_change(a, new, k) == (True, *relative_change(m, new, k))

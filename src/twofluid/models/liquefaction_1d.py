@@ -207,9 +207,6 @@ class VerticalColumn(TwoFluid1D):
                       np.array([-self.surcharge * self.vert_area[-1]]))
         return S
 
-    def velocity_scale(self, s: State) -> float:
-        return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), self.velocity_floor)
-
 
 @dataclass
 class ColumnState:

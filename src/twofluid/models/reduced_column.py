@@ -18,9 +18,6 @@ with the new reference porosity.
 """
 from __future__ import annotations
 
-
-import numpy as np
-
 from .reduced_1d import Reduced1D
 from .two_fluid_1d import State
 
@@ -43,9 +40,6 @@ class ReducedVerticalColumn(Reduced1D):
         kw.setdefault("solids_flux", "galerkin")
         super().__init__(mesh, materials, closures, *args, surcharge=surcharge, **kw)
         self.velocity_floor = float(velocity_floor)
-
-    def velocity_scale(self, s: State) -> float:
-        return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), self.velocity_floor)
 
     def continue_from(self, previous: State, start: State) -> None:
         """``start`` (a copy of the converged ``previous`` with a new n̄) continues its steps: the

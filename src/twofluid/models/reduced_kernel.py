@@ -364,6 +364,40 @@ def _step_pressure(W, n, nk, last, mc, sc, liq, viscous, area, top_outlet, p_end
             P[e] = p_end + c
 
 
+def _iterate_change(a, Vn, Wn, nn, Vk, Wk, nk, floor, out):
+    """``out`` = (1 if every entry of ``a`` is finite else 0, max |nn − nk|,
+    max(|Vn − Vk|, |Wn − Wk|)/max(|Vn|, |Wn|, floor)): the stepper's test of an iterate
+    (TwoFluid1D.iterate_change), the same numbers as its NumPy form."""
+    for x in a:
+        if not x - x == 0.0:  # inf or NaN
+            out[0] = 0.0
+            out[1] = out[2] = np.nan
+            return
+    dn = 0.0
+    for i in range(nn.size):
+        d = abs(nn[i] - nk[i])
+        if d > dn:
+            dn = d
+    dv = 0.0
+    scale = floor
+    for i in range(Vn.size):
+        d = abs(Vn[i] - Vk[i])
+        if d > dv:
+            dv = d
+        d = abs(Wn[i] - Wk[i])
+        if d > dv:
+            dv = d
+        v = abs(Vn[i])
+        if v > scale:
+            scale = v
+        v = abs(Wn[i])
+        if v > scale:
+            scale = v
+    out[0] = 1.0
+    out[1] = dn
+    out[2] = dv / scale
+
+
 _COMPILED = None
 _TRIED = False
 
@@ -379,6 +413,7 @@ SIGNATURES = {
     "shift_points": "void(" + ",".join([A1] * 7) + ")",
     "shift": "void(" + ",".join([A1] * 6 + [A2, A1, A1, "f8", "f8", "f8", A1]) + ")",
     "step_constants": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "f8", A2, A2, A1, A1, A1, A2, A2]) + ")",
+    "iterate_change": "void(" + ",".join([A1] * 7 + ["f8", A1]) + ")",
 }
 
 
@@ -391,13 +426,13 @@ def _compile():
 
         funcs = {"closure_points": _closure_points, "band_system": _band_system,
                  "step_pressure": _step_pressure, "shift_points": _shift_points, "shift": _shift,
-                 "step_constants": _step_constants}
+                 "step_constants": _step_constants, "iterate_change": _iterate_change}
         ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=(_fmax, _sign))
         lu = band_lu()
         if ker is None or lu is None:
             return None
         _COMPILED = (ker["closure_points"], ker["band_system"], lu, ker["step_pressure"],
-                     ker["shift_points"], ker["shift"], ker["step_constants"])
+                     ker["shift_points"], ker["shift"], ker["step_constants"], ker["iterate_change"])
     return _COMPILED
 
 
@@ -411,11 +446,11 @@ def available() -> bool:
 
 
 def kernels():
-    """(closure_points, band_system, band_solve, step_pressure, shift_points, shift, step_constants)
-    compiled, or None without numba.
+    """(closure_points, band_system, band_solve, step_pressure, shift_points, shift, step_constants,
+    iterate_change) compiled, or None without numba.
 
     >>> k = kernels()
-    >>> k is None or len(k) == 7
+    >>> k is None or len(k) == 8
     True
     """
     return _compile()

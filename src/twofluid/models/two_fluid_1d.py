@@ -74,7 +74,8 @@ from ..fem.assembly import BlockSystem
 from ..fem.banded import BandSolver
 from ..fem.line import LINE1, LINE2, element_values
 from ..mesh.line import LineMesh
-from . import full_kernel
+from ..timestepping.backward_euler import relative_change
+from . import full_kernel, reduced_kernel
 from .bed_forces_1d import _CLEAR, UpwindBedForces
 from .data_1d import Boundary, Closures, Materials, State, _times
 from .extrapolation import Extrapolator
@@ -106,6 +107,7 @@ class TwoFluid1D(UpwindBedForces):
 
     compiled: bool | None = None
     compiled_closures: bool = True  # False: the compiled iterates call the registry's closures (tests)
+    velocity_floor = 1e-6  # [m/s] the floor of velocity_scale
 
     # with linearisation "newton" the iterates are Newton's: the stepper may accept one on its predicted error
     newton_iterates = property(lambda self: self.linearisation == "newton")
@@ -557,7 +559,22 @@ class TwoFluid1D(UpwindBedForces):
         return None
 
     def velocity_scale(self, s: State) -> float:
-        return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), 1e-6)
+        """max(|V|, |W|, ``velocity_floor``) [m/s]: the scale of the Picard test's velocity change."""
+        return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), self.velocity_floor)
+
+    def iterate_change(self, a: np.ndarray, new: State, k: State) -> tuple[bool, float, float]:
+        """(whether the solve's output ``a`` is finite, max |Δn|, max(|ΔV|, |ΔW|)/velocity scale) of
+        iterate ``new`` after ``k``: the stepper's test of an iterate
+        (:func:`~twofluid.timestepping.backward_euler.relative_change`, the same numbers), in one
+        compiled pass where the kernels are."""
+        ker = reduced_kernel.kernels() if self.compiled is not False else None
+        if ker is None or type(self).velocity_scale is not TwoFluid1D.velocity_scale:
+            if not np.all(np.isfinite(a)):
+                return False, np.nan, np.nan
+            return (True, *relative_change(self, new, k))
+        out = np.empty(3)
+        ker[7](a, new.V, new.W, new.n, k.V, k.W, k.n, float(self.velocity_floor), out)
+        return out[0] != 0.0, float(out[1]), float(out[2])
 
     def end_step(self, old: State, new: State, dt: float) -> State:
         """Hook after a converged step (state variables such as n̄ update here; the step joins the

@@ -109,6 +109,7 @@ def _step(model, old, dt, settings, accept_unconverged=False):
     newton = NewtonTest(model, old, settings.tol) \
         if settings.newton_test and getattr(model, "newton_iterates", False) else None
     close = newton.close if newton else (lambda accepted: None)  # tells the test how the step ended
+    change = getattr(model, "iterate_change", None)  # the model's own (compiled) form of the test below
     for it in range(1, settings.max_iter + 1):
         if hook:
             hook(it, k)
@@ -116,10 +117,15 @@ def _step(model, old, dt, settings, accept_unconverged=False):
             S = model.assemble(k, old, dt, t_new)
             a = model.solve(S, t_new) if hasattr(model, "solve") else _solve(model, S, t_new)
         new = model.unpack(a, k, t_new)
-        if not np.all(np.isfinite(a)):
+        if change is not None:
+            finite, dn, dv = change(a, new, k)
+        else:
+            finite = np.all(np.isfinite(a))
+            if finite:
+                dn, dv = relative_change(model, new, k)
+        if not finite:
             close(None)
             return None, "linear solve gave non-finite values", False
-        dn, dv = relative_change(model, new, k)
         plain = dv < settings.tol and dn < settings.tol
         done = newton.converged(it, new, k, max(dn, dv)) if newton else plain
         k = new
