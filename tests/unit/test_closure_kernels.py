@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from twofluid.closures import drag, kernels, solids_pressure as sp
-from twofluid.closures.viscosity import solid_viscosity
+from twofluid.closures.viscosity import mooney_pringle, solid_viscosity
 from twofluid.models.data_1d import Closures, Materials
 
 TOL = 64 * np.finfo(float).eps
@@ -86,12 +86,13 @@ def test_solids_pressure_and_its_slope_are_the_registry_laws(fluidized, per_elem
 
 @requires_numba
 @pytest.mark.parametrize("params", [{}, {"eps_blend": 0.1, "n_c": 0.45}])
-def test_solid_viscosity_is_the_registry_law(params):
+def test_solid_and_mixture_viscosity_are_the_registry_laws(params):
     mat = Materials(1000.0, 1.3e-3, 2600.0, 1e-3)
     laws = kernels.for_closures(Closures(viscosity_params=params), mat)
     n = _points()
     n[7:10] = [1.0 - 1e-7, 1.0 - 2e-6, 0.4]  # the n = 1 limit, the blend, beyond the cap n_c
     _close(laws.solid_viscosity(n), solid_viscosity(n, mat.mu_f, **params))
+    _close(laws.mixture_viscosity(n), mooney_pringle(n, mat.mu_f, **params))
 
 
 def test_runs_the_compiled_forms_do_not_cover_get_none():

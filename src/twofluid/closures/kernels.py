@@ -150,26 +150,34 @@ def _solids_pressure(n, n_bar, A, p_ref, modulus, fluidized, ps, dps):
         dps[i] = dp
 
 
-def _solid_viscosity(n, mu_f, k1, k2, eps_blend, n_c, b, c, out):
-    """μ_s [Pa·s]: :func:`.viscosity.solid_viscosity` of :func:`.viscosity.mooney_pringle`, with the
-    blend's cubic coefficients ``b``, ``c``."""
+def _mooney(n, mu_f, k1, k2, eps_blend, n_c, b, c):
+    """:func:`.viscosity.mooney_pringle` at one point, with the blend's cubic coefficients ``b``, ``c``."""
+    e = 1.0 - n
     top = 1.0 - n_c
+    eps = e if not e < 0.0 else 0.0  # np.maximum / np.minimum: NaN propagates
+    eps = eps if not eps > top else top
+    if eps < eps_blend:
+        return mu_f * (1.0 + eps * (2.5 + eps * (b + c * eps)))
+    return mu_f * math.exp(math.exp(eps / (k1 + k2 * eps)))
+
+
+def _viscosity(n, mu_f, k1, k2, eps_blend, n_c, b, c, solid, out):
+    """``out`` = μ_s (``solid``: :func:`.viscosity.solid_viscosity`) or the mixture's μ_m
+    (:func:`.viscosity.mooney_pringle`) [Pa·s] at porosities ``n``."""
     for i in range(n.size):
-        e = 1.0 - n[i]
-        eps = e if not e < 0.0 else 0.0  # np.maximum / np.minimum: NaN propagates
-        eps = eps if not eps > top else top
-        if eps < eps_blend:
-            mu_m = mu_f * (1.0 + eps * (2.5 + eps * (b + c * eps)))
+        mu_m = _mooney(n[i], mu_f, k1, k2, eps_blend, n_c, b, c)
+        if solid:
+            e = 1.0 - n[i]
+            out[i] = (mu_m - n[i] * mu_f) / e if e > 1e-6 else 3.5 * mu_f
         else:
-            mu_m = mu_f * math.exp(math.exp(eps / (k1 + k2 * eps)))
-        out[i] = (mu_m - n[i] * mu_f) / e if e > 1e-6 else 3.5 * mu_f
+            out[i] = mu_m
 
 
 A1 = "f8[:]"
 SIGNATURES = {
     "beta_per_solids": f"void(i8,b1,f8,f8,f8,{A1},{A1},{A1},f8,f8,{A1})",
     "solids_pressure": f"void({A1},{A1},{A1},{A1},{A1},b1,{A1},{A1})",
-    "solid_viscosity": f"void({A1},f8,f8,f8,f8,f8,f8,f8,{A1})",
+    "viscosity": f"void({A1},f8,f8,f8,f8,f8,f8,f8,b1,{A1})",
     "wen_yu_reynolds": f"void(f8,{A1},{A1},{A1},f8,f8,{A1})",
     "wen_yu_given": f"void(b1,{A1},{A1},{A1},{A1},{A1},f8,{A1})",
 }
@@ -185,10 +193,10 @@ def _compiled():
         from ..compiled import group
 
         funcs = {"beta_per_solids": _beta_per_solids, "solids_pressure": _solids_pressure,
-                 "solid_viscosity": _solid_viscosity, "wen_yu_reynolds": _wen_yu_reynolds,
+                 "viscosity": _viscosity, "wen_yu_reynolds": _wen_yu_reynolds,
                  "wen_yu_given": _wen_yu_given}
         _KERNELS = group("closures_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()},
-                         helpers=(_ergun, _wen_yu, _drag, _saturated))
+                         helpers=(_ergun, _wen_yu, _drag, _saturated, _mooney))
     return _KERNELS
 
 
@@ -206,7 +214,7 @@ class CompiledLaws:
 
     def __init__(self, kernels: dict, law: int, drag_law: str, drag_args: tuple, slip_max: float,
                  d: np.ndarray, rho_f: float, mu_f: float, A: np.ndarray, p_ref: np.ndarray,
-                 modulus: np.ndarray | None, viscosity_args: tuple | None):
+                 modulus: np.ndarray | None, viscosity_args: tuple):
         self._k = kernels
         self.drag_law = drag_law
         self._drag = (law, *drag_args, slip_max)
@@ -238,7 +246,13 @@ class CompiledLaws:
     def solid_viscosity(self, n: np.ndarray) -> np.ndarray:
         """μ_s [Pa·s] at porosities ``n``."""
         out = np.empty(n.size)
-        self._k["solid_viscosity"](n, self._mu_f, *self._visc, out)
+        self._k["viscosity"](n, self._mu_f, *self._visc, True, out)
+        return out
+
+    def mixture_viscosity(self, n: np.ndarray) -> np.ndarray:
+        """μ_m [Pa·s] (:func:`~twofluid.closures.viscosity.mooney_pringle`) at porosities ``n``."""
+        out = np.empty(n.size)
+        self._k["viscosity"](n, self._mu_f, *self._visc, False, out)
         return out
 
 
@@ -276,5 +290,4 @@ def for_closures(clo, mat) -> CompiledLaws | None:
     drag_args = (bool(clo.drag_params.get("stokes", False)), float(clo.drag_params.get("n_switch", 0.6)),
                  float(clo.drag_params.get("blend_width", 0.0)))
     return CompiledLaws(kernels, law, clo.drag.__name__, drag_args, float(clo.slip_max), d, float(mat.rho_f),
-                        float(mat.mu_f), A, p_ref, modulus,
-                        (k1, k2, eps_b, n_c, float(b), float(c)) if clo.viscous else None)
+                        float(mat.mu_f), A, p_ref, modulus, (k1, k2, eps_b, n_c, float(b), float(c)))

@@ -325,6 +325,9 @@ class LiquefactionColumn:
     # ------------------------------------------------------- diagnostics
     def granular_pressure(self, s: ColumnState) -> np.ndarray:
         """P_s = σ′_v per element [Pa]."""
+        laws = self.v.compiled_laws()  # the law compiled where the vertical model's iterates use it
+        if laws is not None:
+            return laws.solids_pressure(s.vertical.n, s.vertical.n_bar)[0]
         return self.v.solids_pressure(s.vertical.n, s.vertical.n_bar)
 
     def excess_pressure(self, s: ColumnState) -> np.ndarray:
@@ -395,7 +398,9 @@ class LiquefactionColumn:
         v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
         n = s.vertical.n
         wave.rho[:ns] = self.mixture_density(n)
-        mu_m = mooney_pringle(n, v.mat.mu_f)
+        laws = v.compiled_laws()
+        mu_m = laws.mixture_viscosity(n) if laws is not None and not v.clo.viscosity_params \
+            else mooney_pringle(n, v.mat.mu_f)
         w, n_bar, hist = s.wave, s.vertical.n_bar, s.shear
         span = t_new - s.t
         m = max(1, math.ceil(span / self.shear_step - 1e-9))
