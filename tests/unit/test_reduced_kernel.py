@@ -221,3 +221,21 @@ def test_the_compiled_iterate_test_is_the_steppers(model):
     assert not m.iterate_change(a, new, k)[0]
     a[a.size // 2] = 0.0
     assert m.iterate_change(a, new, k) == (True, *relative_change(m, new, k))
+
+
+@requires_numba
+def test_the_compiled_state_check_gives_the_numpy_checks_answers():
+    m = _model("fluidized-bed-step").model
+    s = _model("fluidized-bed-step").state
+    cases = {"ok": {}, "nan n": {"n": np.nan}, "inf V": {"V": np.inf}, "n = 0": {"n": 0.0},
+             "n > 1": {"n": 1.0 + 1e-8}, "n = 1 + 1e-10": {"n": 1.0 + 1e-10}}
+    for label, change in cases.items():
+        t = s.copy()
+        for f, v in change.items():
+            getattr(t, f)[3] = v
+        answers = []
+        for compiled in (False, None):
+            m.compiled = compiled
+            answers.append(m.check(t))
+        assert answers[0] == answers[1], label
+        assert (answers[0] is None) == (label in ("ok", "n = 1 + 1e-10")), label

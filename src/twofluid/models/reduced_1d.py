@@ -68,6 +68,25 @@ _KL = 2  # half-width of the band of the interleaved (W, n) system
 _DIAG = 2 * _KL  # row of the main diagonal in LAPACK band storage (KL fill-in rows first)
 
 
+class _LastRows:
+    """The last iterate assembled by the compiled kernels, for the pressure of the step: its W and
+    n, the per-element rows of ``reduced_kernel.LAST_ROWS``, whether μ_s acted, the step's constants;
+    as a sequence, the NumPy path's (W, n, W̄, h, m_l, Mq, k0, kom, gain, J_dn, step)."""
+
+    __slots__ = ("W", "n", "rows", "viscous", "st")
+
+    def __init__(self, W, n, rows, viscous, st):
+        self.W, self.n, self.rows, self.viscous, self.st = W, n, rows, viscous, st
+
+    def __iter__(self):
+        r = self.rows
+        return iter((self.W, self.n, r[0], r[1], r[2] if self.viscous else None, r[3:5], r[5], r[6], r[7],
+                     r[8:10], self.st))
+
+    def __getitem__(self, i):
+        return tuple(self)[i]
+
+
 class Reduced1D(TwoFluid1D):
     """Reduced-variable 1D model: W and n are the only unknowns of the linear solves.
 
@@ -290,7 +309,7 @@ class Reduced1D(TwoFluid1D):
     def assemble(self, k: State, old: State, dt: float, t_new: float) -> tuple:
         """Banded Newton system for the increment of (W, n) of one Picard iterate (module docstring)."""
         st = self._prepare_step(old, dt, t_new)
-        if "sc" in st and self._kernels() is not None:
+        if "sc" in st:  # prepared for the compiled kernels
             return self._assemble_compiled(k, st)
         mat = self.mat
         n, W = k.n, k.W
@@ -436,12 +455,12 @@ class Reduced1D(TwoFluid1D):
         ab = np.empty((N, 3 * _KL + 1)).T
         rhs = np.empty(N)
         last = np.empty((len(reduced_kernel.LAST_ROWS), ne))
-        band(n, W, kraw, n3, aux, np.ascontiguousarray(ps, dtype=float), np.ascontiguousarray(dps, dtype=float),
-             mu2, bool(clo.viscous), float(mat.mu_f), st["hc"], st["cw0"], upwind, belf, below is not None,
-             self._mc, st["sc"], st["vc"], ab, rhs, last)
+        if laws is None:
+            ps, dps = np.ascontiguousarray(ps, dtype=float), np.ascontiguousarray(dps, dtype=float)
+        band(n, W, kraw, n3, aux, ps, dps, mu2, bool(clo.viscous), float(mat.mu_f), st["hc"], st["cw0"], upwind,
+             belf, below is not None, self._mc, st["sc"], st["vc"], ab, rhs, last)
         self._last_rows = last
-        self._last_iterate = (W, n, last[0], last[1], last[2] if clo.viscous else None, last[3:5], last[5],
-                              last[6], last[7], last[8:10], st)
+        self._last_iterate = _LastRows(W, n, last, clo.viscous, st)
         for row, col, val in self._dir:
             ab[row, col] = val
         V = st["V"]
@@ -486,16 +505,18 @@ class Reduced1D(TwoFluid1D):
         h M(ΔV + ΔW) − ρ_f g_y ∫N + D + m_l Kv (V + W) + A [[P]] = 0, with h, m_l frozen and
         D linearised about the iterate.
         """
-        Wk, nk, Wbar, h, m_l, Mq, k0, kom, gain, Jdn, st = self._last_iterate
-        if "sc" in st:  # assembled by the compiled kernels: the same recovery compiled
+        last = self._last_iterate
+        if type(last) is _LastRows:  # assembled by the compiled kernels: the same recovery compiled
+            nk, m_l, st = last.n, last.viscous, last.st
             P = np.empty(nk.size)
             top = self.top.kind == "outlet"
             reduced_kernel.kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src,
-                                        m_l is not None, self.vert_area, top,
+                                        m_l, self.vert_area, top,
                                         float(self.top.pressure if top else self.bottom.pressure), P)
             new.P = P
             self._remember(old, new, lambda s: [s.W, s.n])
             return new
+        Wk, nk, Wbar, h, m_l, Mq, k0, kom, gain, Jdn, st = last
         W = new.W
         Wb, Wt = W[:-1], W[1:]
         MW = self._M0 * Wb + self._M1 * Wt

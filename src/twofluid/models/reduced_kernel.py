@@ -398,6 +398,24 @@ def _iterate_change(a, Vn, Wn, nn, Vk, Wk, nk, floor, out):
     out[2] = dv / scale
 
 
+def _state_check(n, V):
+    """0 if n and V are finite and 0 < n ≤ 1 + 1e-9; else 1 (not finite), 2 (n ≤ 0) or 3 (n > 1 + 1e-9),
+    in the order TwoFluid1D.check tests them."""
+    for x in n:
+        if not x - x == 0.0:
+            return 1
+    for x in V:
+        if not x - x == 0.0:
+            return 1
+    for x in n:
+        if x <= 0.0:
+            return 2
+    for x in n:
+        if x > 1.0 + 1e-9:
+            return 3
+    return 0
+
+
 _COMPILED = None
 _TRIED = False
 
@@ -414,6 +432,7 @@ SIGNATURES = {
     "shift": "void(" + ",".join([A1] * 6 + [A2, A1, A1, "f8", "f8", "f8", A1]) + ")",
     "step_constants": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "f8", A2, A2, A1, A1, A1, A2, A2]) + ")",
     "iterate_change": "void(" + ",".join([A1] * 7 + ["f8", A1]) + ")",
+    "state_check": f"i8({A1},{A1})",
 }
 
 
@@ -426,13 +445,15 @@ def _compile():
 
         funcs = {"closure_points": _closure_points, "band_system": _band_system,
                  "step_pressure": _step_pressure, "shift_points": _shift_points, "shift": _shift,
-                 "step_constants": _step_constants, "iterate_change": _iterate_change}
+                 "step_constants": _step_constants, "iterate_change": _iterate_change,
+                 "state_check": _state_check}
         ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=(_fmax, _sign))
         lu = band_lu()
         if ker is None or lu is None:
             return None
         _COMPILED = (ker["closure_points"], ker["band_system"], lu, ker["step_pressure"],
-                     ker["shift_points"], ker["shift"], ker["step_constants"], ker["iterate_change"])
+                     ker["shift_points"], ker["shift"], ker["step_constants"], ker["iterate_change"],
+                     ker["state_check"])
     return _COMPILED
 
 
@@ -447,10 +468,10 @@ def available() -> bool:
 
 def kernels():
     """(closure_points, band_system, band_solve, step_pressure, shift_points, shift, step_constants,
-    iterate_change) compiled, or None without numba.
+    iterate_change, state_check) compiled, or None without numba.
 
     >>> k = kernels()
-    >>> k is None or len(k) == 8
+    >>> k is None or len(k) == 9
     True
     """
     return _compile()

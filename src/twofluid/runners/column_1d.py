@@ -111,12 +111,17 @@ def _probe_values(model, s, probes, heights):
     vals = dict(heights)
     f = model.element_fields(s)
     vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s, f)
-    e_of = np.clip(np.searchsorted(model.mesh.y, np.asarray(probes) + model.mesh.y[0], side="right") - 1,
-                   0, model.mesh.n_elements - 1)
-    for y, e in zip(probes, e_of):
+    for y, e in zip(probes, _probe_elements(model, probes)):
         for name in ("porosity", "P_Pa", "Ps_Pa", "Us_m_s"):
             vals[f"{name}@{y:g}m"] = float(f[name][e])
     return vals
+
+
+def _probe_elements(model, probes) -> list[int]:
+    """The element holding each probe height [m above the bottom] (the top one for the top end)."""
+    e_of = np.clip(np.searchsorted(model.mesh.y, np.asarray(probes) + model.mesh.y[0], side="right") - 1,
+                   0, model.mesh.n_elements - 1)
+    return e_of.tolist()
 
 
 def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
@@ -153,8 +158,8 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
             outflow += step.dt * model.solids_outflow(s)
             n_steps, last = step.n_steps, s
             fig.record(s)
-            if s.t >= next_probe - 1e-12 or s.t >= b.t_end - 1e-12:
-                writer.probe(s.t, _probe_values(model, s, probes, fig.rows[-1]))
+            if s.t >= next_probe - 1e-12 or s.t >= b.t_end - 1e-12:  # (the values in probe_cols' order)
+                writer.probe_row(s.t, list(_probe_values(model, s, probes, fig.rows[-1]).values()))
                 next_probe = s.t + case["output"]["probe_interval"]
             if any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times):
                 save_profile(s)
