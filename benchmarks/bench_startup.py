@@ -81,6 +81,8 @@ def child(case: str, out: str, end: float, worker: bool) -> dict:
     from pathlib import Path
 
     from twofluid import cli
+
+    cli.one_blas_thread()  # as ``twofluid run`` does first, before NumPy is imported
     from twofluid.runners import column_1d
 
     marks = {}

@@ -290,14 +290,20 @@ def _show_case_warning(message, category, filename, lineno, file=None, line=None
     print(f"twofluid: warning: {message}", file=sys.stderr)
 
 
+def one_blas_thread() -> None:
+    """One BLAS thread unless the user chose otherwise (``_ONE_THREAD``); before NumPy is imported
+    (in a process that has NumPy already it would not take effect)."""
+    if "numpy" not in sys.modules:
+        for var in _ONE_THREAD:
+            os.environ.setdefault(var, "1")
+
+
 def main(argv=None) -> int:
     import warnings
 
     from .casefile.schema import CaseError, CaseWarning
 
-    if "numpy" not in sys.modules:  # (in a process that has NumPy already it would not take effect)
-        for var in _ONE_THREAD:
-            os.environ.setdefault(var, "1")
+    one_blas_thread()
     args = parser().parse_args(argv)
     default_show = warnings.showwarning
     warnings.showwarning = lambda m, c, *a, **k: (_show_case_warning(m, c, *a, **k) if issubclass(c, CaseWarning)
