@@ -14,7 +14,6 @@ import contextvars
 import importlib
 import shutil
 import signal
-import tempfile
 import threading
 import time
 from contextlib import contextmanager
@@ -227,6 +226,8 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
     memory = out_dir is None
     if memory:
         case = {**case, "output": {**case["output"], "plots": False}}
+        import tempfile  # here: only a run kept in memory needs it
+
         out = Path(tempfile.mkdtemp(prefix="twofluid-"))
     else:
         out = check_out_dir(out_dir)

@@ -110,12 +110,13 @@ def _step(model, old, dt, settings, accept_unconverged=False):
         if settings.newton_test and getattr(model, "newton_iterates", False) else None
     close = newton.close if newton else (lambda accepted: None)  # tells the test how the step ended
     change = getattr(model, "iterate_change", None)  # the model's own (compiled) form of the test below
+    solve = getattr(model, "solve", None)
     for it in range(1, settings.max_iter + 1):
         if hook:
             hook(it, k)
         with np.errstate(all="ignore"):  # a trial iterate may leave (0, 1]; checked below
             S = model.assemble(k, old, dt, t_new)
-            a = model.solve(S, t_new) if hasattr(model, "solve") else _solve(model, S, t_new)
+            a = solve(S, t_new) if solve is not None else _solve(model, S, t_new)
         new = model.unpack(a, k, t_new)
         if change is not None:
             finite, dn, dv = change(a, new, k)
