@@ -239,3 +239,22 @@ def test_the_compiled_state_check_gives_the_numpy_checks_answers():
             answers.append(m.check(t))
         assert answers[0] == answers[1], label
         assert (answers[0] is None) == (label in ("ok", "n = 1 + 1e-10")), label
+
+
+@requires_numba
+@pytest.mark.parametrize("name", ["fluidized-bed-step", "slis-step-change"])
+def test_the_whole_iterate_is_the_four_calls(name):
+    """Reduced1D.iterate (assemble, solve, unpack and the iterate test in one call) gives the
+    stepper's own sequence of those calls bit for bit; a replaced method turns it off."""
+    runs = []
+    for whole in (True, False):
+        b = _model(name)
+        if not whole:
+            b.model.iterate = None  # the stepper then calls the four methods itself
+        runs.append(_advance(b, 1.0, None))
+    for f in ("V", "W", "P", "n"):
+        assert np.array_equal(getattr(runs[0], f), getattr(runs[1], f)), f
+    m = _model(name).model
+    assert m._whole_iterate_ok()
+    m.assemble = m.assemble
+    assert not m._whole_iterate_ok()

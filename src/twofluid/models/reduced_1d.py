@@ -468,6 +468,28 @@ class Reduced1D(TwoFluid1D):
             rhs[2 * v] = V[v] - W[v]
         return ab, rhs, k, st
 
+    def iterate(self, k: State, old: State, dt: float, t_new: float):
+        """One whole Newton iterate where the compiled kernels assemble it: :meth:`assemble`,
+        :meth:`solve`, :meth:`unpack` and :meth:`~TwoFluid1D.iterate_change` in one call (the same
+        calls, without the stepper's dispatch between them); returns (the new iterate, whether the
+        solve's output is finite, max |Δn|, the velocity change), or None on the NumPy path and
+        where a subclass or the instance replaces one of those methods (the stepper calls them then)."""
+        if not self._whole_iterate_ok():
+            return None
+        st = self._prepare_step(old, dt, t_new)
+        if "sc" not in st:
+            return None
+        a = self.solve(self._assemble_compiled(k, st), t_new)
+        new = self.unpack(a, k, t_new)
+        return (new, *self.iterate_change(a, new, k))
+
+    def _whole_iterate_ok(self) -> bool:
+        """Whether :meth:`iterate` may stand for the four methods it calls (none replaced)."""
+        cls = type(self)
+        return (cls.assemble is Reduced1D.assemble and cls.solve is Reduced1D.solve and cls.unpack is Reduced1D.unpack
+                and cls.iterate_change is TwoFluid1D.iterate_change
+                and not {"assemble", "solve", "unpack", "iterate_change"} & self.__dict__.keys())
+
     def solve(self, S: tuple, t: float) -> np.ndarray:
         """Increment of (W, n) from the banded solve; returns [V, W, n]."""
         ab, rhs, k, st = S

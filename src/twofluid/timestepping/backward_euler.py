@@ -111,19 +111,25 @@ def _step(model, old, dt, settings, accept_unconverged=False):
     close = newton.close if newton else (lambda accepted: None)  # tells the test how the step ended
     change = getattr(model, "iterate_change", None)  # the model's own (compiled) form of the test below
     solve = getattr(model, "solve", None)
+    whole = getattr(model, "iterate", None)  # all of an iterate in one call (None: not for this one)
     for it in range(1, settings.max_iter + 1):
         if hook:
             hook(it, k)
         with np.errstate(all="ignore"):  # a trial iterate may leave (0, 1]; checked below
-            S = model.assemble(k, old, dt, t_new)
-            a = solve(S, t_new) if solve is not None else _solve(model, S, t_new)
-        new = model.unpack(a, k, t_new)
-        if change is not None:
-            finite, dn, dv = change(a, new, k)
+            done = whole(k, old, dt, t_new) if whole is not None else None
+            if done is None:
+                S = model.assemble(k, old, dt, t_new)
+                a = solve(S, t_new) if solve is not None else _solve(model, S, t_new)
+        if done is not None:
+            new, finite, dn, dv = done
         else:
-            finite = np.all(np.isfinite(a))
-            if finite:
-                dn, dv = relative_change(model, new, k)
+            new = model.unpack(a, k, t_new)
+            if change is not None:
+                finite, dn, dv = change(a, new, k)
+            else:
+                finite = np.all(np.isfinite(a))
+                if finite:
+                    dn, dv = relative_change(model, new, k)
         if not finite:
             close(None)
             return None, "linear solve gave non-finite values", False
