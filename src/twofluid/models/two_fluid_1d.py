@@ -78,6 +78,7 @@ from ..timestepping.backward_euler import relative_change
 from . import full_kernel, reduced_kernel
 from .bed_forces_1d import _CLEAR, UpwindBedForces
 from .data_1d import Boundary, Closures, Materials, State, _times
+from .diagnostics_1d import LineDiagnostics
 from .extrapolation import Extrapolator
 
 __all__ = ["Materials", "Closures", "Boundary", "State", "TwoFluid1D", "ELEMENTS"]
@@ -90,7 +91,7 @@ _KERNEL_METHODS = ("assemble", "solve", "_step_terms", "_drag", "_liquid_pressur
                    "vertex_porosity", "pack", "unpack")
 
 
-class TwoFluid1D(UpwindBedForces):
+class TwoFluid1D(UpwindBedForces, LineDiagnostics):
     """Assembles and solves the 1D two-component equations on a LineMesh.
 
     ``compiled`` (class attribute, may be set per instance): None (default) or True assembles
@@ -584,51 +585,3 @@ class TwoFluid1D(UpwindBedForces):
         extrapolation table)."""
         self._remember(old, new, lambda s: [s.V, s.W, s.n])
         return new
-
-    # ---------------------------------------------------------- diagnostics
-    def solids_volume(self, s: State) -> float:
-        """∫ (1 − n) dΩ [m³]."""
-        return float(((1.0 - s.n) * self.volumes).sum())
-
-    def solids_outflow(self, s: State) -> float:
-        """Rate [m³/s] at which solids leave through the ends (upwinded as in the porosity equation)."""
-        node = self.vert_node
-        ends = (0, -1)
-        F = [0.5 * (float(s.V[node[v]]) - float(s.W[node[v]])) for v in ends]
-        if self.solids_flux == "upwind":  # :meth:`_upwind_ratio` at the two ends only (same arithmetic)
-            n = s.n
-            wb, wa = self.w_below, self.w_above
-            for i, (v, nb, na) in enumerate(((0, 1.0, float(n[0])), (-1, float(n[-1]), 1.0))):
-                nf = (wb[v] * nb + wa[v] * na) / (wb[v] + wa[v])
-                one_f = 1.0 - nf
-                r = (1.0 - (nb if F[i] >= 0.0 else na)) * (1.0 / one_f if one_f > _CLEAR else 0.0)
-                F[i] = F[i] * r
-        return float(F[1] * self.vert_area[-1] - F[0] * self.vert_area[0])
-
-    def settled_solids_pressure(self, n: np.ndarray) -> np.ndarray:
-        """P_s per element [Pa] that makes porosity ``n`` a discrete equilibrium at rest.
-
-        Marches the mixture-minus-liquid balance at each vertex from the top
-        (P_s = 0 above the column): A_i [[P_s]] = g_y (ρ_s − ρ_f) Σ_e (1 − n_e) ∫_e N_i dΩ.
-        """
-        ne = self.mesh.n_elements
-        d_rho = self.mat.rho_s - self.mat.rho_f
-        i = np.arange(1, ne + 1)  # vertices above each element
-        n_above = np.append(n, 1.0)[i]
-        load = (1.0 - n[i - 1]) * self.w_below[i] + (1.0 - n_above) * self.w_above[i]
-        jump = -self.g_y * d_rho * load / self.vert_area[i]  # P_s below − P_s above
-        return np.cumsum(jump[::-1])[::-1]
-
-    def element_fields(self, s: State) -> dict[str, np.ndarray]:
-        """Per-element values at the centres: the fields a user looks at (SI units).
-
-        U_s is undefined in clear liquid (n = 1) and given as NaN there.
-        """
-        v, w = self.element_mean(s.V), self.element_mean(s.W)
-        P = s.P if self.p_order == 0 else 0.5 * (s.P[0::2] + s.P[1::2])
-        one_m = 1.0 - s.n
-        with np.errstate(divide="ignore", invalid="ignore"):
-            us = np.where(one_m > _CLEAR, (v - w) / (2.0 * one_m), np.nan)
-        return {"y_m": self.mesh.centres, "porosity": s.n, "reference_porosity": s.n_bar,
-                "P_Pa": P, "Ps_Pa": self.solids_pressure(s.n, s.n_bar), "V_m_s": v, "W_m_s": w,
-                "Uf_m_s": (v + w) / (2.0 * s.n), "Us_m_s": us}
