@@ -225,3 +225,55 @@ def test_upwind_side_change_blocks_a_prediction():
     t.C, t.fresh = 1e-3, True
     noise = _s(1.0, 0.5 + 1e-6, v=[1e-3, 1e-3], w=[0.0, 1e-3 + 1e-18])  # round-off: does not count
     assert t.converged(1, noise, _s(1.0, 0.5, v=[1e-3, 1e-3], w=[0.0, 1e-3 - 1e-18]), 1e-6)
+
+
+@pytest.mark.skipif(__import__("twofluid.timestepping.newton", fromlist=["_kernels"])._kernels() is None,
+                    reason="numba not installed")
+def test_the_compiled_tests_decide_as_the_numpy_tests(monkeypatch):
+    """NewtonTest.converged's side and entry tests in one compiled pass (newton._accept) give the
+    NumPy tests' decision on iterates that contract, stall, flip the upwind side or do not move."""
+    from types import SimpleNamespace as NS
+
+    import twofluid.timestepping.newton as newton
+
+    class M:
+        newton_iterates = True
+
+        def velocity_scale(self, s):
+            return max(float(np.abs(s.V).max()), float(np.abs(s.W).max()), 1e-6)
+
+    rng = np.random.default_rng(11)
+    tol = 1e-7
+    decisions = {True: 0, False: 0}
+    for case in range(400):
+        ne = 20
+        V = rng.uniform(-1e-2, 1e-2, ne + 1)
+        W = V + rng.uniform(-1e-3, 1e-3, ne + 1)
+        n = rng.uniform(0.4, 0.9, ne)
+        step = 10.0 ** rng.uniform(-10, -6)
+        rate = rng.choice([0.01, 0.3, 0.6, 1.2])  # contracting fast, slowly, too slowly, not at all
+        mk = lambda k: NS(t=1.0, V=V + step * rate ** k * rng.standard_normal(ne + 1) * (case % 7 != 0),
+                          W=W + step * rate ** k * rng.standard_normal(ne + 1), n=n + step * rate ** k * rng.standard_normal(ne))
+        before, prev, new = mk(0), mk(1), mk(2)
+        if case % 11 == 0:  # V − W flips sign at a node, by more than the noise
+            new.W = new.W.copy()
+            new.W[3] = new.V[3] + np.sign(prev.V[3] - prev.W[3]) * 1e-3
+        if case % 13 == 0:  # an entry that did not move before
+            before.n = before.n.copy()
+            before.n[5] = prev.n[5]
+        out = []
+        for compiled in (True, False):
+            if not compiled:
+                monkeypatch.setattr(newton, "_kernels", lambda: None)
+            test = NewtonTest(M(), NS(t=0.0, V=V, W=W, n=n), tol)
+            test.C, test.fresh = 1e-30, bool(case % 2)
+            test.e, test.before = 1e-3, before  # a previous iterate (its change) and the one before it
+            it = 1 if case % 17 == 0 else 2
+            if it == 1:
+                test.e = test.before = None
+            e = max(float(np.abs(new.n - prev.n).max()), 2 * tol)  # above tol: not the plain test
+            out.append(test.converged(it, new, prev, e))
+            monkeypatch.undo()
+        assert out[0] == out[1], case
+        decisions[out[0]] += 1
+    assert decisions[True] > 20 and decisions[False] > 20, decisions

@@ -84,6 +84,66 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return a is b or (a.shape == b.shape and bool((a == b).all()))
 
 
+def _accept(nV, nW, nn, pV, pW, pn, bV, bW, bn, scale_new, scale_prev, tol, side_noise, entry_floor,
+            first, fresh):
+    """:meth:`NewtonTest.converged` after its quadratic test, compiled: 0 where V − W changed sign
+    at a node by more than the noise (``_side_changed``), else for the first iterate ``fresh``, else
+    the entry-by-entry contraction test on the changes new − prev against prev − before."""
+    noise = side_noise * tol * scale_new
+    for i in range(nV.size):
+        a = nV[i] - nW[i]
+        b = pV[i] - pW[i]
+        if (a >= 0.0) != (b >= 0.0) and abs(a) > noise:
+            return 0
+    if first:
+        return 1 if fresh else 0
+    floor = entry_floor * tol
+    rest_max = 0.0
+    big = False
+    m = nn.size
+    for j in range(m + 2 * nV.size):  # the entries of _changes: n, then V, then W
+        if j < m:
+            d = abs(nn[j] - pn[j])
+            dp = abs(pn[j] - bn[j])
+        elif j < m + nV.size:
+            i = j - m
+            d = abs(nV[i] - pV[i]) / scale_new
+            dp = abs(pV[i] - bV[i]) / scale_prev
+        else:
+            i = j - m - nV.size
+            d = abs(nW[i] - pW[i]) / scale_new
+            dp = abs(pW[i] - bW[i]) / scale_prev
+        if not d >= floor:  # (NaN too, as NumPy's comparison leaves it out)
+            continue
+        big = True
+        theta = d / dp if dp != 0.0 else np.inf
+        if not theta < 0.5:  # (NaN or inf too)
+            return 0
+        r = d * theta / (1.0 - theta)
+        if r > rest_max:
+            rest_max = r
+    if not big:
+        return 1
+    return 1 if rest_max <= tol else 0
+
+
+_KERNEL = None
+_TRIED = False
+
+
+def _kernels():
+    """:func:`_accept` compiled (twofluid.compiled), or None without numba."""
+    global _KERNEL, _TRIED
+    if not _TRIED:
+        _TRIED = True
+        from ..compiled import kernel
+
+        A1 = "f8[:]"
+        _KERNEL = kernel("newton_accept", _accept,
+                         f"i8({','.join([A1] * 9)},f8,f8,f8,f8,f8,b1,b1)")
+    return _KERNEL
+
+
 def _changes(model, new, prev) -> np.ndarray:
     """Per-entry changes in the stepper's measure: |Δn| and |ΔV|, |ΔW| over the velocity scale."""
     scale = model.velocity_scale(new)
@@ -130,7 +190,16 @@ class NewtonTest:
         if e < tol:
             return True
         C = max((c for c in (self.C, self.step_C) if c is not None), default=None)
-        if C is None or SAFETY * C * e * e > tol or self._side_changed(new, prev):
+        if C is None or SAFETY * C * e * e > tol:
+            return False
+        ker = _kernels() if type(new.V) is np.ndarray and new.V.ndim == 1 else None
+        if ker is not None:  # the two tests below in one compiled pass (the same decisions)
+            model = self.model
+            prev_old = before if before is not None and it > 1 else prev  # (not read for it = 1)
+            return bool(ker(new.V, new.W, new.n, prev.V, prev.W, prev.n, prev_old.V, prev_old.W, prev_old.n,
+                            float(model.velocity_scale(new)), float(model.velocity_scale(prev)), float(tol),
+                            _SIDE_NOISE, _ENTRY_FLOOR, it == 1, self.fresh))
+        if self._side_changed(new, prev):
             return False
         if it == 1:
             return self.fresh
