@@ -165,6 +165,7 @@ class _Recorder:
         self.depths = list(depths)
         self.elem = [int(np.clip(np.searchsorted(ys, col.ground_surface - z, side="right") - 1, 0, ne - 1))
                      for z in depths]
+        self.sig0_elem = col.sigma_v0[self.elem]  # σ′_v0 at the report depths [Pa]
         self.peak = np.full(ne, -np.inf)
         self.t_peak = np.zeros(ne)
         self.first = np.full(ne, np.nan)
@@ -180,11 +181,11 @@ class _Recorder:
         col = self.col
         excess = col.excess_pressure(s)
         ru = excess / col.sigma_v0  # = col.excess_ratio(s)
-        up = ru > self.peak
-        self.peak[up] = ru[up]
-        self.t_peak[up] = s.t
+        up = ru > self.peak  # (np.copyto ... where: the masked assignments, without indexing twice)
+        np.copyto(self.peak, ru, where=up)
+        np.copyto(self.t_peak, s.t, where=up)
         liq = ru > self.ru_liq
-        self.first[np.isnan(self.first) & liq] = s.t
+        np.copyto(self.first, s.t, where=np.isnan(self.first) & liq)
         self.ever |= liq
         np.maximum(self.peak_strain, np.abs(s.wave.gamma), out=self.peak_strain)
         self.last_contribution = col.settlement_contributions(s)
@@ -192,14 +193,15 @@ class _Recorder:
         self.ps = col.granular_pressure(s)  # the probes' σ′_v too
         self.t.append(s.t)
         self.ru.append(ru[self.elem])
-        self.sig.append(self.ps[self.elem] / col.sigma_v0[self.elem])
-        self.settle.append(float(np.sum(self.last_contribution)))  # = col.settlement(s)
+        self.sig.append(self.ps[self.elem] / self.sig0_elem)
+        self.settle.append(float(self.last_contribution.sum()))  # = col.settlement(s)
         self.pbase.append(float(excess[0]))
         self.ru_top.append(float(ru[-1]))
         self.flux_top.append(col.surface_seepage(s))
-        for t, a in surface:
-            self.surface_t.append(t)
-            self.surface_a.append(a)
+        if surface:
+            times, acc = zip(*surface)
+            self.surface_t.extend(times)
+            self.surface_a.extend(acc)
         if field:
             self.field_t.append(s.t)
             self.field.append(ru)
