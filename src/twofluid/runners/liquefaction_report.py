@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..geotech import response_spectrum, simplified_procedure
+from ..postprocess import median
 
 __all__ = ["final_settlement", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
 
@@ -82,7 +83,7 @@ def spectra(motion, surface_t, surface_a, periods=None, damping: float = 0.05) -
         return None
     periods = DEFAULT_PERIODS if periods is None or len(periods) == 0 else np.asarray(periods, float)
     ts, a_s = np.asarray(surface_t, float), np.asarray(surface_a, float)
-    dt_s = float(np.median(np.diff(ts)))
+    dt_s = median(np.diff(ts))
     dt_in = float(motion.dt)
     n_in = max(motion.npts, int(round((ts[-1] - motion.time[0]) / dt_in)) + 1)
     a_in = np.zeros(n_in)
