@@ -501,10 +501,10 @@ def assemble(model, ker: dict, k, old, dt: float, t_new: float) -> BandIterate:
     x3, s3 = np.empty(3 * ne), np.empty(3 * ne)
     ker["closure_points"](n, V, W, mc[14], mc[15], x3, s3)
     laws = model.compiled_laws()
+    ps, dps = model.solids_pressure(n, k.n_bar, derivative=True)
     if laws is not None:  # the same laws compiled (closures.kernels)
         K3 = laws.beta_per_solids(x3, s3)
         mu2 = laws.solid_viscosity(x3[ne:]) if clo.viscous else K3
-        ps, dps = laws.solids_pressure(n, k.n_bar)
     else:
         K3 = _vector(clo.beta_per_solids(x3, s3, model._materials_times(3)), 3 * ne)
         if clo.viscous:  # μ_s at n and n + δn: the last two thirds of the drag's porosities
@@ -512,7 +512,6 @@ def assemble(model, ker: dict, k, old, dt: float, t_new: float) -> BandIterate:
                                           **_times(clo.viscosity_params, ne, 2)), 2 * ne)
         else:
             mu2 = K3  # not read
-        ps, dps = model.solids_pressure(n, k.n_bar, derivative=True)
     below = getattr(model, "_below", None)
     upwind = model.solids_flux == "upwind"
     if below is not None:
@@ -571,11 +570,9 @@ def force_shift(model, s) -> np.ndarray | None:
     x, s_abs = np.empty(2 * ne), np.empty(2 * ne)
     rk[4](n, s.V, s.W, mc[14], mc[15], x, s_abs)
     laws = model.compiled_laws()
-    if laws is not None:
-        K, (_, dps) = laws.beta_per_solids(x, s_abs), laws.solids_pressure(n, s.n_bar)
-    else:
-        K = _vector(model.clo.beta_per_solids(x, s_abs, model._materials_times(2)), 2 * ne)
-        _, dps = model.solids_pressure(n, s.n_bar, derivative=True)
+    K = laws.beta_per_solids(x, s_abs) if laws is not None else \
+        _vector(model.clo.beta_per_solids(x, s_abs, model._materials_times(2)), 2 * ne)
+    _, dps = model.solids_pressure(n, s.n_bar, derivative=True)
     alpha = np.empty(ne)
     mat = model.mat
     rk[5](n, s.V, s.W, x, K, _vector(dps, ne), shift_mc, mc[16], model.mesh.lengths,

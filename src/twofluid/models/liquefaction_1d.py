@@ -325,9 +325,6 @@ class LiquefactionColumn:
     # ------------------------------------------------------- diagnostics
     def granular_pressure(self, s: ColumnState) -> np.ndarray:
         """P_s = σ′_v per element [Pa]."""
-        laws = self.v.compiled_laws()  # the law compiled where the vertical model's iterates use it
-        if laws is not None:
-            return laws.solids_pressure(s.vertical.n, s.vertical.n_bar)[0]
         return self.v.solids_pressure(s.vertical.n, s.vertical.n_bar)
 
     def excess_pressure(self, s: ColumnState) -> np.ndarray:

@@ -248,11 +248,9 @@ class Reduced1D(TwoFluid1D):
         x, s_abs = np.empty(2 * ne), np.empty(2 * ne)
         ker[4](n, s.V, s.W, self._w0, self._w1, x, s_abs)
         laws = self.compiled_laws()
-        if laws is not None:
-            K, (_, dps) = laws.beta_per_solids(x, s_abs), laws.solids_pressure(n, s.n_bar)
-        else:
-            K = np.ascontiguousarray(self.clo.beta_per_solids(x, s_abs, self._materials_times(2)), dtype=float)
-            _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
+        K = laws.beta_per_solids(x, s_abs) if laws is not None else \
+            np.ascontiguousarray(self.clo.beta_per_solids(x, s_abs, self._materials_times(2)), dtype=float)
+        _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
         alpha = np.empty(ne)
         mat = self.mat
         ker[5](n, s.V, s.W, x, K, np.ascontiguousarray(dps, dtype=float), self._mc, self.volumes, self._h,
@@ -430,14 +428,13 @@ class Reduced1D(TwoFluid1D):
         n3, s3, aux = np.empty((3, ne)), np.empty((3, ne)), np.empty((3, ne))
         points(n, W, self._w0, self._w1, st["Vbar"], st["dn"], st["sc"][14], n3, s3, aux)
         laws = self.compiled_laws()
+        ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
         if laws is not None:  # the same laws compiled (closures.kernels)
             kraw = laws.beta_per_solids(n3.ravel(), s3.ravel())
-            ps, dps = laws.solids_pressure(n, k.n_bar)
             mu2 = laws.solid_viscosity(n3[:2].ravel()) if clo.viscous else kraw
         else:
             kraw = np.ascontiguousarray(clo.beta_per_solids(n3.ravel(), s3.ravel(), self._materials_times(3)),
                                         dtype=float)
-            ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
             if clo.viscous:  # μ_s at n and n + δn: the first two rows of n3
                 mu2 = np.ascontiguousarray(solid_viscosity(n3[:2].ravel(), mat.mu_f, **clo.viscosity_params),
                                            dtype=float)

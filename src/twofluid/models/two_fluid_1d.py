@@ -102,8 +102,9 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
     path and LAPACK's ``dgbsv`` (the reference path: the same band matrix and right-hand side
     to round-off, the same algorithm). A subclass that overrides a method of the equations
     (e.g. to add a load term to the assembled system) keeps the NumPy path. The compiled
-    iterates also call the run's drag, P_s and μ_s laws compiled (:meth:`compiled_laws`; a few ulp
-    from the registry's functions), unless ``compiled_closures`` is False.
+    iterates also call the run's drag, P_s and μ_s laws compiled, and so does
+    :meth:`solids_pressure` everywhere (:meth:`compiled_laws`; a few ulp from the registry's
+    functions), unless ``compiled`` or ``compiled_closures`` is False.
     """
 
     compiled: bool | None = None
@@ -232,6 +233,12 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         return nb, na, nf
 
     def solids_pressure(self, n, n_bar, derivative=False):
+        """P_s(n, n̄) [Pa] (and ∂P_s/∂n) of the run's law: compiled (:meth:`compiled_laws`) for
+        element arrays where it is, else the registry's (the NumPy path always)."""
+        laws = self.compiled_laws()
+        if laws is not None and type(n) is np.ndarray and n.ndim == 1 and np.shape(n_bar) == n.shape:
+            ps, dps = laws.solids_pressure(n, n_bar)
+            return (ps, dps) if derivative else ps
         return self.clo.solids_pressure(n, n_bar, self.mat, derivative=derivative)
 
     def inlet_value(self, b: Boundary, t: float, sign: float) -> float:
