@@ -6,12 +6,15 @@ from twofluid.casefile.loader import load_case
 from twofluid.timestepping.backward_euler import integrate
 
 
-def model_of(name: str, model: str, element: str | None = None):
-    """The bundled case ``name`` built with ``[case] model`` and, if given, ``[mesh] element``."""
+def model_of(name: str, model: str, element: str | None = None, drag: str | None = None):
+    """The bundled case ``name`` built with ``[case] model`` and, if given, ``[mesh] element`` and
+    ``[closures.drag] law`` (the other drag keys as the case has them)."""
     case = load_case(name)
     case["case"]["model"] = model
     if element:
         case["mesh"]["element"] = element
+    if drag:
+        case["closures.drag"]["law"] = drag
     return build(case)
 
 

@@ -81,3 +81,52 @@ def test_without_numba_there_is_no_kernel(kernel_module, monkeypatch):
     monkeypatch.setitem(sys.modules, "numba", None)  # import numba now raises ImportError
     monkeypatch.setitem(sys.modules, "numba.pycc", None)
     assert compiled.kernel("scaled_sum_none", kernel_module.scaled_sum, SIGNATURE) is None
+
+
+def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatch):
+    """A kernel whose signature numba cannot compile ahead of time falls back to the JIT, which
+    works but costs every process ~0.7 s of CPU to import numba: where a toy kernel builds, so must
+    each of the project's groups (each getter asked afresh; the run's own cache folder, so the
+    modules the other tests built are reused)."""
+    numba = pytest.importorskip("numba")
+    (tmp_path / "kmod_aot.py").write_text(KERNEL)
+    with monkeypatch.context() as m:
+        m.syspath_prepend(str(tmp_path))
+        m.setenv("TWOFLUID_CACHE_DIR", str(tmp_path / "cache"))
+        import kmod_aot
+
+        compiled.kernel("scaled_sum_aot", kmod_aot.scaled_sum, SIGNATURE, jit=False)
+        compiled._LOADED.clear()
+    if not list((tmp_path / "cache").glob("_twofluid_scaled_sum_aot_*")):
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    from twofluid.closures import kernels as closure_kernels
+    from twofluid.fem import banded
+    from twofluid.geotech import spectra
+    from twofluid.models import extrapolation, full_kernel, reduced_kernel, shear_kernel
+    from twofluid.timestepping import newton
+
+    getters = {
+        "band_lu": (banded, lambda: [banded.band_lu()]),
+        "closures_1d": (closure_kernels, lambda: list(closure_kernels._compiled().values())),
+        "extrapolation": (extrapolation, lambda: list(extrapolation._kernels())),
+        "full_1d": (full_kernel, lambda: list(full_kernel.kernels().values())),
+        "reduced_1d": (reduced_kernel, lambda: [*reduced_kernel.kernels(), *reduced_kernel.whole_iterate()]),
+        "shear_substeps": (shear_kernel, lambda: [shear_kernel.compiled()]),
+        "newton_accept": (newton, lambda: [newton._kernels()]),
+        "spectra_peaks": (spectra, lambda: [spectra._compiled_peaks()]),
+    }
+    saved = {m: {k: v for k, v in vars(m).items() if k in ("_KERNELS", "_KERNEL", "_TRIED", "_COMPILED",
+                                                             "_LU", "_WHOLE")} for m, _ in getters.values()}
+    try:
+        for m, _ in getters.values():  # asked afresh
+            for k in saved[m]:
+                setattr(m, k, False if k == "_TRIED" else None)
+        compiled._LOADED.clear()
+        jitted = [name for name, (_, get) in getters.items()
+                  if any(isinstance(f, numba.core.registry.CPUDispatcher) or f is None for f in get())]
+    finally:
+        for m, values in saved.items():
+            for k, v in values.items():
+                setattr(m, k, v)
+        compiled._LOADED.clear()
+    assert not jitted, f"not built ahead of time: {jitted}"

@@ -242,18 +242,26 @@ def test_the_compiled_state_check_gives_the_numpy_checks_answers():
 
 
 @requires_numba
-@pytest.mark.parametrize("name", ["fluidized-bed-step", "slis-step-change"])
-def test_the_whole_iterate_is_the_four_calls(name):
-    """Reduced1D.iterate (assemble, solve, unpack and the iterate test in one call) gives the
-    stepper's own sequence of those calls bit for bit; a replaced method turns it off."""
+@pytest.mark.parametrize("name, drag", [("fluidized-bed-step", None), ("slis-step-change", None),
+                                        ("fluidized-bed-step", "wen_yu"), ("settling-illite", "ergun")])
+def test_the_whole_iterate_is_the_four_calls(name, drag):
+    """Reduced1D.iterate (assemble, solve, unpack and the iterate test in two compiled calls around
+    Wen–Yu's powers) gives the stepper's own sequence of those calls bit for bit, and so do the
+    kernels called one by one (no whole iterate, no fused bed-force shift), for each drag law
+    (Gidaspow in the bundled cases); a replaced method turns it off."""
     runs = []
-    for whole in (True, False):
-        b = _model(name)
-        if not whole:
+    for way in ("whole", "four calls", "kernel by kernel"):
+        b = model_of(name, "reduced_1d", drag=drag)
+        if way == "whole":
+            assert b.model._whole_args(b.state) is not None  # the compiled whole iterate is taken
+        elif way == "four calls":
             b.model.iterate = None  # the stepper then calls the four methods itself
+        else:
+            b.model._whole_args = lambda s: None
         runs.append(_advance(b, 1.0, None))
-    for f in ("V", "W", "P", "n"):
-        assert np.array_equal(getattr(runs[0], f), getattr(runs[1], f)), f
+    for run in runs[1:]:
+        for f in ("V", "W", "P", "n"):
+            assert np.array_equal(getattr(runs[0], f), getattr(run, f)), f
     m = _model(name).model
     assert m._whole_iterate_ok()
     m.assemble = m.assemble

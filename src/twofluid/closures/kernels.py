@@ -237,6 +237,15 @@ class CompiledLaws:
         self._k["beta_per_solids"](*self._drag, n, slip, self._d, self._rho_f, self._mu_f, out)
         return out
 
+    def kernel_args(self) -> tuple:
+        """The laws as a compiled caller passes them to this module's loops: (drag law id, [stokes,
+        n_switch, blend_width, slip_max, ρ_f], d, A, p_ref, modulus, fluidized, [k1, k2, eps_blend,
+        n_c, b, c]) (``twofluid.models.reduced_kernel._whole_iterate``)."""
+        law, stokes, n_switch, blend_width, slip_max = self._drag
+        A, p_ref, modulus, fluidized = self._ps
+        return (law, np.array([float(stokes), n_switch, blend_width, slip_max, self._rho_f]), self._d, A, p_ref,
+                modulus, fluidized, np.array(self._visc, dtype=float))
+
     def solids_pressure(self, n: np.ndarray, n_bar: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(P_s, ∂P_s/∂n) [Pa] at porosities ``n`` of the elements with reference porosities ``n_bar``."""
         ps, dps = np.empty(n.size), np.empty(n.size)

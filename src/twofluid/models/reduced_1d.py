@@ -59,6 +59,7 @@ import numpy as np
 from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
 from ..closures.viscosity import solid_viscosity
+from ..closures import kernels as closure_kernels
 from . import reduced_kernel
 from .two_fluid_1d import _CLEAR, State, TwoFluid1D
 
@@ -246,13 +247,25 @@ class Reduced1D(TwoFluid1D):
         n = s.n
         ne = n.size
         x, s_abs = np.empty(2 * ne), np.empty(2 * ne)
+        mat = self.mat
+        args = self._whole_args(s)
+        if args is not None:  # in two compiled calls around Wen–Yu's powers (the same operations)
+            (_, _, points, shift), (law, dpar, d, *laws), _ = args
+            wen_yu = law == closure_kernels.WEN_YU
+            re = np.empty(2 * ne if wen_yu else 0)
+            points(n, s.V, s.W, self._w0, self._w1, dpar[3], d, float(mat.rho_f), float(mat.mu_f), wen_yu, x, s_abs,
+                   re)
+            n_pow, re_pow = self._wen_yu_powers(x, re, dpar) if wen_yu else (re, re)
+            alpha = np.empty(ne)
+            shift(n, s.n_bar, s.V, s.W, x, s_abs, re, re_pow, n_pow, law, dpar, d, *laws[:4], float(mat.mu_f),
+                  self._mc, self.volumes, self._h, float(mat.rho_s - mat.rho_f), float(self.g_y), float(mat.g), alpha)
+            return alpha
         ker[4](n, s.V, s.W, self._w0, self._w1, x, s_abs)
         laws = self.compiled_laws()
         K = laws.beta_per_solids(x, s_abs) if laws is not None else \
             np.ascontiguousarray(self.clo.beta_per_solids(x, s_abs, self._materials_times(2)), dtype=float)
         _, dps = self.solids_pressure(n, s.n_bar, derivative=True)
         alpha = np.empty(ne)
-        mat = self.mat
         ker[5](n, s.V, s.W, x, K, np.ascontiguousarray(dps, dtype=float), self._mc, self.volumes, self._h,
                float(mat.rho_s - mat.rho_f), float(self.g_y), float(mat.g), alpha)
         return alpha
@@ -476,9 +489,69 @@ class Reduced1D(TwoFluid1D):
         st = self._prepare_step(old, dt, t_new)
         if "sc" not in st:
             return None
+        args = self._whole_args(k)
+        if args is not None:  # all of it in two compiled calls around Wen–Yu's powers (the same operations)
+            (points, whole, _, _), (law, dpar, d, *laws), consts = args
+            W, n = k.W, k.n
+            ne, nv = n.size, self.nv
+            mat = self.mat
+            n3, s3, aux = np.empty((3, ne)), np.empty((3, ne)), np.empty((3, ne))
+            wen_yu = law == closure_kernels.WEN_YU
+            re = np.empty(3 * ne if wen_yu else 0)
+            sc = st["sc"]
+            points(n, W, self._mc, sc, dpar[3], d, float(mat.rho_f), float(mat.mu_f), wen_yu, n3, s3, aux, re)
+            n_pow, re_pow = self._wen_yu_powers(n3.ravel(), re, dpar) if wen_yu else (re, re)
+            upwind = self.solids_flux == "upwind"
+            below = getattr(self, "_below", None) if upwind else None
+            if below is not None:
+                if self._belf_of is not below:
+                    self._belf, self._belf_of = below.astype(float), below
+                belf = self._belf
+            else:
+                belf = self._tb  # not read
+            last, a, change = np.empty((len(reduced_kernel.LAST_ROWS), ne)), np.empty(3 * nv - 1), np.empty(3)
+            whole(n, W, k.n_bar, k.V, st["V"], sc, st["vc"], self._mc, n3, s3, aux, re, re_pow, n_pow, law, dpar,
+                  d, *laws, bool(self.clo.viscous), float(mat.mu_f), st["hc"], st["cw0"], upwind, belf,
+                  below is not None, *consts, float(self.velocity_floor), last, a, change)
+            self._last_rows = last
+            self._last_iterate = _LastRows(W, n, last, self.clo.viscous, st)
+            new = self.unpack(a, k, t_new)
+            return new, change[0] != 0.0, float(change[1]), float(change[2])
         a = self.solve(self._assemble_compiled(k, st), t_new)
         new = self.unpack(a, k, t_new)
         return (new, *self.iterate_change(a, new, k))
+
+    def _whole_args(self, k: State):
+        """(the compiled whole iterate, the laws' arguments, the prescribed rows' arrays) where one
+        compiled call can do the iterate — compiled laws, P_s, the velocity scale and the assembly
+        not replaced, n̄ an element array — else None (the kernels are then called one by one)."""
+        laws = self.compiled_laws()
+        nb = k.n_bar
+        if laws is None or type(nb) is not np.ndarray or nb.shape != k.n.shape or nb.dtype != float:
+            return None
+        cls = type(self)
+        if cls.solids_pressure is not TwoFluid1D.solids_pressure or cls.velocity_scale is not TwoFluid1D.velocity_scale \
+                or cls._assemble_compiled is not Reduced1D._assemble_compiled \
+                or cls.compiled_laws is not TwoFluid1D.compiled_laws:
+            return None
+        hit = self.__dict__.get("_whole")
+        if hit is None or hit[0] is not laws:
+            ker = reduced_kernel.whole_iterate()
+            if ker is None:
+                hit = (laws, None)
+            else:
+                d = np.array(self._dir, dtype=float).reshape(-1, 3)
+                consts = (d[:, 0].astype(np.int64), d[:, 1].astype(np.int64), np.ascontiguousarray(d[:, 2]),
+                          np.array(self._fixed, dtype=np.int64))
+                hit = (laws, (ker, laws.kernel_args(), consts))
+            self._whole = hit
+        return hit[1]
+
+    @staticmethod
+    def _wen_yu_powers(n, re, dpar):
+        """Wen–Yu's n^−2.65 and Re^0.687 by NumPy's SIMD routines, as CompiledLaws.beta_per_solids has them."""
+        n_pow = n ** -2.65
+        return n_pow, (n_pow if dpar[0] else re ** 0.687)
 
     def _whole_iterate_ok(self) -> bool:
         """Whether :meth:`iterate` may stand for the four methods it calls (none replaced)."""

@@ -32,7 +32,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["available", "kernels", "LAST_ROWS"]
+from ..closures import kernels as laws
+from ..fem import banded
+
+__all__ = ["available", "kernels", "whole_iterate", "LAST_ROWS"]
 
 _CLEAR = 1e-6  # as two_fluid_1d._CLEAR: floor of 1 − n in the slip and the upwind ratio
 # rows of the per-element pieces of the last iterate kept for the pressure of the step (end_step)
@@ -416,11 +419,101 @@ def _state_check(n, V):
     return 0
 
 
+def _iterate_points(n, W, mc, sc, slip_max, d, rho_f, mu_f, wen_yu, n3, s3, aux, re):
+    """The closure points of iterate (n, W) (:func:`_closure_points`) and, for Wen–Yu (``wen_yu``), the
+    Reynolds numbers ``re`` at them (:func:`twofluid.closures.kernels._wen_yu_reynolds`): the first half
+    of a whole iterate, before the two powers of Wen–Yu, which NumPy's SIMD routines compute."""
+    _closure_points(n, W, mc[4], mc[5], sc[0], sc[12], sc[14], n3, s3, aux)
+    if wen_yu:
+        ne = n.size
+        laws._wen_yu_reynolds(slip_max, n3.reshape(3 * ne), s3.reshape(3 * ne), d, rho_f, mu_f, re)
+
+
+def _whole_iterate(n, W, n_bar, kV, V, sc, vc, mc, n3, s3, aux, re, re_pow, n_pow, law, dpar, d, A, p_ref,
+                   modulus, fluidized, vpar, viscous, mu_f, hc, cw0, upwind, below, have_below, dir_row, dir_col,
+                   dir_val, fixed, floor, last, out, change):
+    """The rest of a whole Newton iterate from (n, W) after :func:`_iterate_points` (``V`` the step's
+    nodal V, ``sc`` and ``vc`` its constants): the compiled laws at the points
+    (:mod:`twofluid.closures.kernels`: drag law ``law`` with ``dpar`` = (stokes, n_switch, blend_width,
+    slip_max, ρ_f), Wen–Yu from its powers ``re_pow`` = Re^0.687 and ``n_pow`` = n^−2.65; P_s; μ_s with
+    ``vpar``), the band system, its prescribed rows (``dir_*``: band entries; ``fixed``: the vertices
+    where W = V), the band LU (:func:`twofluid.fem.banded._gbsv`), the new iterate ``out`` = [V, W, n]
+    and ``change`` as :func:`_iterate_change` (against the iterate's own V ``kV``). The same calls in
+    the same order as :meth:`Reduced1D.assemble <twofluid.models.reduced_1d.Reduced1D.assemble>` with
+    the compiled laws, ``solve`` and ``iterate_change``; returns LAPACK's ``info``."""
+    ne = n.size
+    nv = ne + 1
+    N = 2 * nv - 1
+    n3f = n3.reshape(3 * ne)
+    kraw = np.empty(3 * ne)
+    if law == laws.WEN_YU:
+        laws._wen_yu_given(dpar[0] != 0.0, n3f, re, re_pow, n_pow, d, mu_f, kraw)
+    else:
+        laws._beta_per_solids(law, dpar[0] != 0.0, dpar[1], dpar[2], dpar[3], n3f, s3.reshape(3 * ne), d,
+                              dpar[4], mu_f, kraw)
+    ps = np.empty(ne)
+    dps = np.empty(ne)
+    laws._solids_pressure(n, n_bar, A, p_ref, modulus, fluidized, ps, dps)
+    if viscous:
+        mu2 = np.empty(2 * ne)
+        laws._viscosity(n3f[:2 * ne], mu_f, vpar[0], vpar[1], vpar[2], vpar[3], vpar[4], vpar[5], True, mu2)
+    else:
+        mu2 = kraw
+    ab = np.empty((N, 7)).T  # LAPACK band storage, Fortran order
+    rhs = np.empty(N)
+    _band_system(n, W, kraw, n3, aux, ps, dps, mu2, viscous, mu_f, hc, cw0, upwind, below, have_below, mc, sc,
+                 vc, ab, rhs, last)
+    for i in range(dir_row.size):
+        ab[dir_row[i], dir_col[i]] = dir_val[i]
+    for v in fixed:
+        rhs[2 * v] = V[v] - W[v]
+    info = banded._gbsv(ab, rhs, 2, 2)
+    if info != 0:  # singular: the stepper rejects the non-finite result and shrinks the step
+        for i in range(out.size):
+            out[i] = np.nan
+    else:
+        for v in range(nv):
+            out[v] = V[v]
+            out[nv + v] = W[v] + rhs[2 * v]
+        for e in range(ne):
+            out[2 * nv + e] = n[e] + rhs[2 * e + 1]
+        for v in fixed:
+            out[nv + v] = V[v]
+    _iterate_change(out, out[:nv], out[nv:2 * nv], out[2 * nv:], kV, W, n, floor, change)
+    return info
+
+
+def _shift_law_points(n, V, W, w0, w1, slip_max, d, rho_f, mu_f, wen_yu, x, s_abs, re):
+    """:func:`_shift_points` and, for Wen–Yu (``wen_yu``), the Reynolds numbers ``re`` at them: the
+    first half of the compiled bed-force shift (:func:`_shift_with_laws`)."""
+    _shift_points(n, V, W, w0, w1, x, s_abs)
+    if wen_yu:
+        laws._wen_yu_reynolds(slip_max, x, s_abs, d, rho_f, mu_f, re)
+
+
+def _shift_with_laws(n, n_bar, V, W, x, s_abs, re, re_pow, n_pow, law, dpar, d, A, p_ref, modulus, fluidized,
+                     mu_f, mc, vol, h, drho, g_y, g, alpha):
+    """The bed-force shift ``alpha`` (:func:`_shift`) with the compiled laws at the points of
+    :func:`_shift_law_points` (the drag as in :func:`_whole_iterate`, P_s' at n): the same calls as
+    :meth:`Reduced1D._force_shift_at <twofluid.models.reduced_1d.Reduced1D._force_shift_at>`."""
+    ne = n.size
+    K = np.empty(2 * ne)
+    if law == laws.WEN_YU:
+        laws._wen_yu_given(dpar[0] != 0.0, x, re, re_pow, n_pow, d, mu_f, K)
+    else:
+        laws._beta_per_solids(law, dpar[0] != 0.0, dpar[1], dpar[2], dpar[3], x, s_abs, d, dpar[4], mu_f, K)
+    ps = np.empty(ne)
+    dps = np.empty(ne)
+    laws._solids_pressure(n, n_bar, A, p_ref, modulus, fluidized, ps, dps)
+    _shift(n, V, W, x, K, dps, mc, vol, h, drho, g_y, g, alpha)
+
+
 _COMPILED = None
 _TRIED = False
 
 
 A1, A2 = "f8[:]", "f8[:,:]"  # arrays of any layout (C or Fortran order, as the model passes them)
+C2 = "f8[:,::1]"  # C-contiguous (the whole iterate's scratch arrays, read as one row)
 # the kernels' signatures for the ahead-of-time build (twofluid.compiled): the argument types the
 # model passes, in order
 SIGNATURES = {
@@ -433,11 +526,21 @@ SIGNATURES = {
     "step_constants": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "f8", A2, A2, A1, A1, A1, A2, A2]) + ")",
     "iterate_change": "void(" + ",".join([A1] * 7 + ["f8", A1]) + ")",
     "state_check": f"i8({A1},{A1})",
+    "shift_law_points": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "b1"] + [A1] * 3) + ")",
+    "shift_with_laws": "void(" + ",".join([A1] * 9 + ["i8"] + [A1] * 5 + ["b1", "f8", A2] + [A1] * 2
+                                          + ["f8"] * 3 + [A1]) + ")",
+    "iterate_points": "void(" + ",".join([A1] * 2 + [A2] * 2 + ["f8", A1, "f8", "f8", "b1"] + [C2] * 3 + [A1]) + ")",
+    "whole_iterate": "i8(" + ",".join([A1] * 5 + [A2] * 3 + [C2] * 3 + [A1] * 3 + ["i8"] + [A1] * 5
+                                      + ["b1", A1, "b1", "f8", "f8", "f8", "b1", A1, "b1", "i8[:]", "i8[:]", A1,
+                                         "i8[:]", "f8", A2, A1, A1]) + ")",
 }
 
 
+_WHOLE = None
+
+
 def _compile():
-    global _COMPILED, _TRIED
+    global _COMPILED, _TRIED, _WHOLE
     if not _TRIED:
         _TRIED = True
         from ..compiled import group
@@ -446,15 +549,29 @@ def _compile():
         funcs = {"closure_points": _closure_points, "band_system": _band_system,
                  "step_pressure": _step_pressure, "shift_points": _shift_points, "shift": _shift,
                  "step_constants": _step_constants, "iterate_change": _iterate_change,
-                 "state_check": _state_check}
-        ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=(_fmax, _sign))
+                 "state_check": _state_check, "iterate_points": _iterate_points, "whole_iterate": _whole_iterate,
+                 "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws}
+        helpers = (_fmax, _sign, _closure_points, _band_system, _iterate_change, _shift_points, _shift, banded._u,
+                   banded._gbsv,
+                   laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated,
+                   laws._wen_yu_reynolds, laws._wen_yu_given,
+                   laws._solids_pressure, laws._viscosity, laws._mooney)
+        ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers)
         lu = band_lu()
         if ker is None or lu is None:
             return None
         _COMPILED = (ker["closure_points"], ker["band_system"], lu, ker["step_pressure"],
                      ker["shift_points"], ker["shift"], ker["step_constants"], ker["iterate_change"],
                      ker["state_check"])
+        _WHOLE = (ker["iterate_points"], ker["whole_iterate"], ker["shift_law_points"], ker["shift_with_laws"])
     return _COMPILED
+
+
+def whole_iterate():
+    """(:func:`_iterate_points`, :func:`_whole_iterate`, :func:`_shift_law_points`,
+    :func:`_shift_with_laws`) compiled, or None without numba."""
+    _compile()
+    return _WHOLE
 
 
 def available() -> bool:
