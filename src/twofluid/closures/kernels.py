@@ -88,9 +88,17 @@ def _beta_per_solids(law, stokes, n_switch, blend_width, slip_max, n, slip, d, r
     """``out[i]`` = β/(1 − n)(n[i], saturated |slip[i]|) with ``d[i % d.size]`` (d per element
     or one value): :meth:`Closures.beta_per_solids <twofluid.models.data_1d.Closures.beta_per_solids>`."""
     m = d.size
+    j = 0  # i % m, counted (an integer division per point cost a quarter of these loops)
     for i in range(n.size):
-        out[i] = _drag(law, n[i], _saturated(slip[i], slip_max), d[i % m], rho_f, mu_f, stokes, n_switch,
+        out[i] = _drag(law, n[i], _saturated(slip[i], slip_max), d[j], rho_f, mu_f, stokes, n_switch,
                        blend_width)
+        j = _next(j, m)
+
+
+def _next(j, m):
+    """(j + 1) % m for 0 ≤ j < m, without the integer division."""
+    j += 1
+    return 0 if j == m else j
 
 
 def _saturated(s, slip_max):
@@ -109,21 +117,25 @@ def _saturated(s, slip_max):
 def _wen_yu_reynolds(slip_max, n, slip, d, rho_f, mu_f, re):
     """``re[i]`` = ρ_f n |s| d/μ_f at the saturated slip (the Reynolds number of :func:`_wen_yu`)."""
     m = d.size
+    j = 0  # i % m
     for i in range(n.size):
-        re[i] = rho_f * n[i] * abs(_saturated(slip[i], slip_max)) * d[i % m] / mu_f
+        re[i] = rho_f * n[i] * abs(_saturated(slip[i], slip_max)) * d[j] / mu_f
+        j = _next(j, m)
 
 
 def _wen_yu_given(stokes, n, re, re_pow, n_pow, d, mu_f, out):
     """:func:`_wen_yu` per solids with its two powers given: ``re_pow`` = Re^0.687 (unused if
     ``stokes``) and ``n_pow`` = n^−2.65."""
     m = d.size
+    j = 0  # i % m
     for i in range(n.size):
         if stokes:
             cd_re = 24.0
         else:
             cd_re = 24.0 * (1.0 + 0.15 * re_pow[i]) if re[i] < 1000.0 else 0.44 * re[i]
-        di = d[i % m]
+        di = d[j]
         out[i] = 0.75 * cd_re * mu_f / (di * di) * n_pow[i]
+        j = _next(j, m)
 
 
 def _solids_pressure(n, n_bar, A, p_ref, modulus, fluidized, ps, dps):
@@ -131,23 +143,25 @@ def _solids_pressure(n, n_bar, A, p_ref, modulus, fluidized, ps, dps):
     ``p_ref[i % p_ref.size]``, plus the Foscolo–Gibilaro term of modulus ``modulus[i % modulus.size]``
     if ``fluidized``."""
     ma, mp, mm = A.size, p_ref.size, modulus.size
+    ja = jp = jm = 0  # i % ma, i % mp, i % mm
     for i in range(n.size):
         one_m = 1.0 - n[i]
-        a = A[i % ma]
+        a = A[ja]
         if one_m > 0.0:
             s_bar = 1.0 - n_bar[i]
             x = (1.0 - s_bar / one_m) / a
-            p = p_ref[i % mp] * math.exp(x if not x > _MAX_EXPONENT else _MAX_EXPONENT)
+            p = p_ref[jp] * math.exp(x if not x > _MAX_EXPONENT else _MAX_EXPONENT)
             dp = -p * s_bar / (a * one_m * one_m)
         else:
             p = 0.0
             dp = 0.0
         if fluidized:
-            mod = modulus[i % mm]
+            mod = modulus[jm]
             p = p + 0.5 * mod * one_m * one_m
             dp = dp + -mod * one_m
         ps[i] = p
         dps[i] = dp
+        ja, jp, jm = _next(ja, ma), _next(jp, mp), _next(jm, mm)
 
 
 def _mooney(n, mu_f, k1, k2, eps_blend, n_c, b, c):
@@ -196,7 +210,7 @@ def _compiled():
                  "viscosity": _viscosity, "wen_yu_reynolds": _wen_yu_reynolds,
                  "wen_yu_given": _wen_yu_given}
         _KERNELS = group("closures_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()},
-                         helpers=(_ergun, _wen_yu, _drag, _saturated, _mooney))
+                         helpers=(_ergun, _wen_yu, _drag, _saturated, _mooney, _next))
     return _KERNELS
 
 

@@ -67,6 +67,7 @@ __all__ = ["Reduced1D"]
 
 _KL = 2  # half-width of the band of the interleaved (W, n) system
 _DIAG = 2 * _KL  # row of the main diagonal in LAPACK band storage (KL fill-in rows first)
+_UNDECIDED = object()  # a step's way of iterating not yet decided (Reduced1D.iterate)
 
 
 class _LastRows:
@@ -250,7 +251,7 @@ class Reduced1D(TwoFluid1D):
         mat = self.mat
         args = self._whole_args(s)
         if args is not None:  # in two compiled calls around Wen–Yu's powers (the same operations)
-            (_, _, points, shift), (law, dpar, d, *laws), _ = args
+            (_, _, points, shift, _), (law, dpar, d, *laws), _ = args
             wen_yu = law == closure_kernels.WEN_YU
             re = np.empty(2 * ne if wen_yu else 0)
             points(n, s.V, s.W, self._w0, self._w1, dpar[3], d, float(mat.rho_f), float(mat.mu_f), wen_yu, x, s_abs,
@@ -308,6 +309,12 @@ class Reduced1D(TwoFluid1D):
         n kept in (0, 1], and V from c(t)/A.
         """
         ex = self._extrap
+        if ex.order >= 3 and k.t > ex.t and ex.compiled and abs((k.t - ex.t) - ex.h) <= 1e-9 * ex.h:
+            args = self._whole_args(k)  # the same tests and prediction in one compiled call
+            if args is not None:
+                if args[0][4](*ex.D, ex.order, k.W, k.n):
+                    k.V[:] = self._mixture_velocity(k.t)
+                return
         if ex.order >= 2 and k.t > ex.t:
             DW, Dn = ex.D
             if (k.n == Dn[0]).all() and (k.W == DW[0]).all():  # k is the last converged state
@@ -484,14 +491,14 @@ class Reduced1D(TwoFluid1D):
         calls, without the stepper's dispatch between them); returns (the new iterate, whether the
         solve's output is finite, max |Δn|, the velocity change), or None on the NumPy path and
         where a subclass or the instance replaces one of those methods (the stepper calls them then)."""
-        if not self._whole_iterate_ok():
-            return None
         st = self._prepare_step(old, dt, t_new)
-        if "sc" not in st:
+        args = st.get("way", _UNDECIDED)
+        if args is _UNDECIDED:  # how this step's iterates go, decided once: False for the stepper's four calls
+            args = st["way"] = (self._whole_args(k) if "sc" in st and self._whole_iterate_ok() else False)
+        if args is False:
             return None
-        args = self._whole_args(k)
         if args is not None:  # all of it in two compiled calls around Wen–Yu's powers (the same operations)
-            (points, whole, _, _), (law, dpar, d, *laws), consts = args
+            (points, whole, _, _, _), (law, dpar, d, *laws), consts = args
             W, n = k.W, k.n
             ne, nv = n.size, self.nv
             mat = self.mat

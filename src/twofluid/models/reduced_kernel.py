@@ -34,6 +34,7 @@ import numpy as np
 
 from ..closures import kernels as laws
 from ..fem import banded
+from . import extrapolation
 
 __all__ = ["available", "kernels", "whole_iterate", "LAST_ROWS"]
 
@@ -508,6 +509,27 @@ def _shift_with_laws(n, n_bar, V, W, x, s_abs, re, re_pow, n_pow, law, dpar, d, 
     _shift(n, V, W, x, K, dps, mc, vol, h, drho, g_y, g, alpha)
 
 
+def _first_iterate(DW, Dn, order, W, n):
+    """The extrapolated first iterate of a step (:meth:`Reduced1D._first_iterate
+    <twofluid.models.reduced_1d.Reduced1D._first_iterate>`) in place: if (W, n) is the last state of the
+    table (backward differences ``DW``, ``Dn`` of ``order`` rows at equal steps), W and n become
+    their prediction (:func:`twofluid.models.extrapolation._predict_entries`), n kept in
+    [1e-6, 1] as np.minimum and np.maximum keep it (NaN stays NaN); returns 1, else 0 (nothing done)."""
+    for i in range(n.size):
+        if n[i] != Dn[0, i]:
+            return 0
+    for i in range(W.size):
+        if W[i] != DW[0, i]:
+            return 0
+    extrapolation._predict_entries(DW, order, W)
+    extrapolation._predict_entries(Dn, order, n)
+    for i in range(n.size):
+        x = n[i]
+        x = x if not x > 1.0 else 1.0
+        n[i] = x if not x < _CLEAR else _CLEAR
+    return 1
+
+
 _COMPILED = None
 _TRIED = False
 
@@ -529,6 +551,7 @@ SIGNATURES = {
     "shift_law_points": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "b1"] + [A1] * 3) + ")",
     "shift_with_laws": "void(" + ",".join([A1] * 9 + ["i8"] + [A1] * 5 + ["b1", "f8", A2] + [A1] * 2
                                           + ["f8"] * 3 + [A1]) + ")",
+    "first_iterate": f"i8({A2},{A2},i8,{A1},{A1})",
     "iterate_points": "void(" + ",".join([A1] * 2 + [A2] * 2 + ["f8", A1, "f8", "f8", "b1"] + [C2] * 3 + [A1]) + ")",
     "whole_iterate": "i8(" + ",".join([A1] * 5 + [A2] * 3 + [C2] * 3 + [A1] * 3 + ["i8"] + [A1] * 5
                                       + ["b1", A1, "b1", "f8", "f8", "f8", "b1", A1, "b1", "i8[:]", "i8[:]", A1,
@@ -550,10 +573,11 @@ def _compile():
                  "step_pressure": _step_pressure, "shift_points": _shift_points, "shift": _shift,
                  "step_constants": _step_constants, "iterate_change": _iterate_change,
                  "state_check": _state_check, "iterate_points": _iterate_points, "whole_iterate": _whole_iterate,
-                 "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws}
+                 "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws,
+                 "first_iterate": _first_iterate}
         helpers = (_fmax, _sign, _closure_points, _band_system, _iterate_change, _shift_points, _shift, banded._u,
-                   banded._gbsv,
-                   laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated,
+                   banded._gbsv, extrapolation._predict_entries,
+                   laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
                    laws._wen_yu_reynolds, laws._wen_yu_given,
                    laws._solids_pressure, laws._viscosity, laws._mooney)
         ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers)
@@ -563,13 +587,14 @@ def _compile():
         _COMPILED = (ker["closure_points"], ker["band_system"], lu, ker["step_pressure"],
                      ker["shift_points"], ker["shift"], ker["step_constants"], ker["iterate_change"],
                      ker["state_check"])
-        _WHOLE = (ker["iterate_points"], ker["whole_iterate"], ker["shift_law_points"], ker["shift_with_laws"])
+        _WHOLE = (ker["iterate_points"], ker["whole_iterate"], ker["shift_law_points"], ker["shift_with_laws"],
+                  ker["first_iterate"])
     return _COMPILED
 
 
 def whole_iterate():
     """(:func:`_iterate_points`, :func:`_whole_iterate`, :func:`_shift_law_points`,
-    :func:`_shift_with_laws`) compiled, or None without numba."""
+    :func:`_shift_with_laws`, :func:`_first_iterate`) compiled, or None without numba."""
     _compile()
     return _WHOLE
 
