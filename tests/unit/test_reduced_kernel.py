@@ -162,6 +162,27 @@ def test_band_lu_matches_lapack_dgbsv(N, kl, ku):
     assert band_lu()(singular, b.copy(), kl, ku) == 1
 
 
+@requires_numba
+@pytest.mark.parametrize("N", [2, 3, 4, 5, 8, 401])
+def test_the_band_lu_written_out_for_two_diagonals_is_the_general_one(N):
+    """band_lu_22 (kl = ku = 2, the reduced model's band, its loops written out) performs the general
+    band LU's operations in its order: the same factors and solution bit for bit, on random
+    matrices (row interchanges in most columns) and on one with a zero pivot."""
+    from twofluid.fem.banded import band_lu_22
+
+    rng = np.random.default_rng(N)
+    for trial in range(20):
+        ab = np.asfortranarray(rng.standard_normal((7, N)))
+        if trial == 0:
+            ab[:, 0] = 0.0  # a zero column: LAPACK's info = 1
+        b = rng.standard_normal(N)
+        a1, x1, a2, x2 = ab.copy(order="F"), b.copy(), ab.copy(order="F"), b.copy()
+        info1, info2 = band_lu_22()(a1, x1), band_lu()(a2, x2, 2, 2)
+        assert info1 == info2 == (1 if trial == 0 else 0)
+        if info1 == 0:
+            assert np.array_equal(a1, a2) and np.array_equal(x1, x2)
+
+
 def test_the_numpy_path_runs_without_the_kernels(monkeypatch):
     monkeypatch.setattr(reduced_kernel, "kernels", lambda: None)
     b = _model("fluidized-bed-step")

