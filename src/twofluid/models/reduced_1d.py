@@ -439,6 +439,17 @@ class Reduced1D(TwoFluid1D):
             rW[v] = V[v] - W[v]
         return ab, rhs, k, st
 
+    def _upwind_side(self):
+        """(whether the solids flux is upwinded, the upwind side fixed for the step or None, that side as
+        0/1 floats for the compiled kernels — any array where there is none: not read)."""
+        upwind = self.solids_flux == "upwind"
+        below = getattr(self, "_below", None) if upwind else None
+        if below is None:
+            return upwind, None, self._tb
+        if self._belf_of is not below:
+            self._belf, self._belf_of = below.astype(float), below
+        return upwind, below, self._belf
+
     def _assemble_compiled(self, k: State, st: dict) -> tuple:
         """:meth:`assemble` by the compiled kernels (same arithmetic; the closures called as there)."""
         points, band = self._kernels()[:2]
@@ -460,14 +471,7 @@ class Reduced1D(TwoFluid1D):
                                            dtype=float)
             else:
                 mu2 = kraw
-        upwind = self.solids_flux == "upwind"
-        below = getattr(self, "_below", None) if upwind else None
-        if below is not None:
-            if self._belf_of is not below:
-                self._belf, self._belf_of = below.astype(float), below
-            belf = self._belf
-        else:
-            belf = self._tb  # not read
+        upwind, below, belf = self._upwind_side()
         N = 2 * self.nv - 1
         ab = np.empty((N, 3 * _KL + 1)).T
         rhs = np.empty(N)
@@ -508,14 +512,7 @@ class Reduced1D(TwoFluid1D):
             sc = st["sc"]
             points(n, W, self._mc, sc, dpar[3], d, float(mat.rho_f), float(mat.mu_f), wen_yu, n3, s3, aux, re)
             n_pow, re_pow = self._wen_yu_powers(n3.ravel(), re, dpar) if wen_yu else (re, re)
-            upwind = self.solids_flux == "upwind"
-            below = getattr(self, "_below", None) if upwind else None
-            if below is not None:
-                if self._belf_of is not below:
-                    self._belf, self._belf_of = below.astype(float), below
-                belf = self._belf
-            else:
-                belf = self._tb  # not read
+            upwind, below, belf = self._upwind_side()
             last, a, change = np.empty((len(reduced_kernel.LAST_ROWS), ne)), np.empty(3 * nv - 1), np.empty(3)
             whole(n, W, k.n_bar, k.V, st["V"], sc, st["vc"], self._mc, n3, s3, aux, re, re_pow, n_pow, law, dpar,
                   d, *laws, bool(self.clo.viscous), float(mat.mu_f), st["hc"], st["cw0"], upwind, belf,
