@@ -241,15 +241,21 @@ class CompiledLaws:
         size, or a whole number of copies of the elements, each with its element's diameter)."""
         out = np.empty(n.size)
         law, stokes, slip_max = self._drag[0], self._drag[1], self._drag[-1]
-        if law == WEN_YU:  # its two powers by NumPy's SIMD routines, 5x faster than libm's pow
+        if law == WEN_YU:  # its two powers by NumPy's SIMD routines (wen_yu_powers)
             re = np.empty(n.size)
             self._k["wen_yu_reynolds"](slip_max, n, slip, self._d, self._rho_f, self._mu_f, re)
-            n_pow = n ** -2.65
-            self._k["wen_yu_given"](stokes, n, re, n_pow if stokes else re ** 0.687, n_pow, self._d, self._mu_f,
-                                    out)
+            n_pow, re_pow = self.wen_yu_powers(n, re)
+            self._k["wen_yu_given"](stokes, n, re, re_pow, n_pow, self._d, self._mu_f, out)
             return out
         self._k["beta_per_solids"](*self._drag, n, slip, self._d, self._rho_f, self._mu_f, out)
         return out
+
+    def wen_yu_powers(self, n: np.ndarray, re: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Wen–Yu's (n^−2.65, Re^0.687) at porosities ``n`` and Reynolds numbers ``re`` by NumPy's array
+        power, 2.4x faster than libm's scalar ``pow`` in a compiled loop (with Stokes drag Re's is
+        not used: n's stands in)."""
+        n_pow = n ** -2.65
+        return n_pow, (n_pow if self._drag[1] else re ** 0.687)
 
     def kernel_args(self) -> tuple:
         """The laws as a compiled caller passes them to this module's loops: (drag law id, [stokes,

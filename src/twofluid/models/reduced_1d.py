@@ -251,12 +251,12 @@ class Reduced1D(TwoFluid1D):
         mat = self.mat
         args = self._whole_args(s)
         if args is not None:  # in two compiled calls around Wen–Yu's powers (the same operations)
-            (_, _, points, shift, _), (law, dpar, d, *laws), _ = args
+            (_, _, points, shift, _), (law, dpar, d, *laws), _, compiled = args
             wen_yu = law == closure_kernels.WEN_YU
             re = np.empty(2 * ne if wen_yu else 0)
             points(n, s.V, s.W, self._w0, self._w1, dpar[3], d, float(mat.rho_f), float(mat.mu_f), wen_yu, x, s_abs,
                    re)
-            n_pow, re_pow = self._wen_yu_powers(x, re, dpar) if wen_yu else (re, re)
+            n_pow, re_pow = compiled.wen_yu_powers(x, re) if wen_yu else (re, re)
             alpha = np.empty(ne)
             shift(n, s.n_bar, s.V, s.W, x, s_abs, re, re_pow, n_pow, law, dpar, d, *laws[:4], float(mat.mu_f),
                   self._mc, self.volumes, self._h, float(mat.rho_s - mat.rho_f), float(self.g_y), float(mat.g), alpha)
@@ -502,7 +502,7 @@ class Reduced1D(TwoFluid1D):
         if args is False:
             return None
         if args is not None:  # all of it in two compiled calls around Wen–Yu's powers (the same operations)
-            (points, whole, _, _, _), (law, dpar, d, *laws), consts = args
+            (points, whole, _, _, _), (law, dpar, d, *laws), consts, compiled = args
             W, n = k.W, k.n
             ne, nv = n.size, self.nv
             mat = self.mat
@@ -511,7 +511,7 @@ class Reduced1D(TwoFluid1D):
             re = np.empty(3 * ne if wen_yu else 0)
             sc = st["sc"]
             points(n, W, self._mc, sc, dpar[3], d, float(mat.rho_f), float(mat.mu_f), wen_yu, n3, s3, aux, re)
-            n_pow, re_pow = self._wen_yu_powers(n3.ravel(), re, dpar) if wen_yu else (re, re)
+            n_pow, re_pow = compiled.wen_yu_powers(n3.ravel(), re) if wen_yu else (re, re)
             upwind, below, belf = self._upwind_side()
             last, a, change = np.empty((len(reduced_kernel.LAST_ROWS), ne)), np.empty(3 * nv - 1), np.empty(3)
             whole(n, W, k.n_bar, k.V, st["V"], sc, st["vc"], self._mc, n3, s3, aux, re, re_pow, n_pow, law, dpar,
@@ -526,9 +526,10 @@ class Reduced1D(TwoFluid1D):
         return (new, *self.iterate_change(a, new, k))
 
     def _whole_args(self, k: State):
-        """(the compiled whole iterate, the laws' arguments, the prescribed rows' arrays) where one
-        compiled call can do the iterate — compiled laws, P_s, the velocity scale and the assembly
-        not replaced, n̄ an element array — else None (the kernels are then called one by one)."""
+        """(the compiled whole iterate, the laws' arguments, the prescribed rows' arrays, the compiled
+        laws) where one compiled call can do the iterate — compiled laws, P_s, the velocity scale and
+        the assembly not replaced, n̄ an element array — else None (the kernels are then called one
+        by one)."""
         laws = self.compiled_laws()
         nb = k.n_bar
         if laws is None or type(nb) is not np.ndarray or nb.shape != k.n.shape or nb.dtype != float \
@@ -548,15 +549,9 @@ class Reduced1D(TwoFluid1D):
                 d = np.array(self._dir, dtype=float).reshape(-1, 3)
                 consts = (d[:, 0].astype(np.int64), d[:, 1].astype(np.int64), np.ascontiguousarray(d[:, 2]),
                           np.array(self._fixed, dtype=np.int64))
-                hit = (laws, (ker, laws.kernel_args(), consts))
+                hit = (laws, (ker, laws.kernel_args(), consts, laws))
             self._whole = hit
         return hit[1]
-
-    @staticmethod
-    def _wen_yu_powers(n, re, dpar):
-        """Wen–Yu's n^−2.65 and Re^0.687 by NumPy's SIMD routines, as CompiledLaws.beta_per_solids has them."""
-        n_pow = n ** -2.65
-        return n_pow, (n_pow if dpar[0] else re ** 0.687)
 
     def _whole_iterate_ok(self) -> bool:
         """Whether :meth:`iterate` may stand for the four methods it calls (none replaced)."""
