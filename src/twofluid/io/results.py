@@ -22,6 +22,7 @@ import contextvars
 import csv
 import io
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -274,13 +275,15 @@ class ResultWriter:
         self._q.rows([[t, *cols.values()]])
 
     def probe_row(self, t: float, values) -> None:
-        """:meth:`probe` with the values as a sequence in the order of ``probe_columns``."""
-        row = np.asarray(values, dtype=float)
-        if self._strict is None:
-            self._strict = np.array([not c.startswith(self.undefined) for c in self.probe_columns])
-        if not (np.isfinite(row[self._strict]).all() and not np.isinf(row).any()):
-            return self.probe(t, dict(zip(self.probe_columns, row)))  # names the bad value, or drops the row
-        self._q.table(np.concatenate([[float(t)], row])[None, :], ["%.10g"] * (row.size + 1))
+        """:meth:`probe` with the values (numbers) as a sequence in the order of ``probe_columns``."""
+        row = [float(t), *map(float, values)]
+        strict = self._strict
+        if strict is None:
+            strict = self._strict = [not c.startswith(self.undefined) for c in self.probe_columns]
+        for x, must in zip(row[1:], strict):  # finite, or NaN (an empty cell) where a column may be undefined
+            if not (math.isfinite(x) or (x != x and not must)):
+                return self.probe(t, dict(zip(self.probe_columns, row[1:])))  # names the bad value, or drops the row
+        self._q.rows([row])
 
     def close(self) -> None:
         self._p.close()

@@ -51,16 +51,21 @@ class LineDiagnostics:
         jump = -self.g_y * d_rho * load / self.vert_area[i]  # P_s below − P_s above
         return np.cumsum(jump[::-1])[::-1]
 
-    def element_fields(self, s: State) -> dict[str, np.ndarray]:
-        """Per-element values at the centres: the fields a user looks at (SI units).
+    def element_fields(self, s: State, at: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """Per-element values at the centres: the fields a user looks at (SI units); with ``at`` (element
+        indices) the same values at those elements only (the probes': the same operations on fewer entries).
 
         U_s is undefined in clear liquid (n = 1) and given as NaN there.
         """
-        v, w = self.element_mean(s.V), self.element_mean(s.W)
-        P = s.P if self.p_order == 0 else 0.5 * (s.P[0::2] + s.P[1::2])
-        one_m = 1.0 - s.n
+        n, nb, P = s.n, s.n_bar, s.P if self.p_order == 0 else 0.5 * (s.P[0::2] + s.P[1::2])
+        y = self.mesh.centres
+        if at is not None:
+            n, P, y = n[at], P[at], y[at]
+            nb = nb[at] if np.ndim(nb) else nb
+        v, w = self.element_mean(s.V, at), self.element_mean(s.W, at)
+        one_m = 1.0 - n
         with np.errstate(divide="ignore", invalid="ignore"):
             us = np.where(one_m > _CLEAR, (v - w) / (2.0 * one_m), np.nan)
-        return {"y_m": self.mesh.centres, "porosity": s.n, "reference_porosity": s.n_bar,
-                "P_Pa": P, "Ps_Pa": self.solids_pressure(s.n, s.n_bar), "V_m_s": v, "W_m_s": w,
-                "Uf_m_s": (v + w) / (2.0 * s.n), "Us_m_s": us}
+        return {"y_m": y, "porosity": n, "reference_porosity": nb,
+                "P_Pa": P, "Ps_Pa": self.solids_pressure(n, nb), "V_m_s": v, "W_m_s": w,
+                "Uf_m_s": (v + w) / (2.0 * n), "Us_m_s": us}

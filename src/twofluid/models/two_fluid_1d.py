@@ -211,9 +211,11 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         self.avg_weights = ev.N.T @ (ev.JxW / ev.JxW.sum(axis=1, keepdims=True)).T  # (nl, ne)
 
     # --------------------------------------------------------------- helpers
-    def element_mean(self, nodal: np.ndarray) -> np.ndarray:
-        """Volume average over each element of a nodal field."""
-        return np.einsum("ei,ie->e", nodal[self.vdofs], self.avg_weights)
+    def element_mean(self, nodal: np.ndarray, at: np.ndarray | None = None) -> np.ndarray:
+        """Volume average over each element of a nodal field (over the elements ``at`` only, if given)."""
+        if at is None:
+            return np.einsum("ei,ie->e", nodal[self.vdofs], self.avg_weights)
+        return np.einsum("ei,ie->e", nodal[self.vdofs[at]], self.avg_weights[:, at])
 
     def slip(self, V, W, n) -> np.ndarray:
         """Element slip U_f − U_s [m/s], with 1 − n floored at ``_CLEAR`` (continuous as n → 1).

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import copy
 import time
+import weakref
 from dataclasses import replace
 from pathlib import Path
 
@@ -100,18 +101,34 @@ def bed_pressure_drop(model, s, f: dict | None = None) -> float:
         P0 = float(f["P_Pa"][0])
     else:  # the lowest element's centre alone, as element_fields gives it (every step: no other field)
         P0 = float(s.P[0] if model.p_order == 0 else 0.5 * (s.P[0] + s.P[1]))
-    head = -model.mat.rho_f * model.g_y * (model.mesh.y[-1] - model.mesh.centres[0])
+    y = model.mesh.y
+    head = -model.mat.rho_f * model.g_y * (y[-1] - 0.5 * (y[1] + y[0]))  # to the lowest element's centre
     return P0 - model.top.pressure - head
 
 
+_PROBED = ("porosity", "P_Pa", "Ps_Pa", "Us_m_s")  # the fields of a probe, its columns "{name}@{y:g}m"
+_PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> (probes, elements, column names)
+
+
 def _probe_values(model, s, probes, heights):
+    """The probe row of state ``s``: ``heights``, the bed pressure drop, and each probe's fields."""
+    elements, names = _probe_plan(model, probes)
     vals = dict(heights)
-    f = model.element_fields(s)
-    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s, f)
-    for y, e in zip(probes, _probe_elements(model, probes)):
-        for name in ("porosity", "P_Pa", "Ps_Pa", "Us_m_s"):
-            vals[f"{name}@{y:g}m"] = float(f[name][e])
+    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s)
+    f = model.element_fields(s, elements)  # at the probes' elements only
+    for j, keys in enumerate(names):
+        for key, field in zip(keys, _PROBED):
+            vals[key] = float(f[field][j])
     return vals
+
+
+def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]]]:
+    """(the element of each probe, its column names), worked out once per model and probe list."""
+    plan = _PLANS.get(model)
+    if plan is None or plan[0] != tuple(probes):
+        names = [tuple(f"{name}@{y:g}m" for name in _PROBED) for y in probes]
+        plan = _PLANS[model] = (tuple(probes), np.array(_probe_elements(model, probes), dtype=np.intp), names)
+    return plan[1], plan[2]
 
 
 def _probe_elements(model, probes) -> list[int]:
