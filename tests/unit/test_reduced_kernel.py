@@ -183,6 +183,50 @@ def test_the_band_lu_written_out_for_two_diagonals_is_the_general_one(N):
             assert np.array_equal(a1, a2) and np.array_equal(x1, x2)
 
 
+def _dense(ab):
+    N = ab.shape[1]
+    A = np.zeros((N, N))
+    for j in range(N):
+        for i in range(max(0, j - 2), min(N, j + 3)):
+            A[i, j] = ab[4 + i - j, j]
+    return A
+
+
+@requires_numba
+@pytest.mark.parametrize("N", [1, 3, 5, 9, 401])
+def test_the_block_solve_is_accurate_or_hands_over_to_the_band_lu(N):
+    """block_solve_22 (2 × 2 blocks without interchanges between them) solves the reduced model's
+    band: on diagonally dominant random matrices its row-wise backward error is below the
+    tolerance it checks, and it leaves ``ab`` as it was; where a pivot block is singular, or
+    nearly so (growth: the backward error check), or the matrix is singular, the result is the
+    band LU's, bit for bit, info included."""
+    from twofluid.fem.banded import _BT_TOL, band_lu_22, block_solve_22
+
+    rng = np.random.default_rng(N)
+    for trial in range(30):
+        ab = np.asfortranarray(rng.standard_normal((7, N)))
+        ab[:2] = 0.0  # the LU's fill-in rows: not part of A
+        ab[4] += 10.0 * np.sign(ab[4])  # diagonally dominant: block LU is stable (Golub & Van Loan, thm 4.5.2)
+        kind = trial % 4
+        if kind == 1 and N > 1:  # a singular first pivot block in a regular matrix: no block LU
+            ab[4, 0] = ab[3, 1] = ab[5, 0] = ab[4, 1] = 0.0
+        elif kind == 2 and N > 1:  # a nearly singular one: growth of ~1e14
+            ab[4, 0], ab[3, 1], ab[5, 0] = 1.0, 1.0, 1.0
+            ab[4, 1] = 1.0 + 1e-14
+        elif kind == 3:
+            ab[:, N // 2] = 0.0  # a singular matrix
+        b = rng.standard_normal(N)
+        a1, x1, a2, x2 = ab.copy(order="F"), b.copy(), ab.copy(order="F"), b.copy()
+        info1, info2 = block_solve_22()(a1, x1), band_lu_22()(a2, x2)
+        if kind == 0 or (N == 1 and kind != 3):  # solved by blocks (one unknown: its 1 × 1 block)
+            assert info1 == 0 and np.array_equal(a1, ab)
+            A = _dense(ab)
+            r = np.abs(b - A @ x1) / (np.abs(A) @ np.abs(x1) + np.abs(b))
+            assert r.max() <= _BT_TOL
+        else:  # handed over
+            assert info1 == info2 and np.array_equal(a1, a2) and np.array_equal(x1, x2, equal_nan=True)
+
+
 def test_the_numpy_path_runs_without_the_kernels(monkeypatch):
     monkeypatch.setattr(reduced_kernel, "kernels", lambda: None)
     b = _model("fluidized-bed-step")

@@ -20,7 +20,9 @@ The buoyant weight and the drag carry the full model's upwind test functions
 ψ = N ∓ αB of the step (:meth:`TwoFluid1D.force_shift`, taken at the old state).
 
 In the interleaved ordering both row kinds reach two unknowns either side of the
-diagonal: a band of half-width 2, solved by LAPACK ``dgbsv``. The system is
+diagonal: a band of half-width 2, solved by LAPACK ``dgbsv`` (by the compiled kernels as the
+block-tridiagonal system of the (W_v, n_v) pairs it also is, with LAPACK's band LU where the
+block solve's backward error is not at round-off: :func:`twofluid.fem.banded._bt22`). The system is
 written for the increment from iterate k (right-hand side = minus the residual).
 
 The linearisation about iterate k is Newton's method on the full model's residuals:
@@ -563,8 +565,8 @@ class Reduced1D(TwoFluid1D):
     def solve(self, S: tuple, t: float) -> np.ndarray:
         """Increment of (W, n) from the banded solve; returns [V, W, n]."""
         ab, rhs, k, st = S
-        if "sc" in st:  # assembled by the compiled kernels: their band LU (dgbsv's algorithm)
-            info, x = reduced_kernel.kernels()[2](ab, rhs, _KL, _KL), rhs
+        if "sc" in st:  # assembled by the compiled kernels: their band solve (block tridiagonal, else dgbsv's LU)
+            info, x = reduced_kernel.kernels()[2](ab, rhs), rhs
         else:
             _, _, x, info = dgbsv(_KL, _KL, ab, rhs, overwrite_ab=1, overwrite_b=1)
         nv = self.nv

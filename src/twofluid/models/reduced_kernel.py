@@ -17,8 +17,9 @@ operation, so the band matrix and right-hand side agree to round-off
 What the NumPy path spends on about a hundred array operations of a few hundred entries
 (each ~1–3 µs of call overhead) is here a few loops over the elements; the same holds for
 what is done once per step (:func:`_step_constants`, the bed-force shift :func:`_shift_points`
-/ :func:`_shift`, the pressure recovery :func:`_step_pressure`), and the band LU is
-:func:`twofluid.fem.banded.band_lu` (LAPACK's algorithm). The closures then take about half
+/ :func:`_shift`, the pressure recovery :func:`_step_pressure`), and the band is solved as the
+block-tridiagonal system it is (:func:`twofluid.fem.banded._bt22`: 2 × 2 blocks of the (W_v, n_v)
+pairs, checked by its backward error, LAPACK's band LU where that fails). The closures then take about half
 of an iterate's time. Compiled with numba when it is installed (the ``fast`` extra;
 ``cache=True``, so only the first run after an install or a change compiles, a few seconds);
 without numba the model keeps the NumPy path. Loading numba and the cached kernels costs
@@ -438,7 +439,8 @@ def _whole_iterate(n, W, n_bar, kV, V, sc, vc, mc, n3, s3, aux, re, re_pow, n_po
     (:mod:`twofluid.closures.kernels`: drag law ``law`` with ``dpar`` = (stokes, n_switch, blend_width,
     slip_max, ρ_f), Wen–Yu from its powers ``re_pow`` = Re^0.687 and ``n_pow`` = n^−2.65; P_s; μ_s with
     ``vpar``), the band system, its prescribed rows (``dir_*``: band entries; ``fixed``: the vertices
-    where W = V), the band LU (:func:`twofluid.fem.banded._gbsv22`: LAPACK's algorithm for this band),
+    where W = V), the band solve (:func:`twofluid.fem.banded._bt22`: block tridiagonal, LAPACK's band LU
+    where that is not accurate),
     the new iterate ``out`` = [V, W, n] and ``change`` as :func:`_iterate_change` (against the
     iterate's own V ``kV``). The same calls in the same order as :meth:`Reduced1D.assemble
     <twofluid.models.reduced_1d.Reduced1D.assemble>` with the compiled laws, ``solve`` and
@@ -469,7 +471,7 @@ def _whole_iterate(n, W, n_bar, kV, V, sc, vc, mc, n3, s3, aux, re, re_pow, n_po
         ab[dir_row[i], dir_col[i]] = dir_val[i]
     for v in fixed:
         rhs[2 * v] = V[v] - W[v]
-    info = banded._gbsv22(ab, rhs)
+    info = banded._bt22(ab, rhs)
     if info != 0:  # singular: the stepper rejects the non-finite result and shrinks the step
         for i in range(out.size):
             out[i] = np.nan
@@ -570,7 +572,7 @@ def _compile():
     if not _TRIED:
         _TRIED = True
         from ..compiled import group
-        from ..fem.banded import band_lu
+        from ..fem.banded import block_solve_22
 
         funcs = {"closure_points": _closure_points, "band_system": _band_system,
                  "step_pressure": _step_pressure, "shift_points": _shift_points, "shift": _shift,
@@ -579,12 +581,12 @@ def _compile():
                  "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws,
                  "first_iterate": _first_iterate}
         helpers = (_fmax, _sign, _closure_points, _band_system, _iterate_change, _shift_points, _shift, banded._u,
-                   banded._gbsv22, extrapolation._predict_entries,
+                   banded._gbsv22, banded._bt22, extrapolation._predict_entries,
                    laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
                    laws._wen_yu_reynolds, laws._wen_yu_given,
                    laws._solids_pressure, laws._viscosity, laws._mooney)
         ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers)
-        lu = band_lu()
+        lu = block_solve_22()
         if ker is None or lu is None:
             return None
         _COMPILED = (ker["closure_points"], ker["band_system"], lu, ker["step_pressure"],
