@@ -498,34 +498,48 @@ class Reduced1D(TwoFluid1D):
         solve's output is finite, max |Δn|, the velocity change), or None on the NumPy path and
         where a subclass or the instance replaces one of those methods (the stepper calls them then)."""
         st = self._prepare_step(old, dt, t_new)
-        args = st.get("way", _UNDECIDED)
-        if args is _UNDECIDED:  # how this step's iterates go, decided once: False for the stepper's four calls
-            args = st["way"] = (self._whole_args(k) if "sc" in st and self._whole_iterate_ok() else False)
-        if args is False:
+        way = st.get("way", _UNDECIDED)
+        if way is _UNDECIDED:  # how this step's iterates go, decided once: False for the stepper's four calls
+            way = st["way"] = (self._whole_call(k, st) if "sc" in st and self._whole_iterate_ok() else False)
+        if way is False:
             return None
-        if args is not None:  # all of it in two compiled calls around Wen–Yu's powers (the same operations)
-            (points, whole, _, _, _), (law, dpar, d, *laws), consts, compiled = args
+        if way is not None:  # all of it in two compiled calls around Wen–Yu's powers (the same operations)
+            points, whole, powers, n3, re, pts, mid, static, tail = way
             W, n = k.W, k.n
-            ne, nv = n.size, self.nv
-            mat = self.mat
-            n3, s3, aux = np.empty((3, ne)), np.empty((3, ne)), np.empty((3, ne))
-            wen_yu = law == closure_kernels.WEN_YU
-            re = np.empty(3 * ne if wen_yu else 0)
-            sc = st["sc"]
-            points(n, W, self._mc, sc, dpar[3], d, float(mat.rho_f), float(mat.mu_f), wen_yu, n3, s3, aux, re)
-            n_pow, re_pow = compiled.wen_yu_powers(n3.ravel(), re) if wen_yu else (re, re)
-            upwind, below, belf = self._upwind_side()
-            last, a, change = np.empty((len(reduced_kernel.LAST_ROWS), ne)), np.empty(3 * nv - 1), np.empty(3)
-            whole(n, W, k.n_bar, k.V, st["V"], sc, st["vc"], self._mc, n3, s3, aux, re, re_pow, n_pow, law, dpar,
-                  d, *laws, bool(self.clo.viscous), float(mat.mu_f), st["hc"], st["cw0"], upwind, belf,
-                  below is not None, *consts, float(self.velocity_floor), last, a, change)
+            points(n, W, *pts)
+            n_pow, re_pow = powers(n3.ravel(), re) if powers is not None else (re, re)
+            _, below, belf = self._upwind_side()
+            last, a, change = np.empty((len(reduced_kernel.LAST_ROWS), n.size)), np.empty(3 * self.nv - 1), \
+                np.empty(3)
+            whole(n, W, k.n_bar, k.V, *mid, re_pow, n_pow, *static, belf, below is not None, *tail, last, a, change)
             self._last_rows = last
-            self._last_iterate = _LastRows(W, n, last, self.clo.viscous, st)
+            self._last_iterate = _LastRows(W, n, last, static[8], st)
             new = self.unpack(a, k, t_new)
             return new, change[0] != 0.0, float(change[1]), float(change[2])
         a = self.solve(self._assemble_compiled(k, st), t_new)
         new = self.unpack(a, k, t_new)
         return (new, *self.iterate_change(a, new, k))
+
+    def _whole_call(self, k: State, st: dict):
+        """The compiled calls of this step's whole iterates and their arguments (:meth:`iterate`), or None
+        where the kernels are called one by one (:meth:`_whole_args`)."""
+        args = self._whole_args(k)
+        if args is None:
+            return None
+        (points, whole, _, _, _), (law, dpar, d, *laws), consts, compiled = args
+        ne, mat, mc, sc = k.n.size, self.mat, self._mc, st["sc"]
+        wen_yu = law == closure_kernels.WEN_YU
+        scratch = self.__dict__.get("_whole_scratch")  # the closure points: rewritten by every iterate
+        if scratch is None or scratch[0].shape != (3, ne) or (scratch[3].size != 0) != wen_yu:
+            scratch = self._whole_scratch = (np.empty((3, ne)), np.empty((3, ne)), np.empty((3, ne)),
+                                             np.empty(3 * ne if wen_yu else 0))
+        n3, s3, aux, re = scratch
+        rho_f, mu_f = float(mat.rho_f), float(mat.mu_f)
+        return (points, whole, compiled.wen_yu_powers if wen_yu else None, n3, re,
+                (mc, sc, dpar[3], d, rho_f, mu_f, wen_yu, n3, s3, aux, re),
+                (st["V"], sc, st["vc"], mc, n3, s3, aux, re),
+                (law, dpar, d, *laws, bool(self.clo.viscous), mu_f, st["hc"], st["cw0"], self.solids_flux == "upwind"),
+                (*consts, float(self.velocity_floor)))
 
     def _whole_args(self, k: State):
         """(the compiled whole iterate, the laws' arguments, the prescribed rows' arrays, the compiled

@@ -467,8 +467,11 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         if it == 1 and self.linearisation == "newton":
             self._first_iterate(k)
         if it <= 3:
-            node = self.vert_node
-            self._below = (k.V[node] - k.W[node]) >= 0.0
+            if self.basis.order == 1:  # the vertices are the velocity nodes
+                self._below = (k.V - k.W) >= 0.0
+            else:
+                node = self.vert_node
+                self._below = (k.V[node] - k.W[node]) >= 0.0
 
     def _first_iterate(self, k: State) -> None:
         """Start a step from the last converged state ``k`` at the extrapolation of V, W, n

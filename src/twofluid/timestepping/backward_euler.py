@@ -112,43 +112,43 @@ def _step(model, old, dt, settings, accept_unconverged=False):
     change = getattr(model, "iterate_change", None)  # the model's own (compiled) form of the test below
     solve = getattr(model, "solve", None)
     whole = getattr(model, "iterate", None)  # all of an iterate in one call (None: not for this one)
-    for it in range(1, settings.max_iter + 1):
-        if hook:
-            hook(it, k)
-        with np.errstate(all="ignore"):  # a trial iterate may leave (0, 1]; checked below
+    with np.errstate(all="ignore"):  # a trial iterate may leave (0, 1]; checked below (one context a step)
+        for it in range(1, settings.max_iter + 1):
+            if hook:
+                hook(it, k)
             done = whole(k, old, dt, t_new) if whole is not None else None
             if done is None:
                 S = model.assemble(k, old, dt, t_new)
                 a = solve(S, t_new) if solve is not None else _solve(model, S, t_new)
-        if done is not None:
-            new, finite, dn, dv = done
-        else:
-            new = model.unpack(a, k, t_new)
-            if change is not None:
-                finite, dn, dv = change(a, new, k)
+            if done is not None:
+                new, finite, dn, dv = done
             else:
-                finite = np.all(np.isfinite(a))
-                if finite:
-                    dn, dv = relative_change(model, new, k)
-        if not finite:
-            close(None)
-            return None, "linear solve gave non-finite values", False
-        plain = dv < settings.tol and dn < settings.tol
-        done = newton.converged(it, new, k, max(dn, dv)) if newton else plain
-        k = new
-        last = accept_unconverged and it == settings.max_iter
-        if done or last:
-            reason = model.check(new)
-            if reason and not (plain or last):
-                continue  # accepted on a prediction but not admissible: iterate on as the plain test would
-            if reason:
+                new = model.unpack(a, k, t_new)
+                if change is not None:
+                    finite, dn, dv = change(a, new, k)
+                else:
+                    finite = np.all(np.isfinite(a))
+                    if finite:
+                        dn, dv = relative_change(model, new, k)
+            if not finite:
                 close(None)
-                return None, reason, False
-            out = model.end_step(old, new, dt)
-            close(out)
-            return out, it, not plain
-    close(None)
-    return None, f"Picard did not converge in {settings.max_iter} iterations (dv={dv:.2e}, dn={dn:.2e})", False
+                return None, "linear solve gave non-finite values", False
+            plain = dv < settings.tol and dn < settings.tol
+            done = newton.converged(it, new, k, max(dn, dv)) if newton else plain
+            k = new
+            last = accept_unconverged and it == settings.max_iter
+            if done or last:
+                reason = model.check(new)
+                if reason and not (plain or last):
+                    continue  # accepted on a prediction but not admissible: iterate on as the plain test would
+                if reason:
+                    close(None)
+                    return None, reason, False
+                out = model.end_step(old, new, dt)
+                close(out)
+                return out, it, not plain
+        close(None)
+        return None, f"Picard did not converge in {settings.max_iter} iterations (dv={dv:.2e}, dn={dn:.2e})", False
 
 
 def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = (),
