@@ -105,7 +105,7 @@ _FORMATS: dict[int, str] = {}
 
 def _line(r) -> str | None:
     """The CSV line of a row of numbers (each as ``_cell`` writes it), formatted by one ``%`` call;
-    None where the row holds anything else (text, None, NaN): ``csv.writer`` takes it then."""
+    None where the row holds anything else (text, None) or is one NaN: ``csv.writer`` takes it then."""
     n = len(r)
     fmt = _FORMATS.get(n)
     if fmt is None:
@@ -114,7 +114,9 @@ def _line(r) -> str | None:
         text = fmt % tuple(r)
     except TypeError:  # text or None: %g takes numbers only
         return None
-    return None if "nan" in text else text  # NaN is an empty cell
+    if "nan" in text:  # NaN is an empty cell (csv.writer's line, but for a lone empty cell, which it quotes)
+        return ",".join("" if x != x else "%.10g" % x for x in r) + "\r\n" if n > 1 else None
+    return text
 
 
 class CsvStream:
@@ -124,6 +126,7 @@ class CsvStream:
     def __init__(self, path: Path, header: list[str]):
         self.path = Path(path)
         self._f = open(self.path, "w", newline="", encoding="utf-8")
+        self._end = 0  # bytes in the file: the end of its last complete row (``tell`` costs a system call)
         self.rows([[str(h) for h in header]])
 
     def rows(self, rows) -> None:
@@ -156,7 +159,8 @@ class CsvStream:
     def _write(self, text: str) -> None:
         if self._f.closed:
             self._f = open(self.path, "a", newline="", encoding="utf-8")
-        good = self._f.tell()
+            self._end = self._f.tell()
+        good = self._end
         try:
             self._f.write(text)
             self._f.flush()
@@ -167,6 +171,7 @@ class CsvStream:
             except OSError:
                 pass
             raise
+        self._end = good + (len(text) if text.isascii() else len(text.encode("utf-8")))
 
     def close(self) -> None:
         self._f.close()

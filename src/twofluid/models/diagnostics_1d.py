@@ -58,9 +58,11 @@ class LineDiagnostics:
         U_s is undefined in clear liquid (n = 1) and given as NaN there.
         """
         n, nb, P = s.n, s.n_bar, s.P if self.p_order == 0 else 0.5 * (s.P[0::2] + s.P[1::2])
-        y = self.mesh.centres
-        if at is not None:
-            n, P, y = n[at], P[at], y[at]
+        if at is None:
+            y = self.mesh.centres
+        else:
+            ym = self.mesh.y
+            n, P, y = n[at], P[at], 0.5 * (ym[at + 1] + ym[at])  # the mesh's centres there
             nb = nb[at] if np.ndim(nb) else nb
         v, w = self.element_mean(s.V, at), self.element_mean(s.W, at)
         one_m = 1.0 - n
