@@ -513,7 +513,7 @@ class Reduced1D(TwoFluid1D):
                 np.empty(3)
             whole(n, W, k.n_bar, k.V, *mid, re_pow, n_pow, *static, belf, below is not None, *tail, last, a, change)
             self._last_rows = last
-            self._last_iterate = _LastRows(W, n, last, static[8], st)
+            self._last_iterate = _LastRows(W, n, last, self.clo.viscous, st)
             new = self.unpack(a, k, t_new)
             return new, change[0] != 0.0, float(change[1]), float(change[2])
         a = self.solve(self._assemble_compiled(k, st), t_new)
