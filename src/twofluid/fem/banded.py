@@ -198,14 +198,16 @@ def _bt22(ab, b):
     pivot block is singular, or the row-wise backward error max_i |b − A x|_i / (|A||x| + |b|)_i
     (Oettli–Prager) exceeds ``_BT_TOL`` (≈ 4500 ε: far above the residual's own round-off of a
     few ε, far below what moves a Newton increment at the condition numbers of these systems,
-    ~1e4), the system is solved by :func:`_gbsv22` (partial pivoting) instead. ``b`` ← x; ``ab``
-    is overwritten only by that fallback. Returns 0, or LAPACK's ``info`` of the fallback."""
+    ~1e4), the system is solved by :func:`_gbsv22` (partial pivoting) instead, as it is for even n.
+    ``b`` ← x; ``ab`` is overwritten only by that fallback. Returns 0, or LAPACK's ``info`` of the fallback."""
     n = b.size
+    if n % 2 == 0:  # not pairs and a last one: the band LU's
+        return _gbsv22(ab, b)
     m = n // 2
     G = np.empty((m, 4))  # S_v⁻¹ U_v of block v, row by row
     x = np.empty(n)  # z_v = S_v⁻¹ (b_v − L_v z_{v−1}), then the solution
     g00 = g01 = g10 = g11 = z0 = z1 = 0.0
-    ok = n % 2 == 1
+    ok = True
     for v in range(m):
         i = 2 * v
         d00, d01, d10, d11 = ab[4, i], ab[3, i + 1], ab[5, i], ab[4, i + 1]  # A[i:i+2, i:i+2]

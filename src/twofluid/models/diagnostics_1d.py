@@ -52,7 +52,7 @@ class LineDiagnostics:
         return np.cumsum(jump[::-1])[::-1]
 
     def element_fields(self, s: State, at: np.ndarray | None = None) -> dict[str, np.ndarray]:
-        """Per-element values at the centres: the fields a user looks at (SI units); with ``at`` (element
+        """Per-element values at the centres: the fields a user looks at (SI units); with ``at`` (an integer array of element
         indices) the same values at those elements only (the probes': the same operations on fewer entries).
 
         U_s is undefined in clear liquid (n = 1) and given as NaN there.
