@@ -183,15 +183,6 @@ def test_the_band_lu_written_out_for_two_diagonals_is_the_general_one(N):
             assert np.array_equal(a1, a2) and np.array_equal(x1, x2)
 
 
-def _dense(ab):
-    N = ab.shape[1]
-    A = np.zeros((N, N))
-    for j in range(N):
-        for i in range(max(0, j - 2), min(N, j + 3)):
-            A[i, j] = ab[4 + i - j, j]
-    return A
-
-
 @requires_numba
 @pytest.mark.parametrize("N", [1, 2, 3, 4, 5, 9, 401])
 def test_the_block_solve_is_accurate_or_hands_over_to_the_band_lu(N):
