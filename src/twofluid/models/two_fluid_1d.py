@@ -187,6 +187,7 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         # vertex bookkeeping: vertex i is velocity node p*i; element below / above
         p = self.basis.order
         self.vert_node = p * np.arange(ne + 1)
+        self._vert_at = slice(None) if p == 1 else self.vert_node  # the vertices' entries of a nodal array (a view where all)
         last = self.basis.n_local - 1
         w_below = np.zeros(ne + 1)
         w_above = np.zeros(ne + 1)
@@ -467,11 +468,8 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         if it == 1 and self.linearisation == "newton":
             self._first_iterate(k)
         if it <= 3:
-            if self.basis.order == 1:  # the vertices are the velocity nodes
-                self._below = (k.V - k.W) >= 0.0
-            else:
-                node = self.vert_node
-                self._below = (k.V[node] - k.W[node]) >= 0.0
+            at = self._vert_at
+            self._below = (k.V[at] - k.W[at]) >= 0.0
 
     def _first_iterate(self, k: State) -> None:
         """Start a step from the last converged state ``k`` at the extrapolation of V, W, n

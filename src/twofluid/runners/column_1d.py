@@ -127,15 +127,14 @@ def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]]]:
     plan = _PLANS.get(model)
     if plan is None or plan[0] != tuple(probes):
         names = [tuple(f"{name}@{y:g}m" for name in _PROBED) for y in probes]
-        plan = _PLANS[model] = (tuple(probes), np.array(_probe_elements(model, probes), dtype=np.intp), names)
+        plan = _PLANS[model] = (tuple(probes), _probe_elements(model, probes), names)
     return plan[1], plan[2]
 
 
-def _probe_elements(model, probes) -> list[int]:
+def _probe_elements(model, probes) -> np.ndarray:
     """The element holding each probe height [m above the bottom] (the top one for the top end)."""
-    e_of = np.clip(np.searchsorted(model.mesh.y, np.asarray(probes) + model.mesh.y[0], side="right") - 1,
+    return np.clip(np.searchsorted(model.mesh.y, np.asarray(probes, dtype=float) + model.mesh.y[0], side="right") - 1,
                    0, model.mesh.n_elements - 1)
-    return e_of.tolist()
 
 
 def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
