@@ -109,6 +109,18 @@ LAYER_KEYS = [
       lo=0.0, lo_open=True, hi=1.0),
     K("liquefiable", bool, True, "-", "saturated layer: false keeps n̄ fixed under shear (no pore-pressure "
       "generation; the layer still consolidates and drains)"),
+    K("n160cs", float, 0.0, "blows/0.3 m", "hysteretic model: clean-sand equivalent SPT (N1)60cs; sets CRR, "
+      "the CSR–N slope b, K_σ, the residual strength and γ_lim (Idriss & Boulanger 2008, Boulanger & "
+      "Idriss 2014). 0: from q_c1ncs if given, else 46 (Dr/100)²", lo=0.0, hi=46.0),
+    K("qc1ncs", float, 0.0, "-", "hysteretic model: clean-sand equivalent normalised CPT tip resistance "
+      "q_c1Ncs, instead of n160cs (Boulanger & Idriss 2014 CPT route; also used by the simplified "
+      "procedure). 0: not given", lo=0.0, hi=250.0),
+    K("friction_angle", float, 0.0, "deg", "hysteretic model: φ′ of the strength τ_max = σ′_v tan φ′; 0: "
+      "Bolton (1986), 33° + 3 I_R from Dr and σ′_m", lo=0.0, hi=50.0),
+    K("gqh_theta", FLOATS, [0.0, 0.0, 1.0, 1.0, 1.0], "-", "hysteretic model: GQ/H backbone θ1…θ5 "
+      "(Groholski et al. 2016); [0, 0, 1, 1, 1] is the hyperbola with strength τ_max"),
+    K("mrdf", FLOATS, [1.0, 0.0, 1.0], "-", "hysteretic model: p1, p2, p3 of the MRDF unload–reload "
+      "factor F = p1 − p2 (1 − G(γ_m)/G_max)^p3 (Phillips & Hashash 2009); [1, 0, 1] is Masing's rule"),
 ]
 
 _MOTION = [
@@ -127,10 +139,17 @@ _MOTION = [
 ]
 
 _SHEAR = [
+    K("model", str, "thesis", "-", "shear law of the soil: thesis (the non-linear elastic backbone and "
+      "densification law of Pringle 2001, the bundled cases' calibration) or hysteretic (GQ/H backbone "
+      "with Masing/MRDF rules, strength σ′_v tan φ′ floored by S_r, cyclic mobility, pore pressure "
+      "calibrated to the CRR curve of (N1)60cs; docs/liquefaction.md, \"The hysteretic model\": in "
+      "development, not yet the default)", choices=("hysteretic", "thesis")),
     K("step", float, 0.005, "s", "sub-step of the horizontal equation (Newmark average acceleration)",
       lo=0.0, lo_open=True, hi=0.05),
-    K("damping_ratio", float, 0.05, "-", "Rayleigh damping ratio ξ at the two frequencies (stand-in for "
-      "hysteretic damping, which the non-linear elastic backbone lacks)", lo=0.0, hi=0.5),
+    K("damping_ratio", float, 0.05, "-", "Rayleigh damping ratio ξ at the two frequencies: with the thesis "
+      "model a stand-in for hysteretic damping, which its non-linear elastic backbone lacks; with the "
+      "hysteretic model the small-strain viscous floor beside the hysteresis (about 0.01; its stiffness "
+      "part uses the current G_max(P_s))", lo=0.0, hi=0.5),
     K("damping_frequencies", FLOATS, [1.0, 10.0], "Hz", "the two frequencies of the Rayleigh damping"),
     K("free_vibration", float, 5.0, "s", "the shear wave keeps running this long after the record ends",
       lo=0.0),
@@ -208,6 +227,23 @@ def layer_porosity(layer: dict) -> float:
 _SATURATED_ONLY = ("particle_diameter", "hydraulic_conductivity", "porosity", "void_ratio")
 
 
+def _check_hysteretic(case: dict, source: str) -> None:
+    """The hysteretic model's per-layer lists, and a warning for the thesis model."""
+    if case["shear_wave"]["model"] == "thesis":
+        return
+    for i, la in enumerate(case["layers"]):
+        th, p = la["gqh_theta"], la["mrdf"]
+        if len(th) != 5 or not (0.0 <= th[0] <= 1.0 and 0.0 <= th[0] + th[1] <= 1.0 and th[2] > 0.0
+                                and th[3] > 0.0 and th[4] > 0.0):
+            raise CaseError(source, f"{layer_label(case, i)} gqh_theta", f"{th} must be five numbers "
+                            "θ1..θ5 with 0 ≤ θ1 ≤ 1, 0 ≤ θ1 + θ2 ≤ 1 and θ3, θ4, θ5 > 0")
+        if len(p) != 3 or not (0.0 < p[0] <= 1.0 and 0.0 <= p[1] <= p[0] and p[2] > 0.0):
+            raise CaseError(source, f"{layer_label(case, i)} mrdf", f"{p} must be three numbers p1, p2, p3 "
+                            "with 0 < p1 ≤ 1, 0 ≤ p2 ≤ p1 and p3 > 0")
+        if la["n160cs"] > 0.0 and la["qc1ncs"] > 0.0:
+            raise CaseError(source, f"{layer_label(case, i)} qc1ncs", "give n160cs or qc1ncs, not both")
+
+
 def check_liquefaction(case: dict, source: str) -> None:
     """Cross-key checks of a ``liquefaction_1d`` case (one-line CaseError naming file and key)."""
     t, out = case["time"], case["output"]
@@ -245,6 +281,7 @@ def check_liquefaction(case: dict, source: str) -> None:
     if any(not 0.0 < T <= 100.0 for T in periods) or any(b <= a for a, b in zip(periods, periods[1:])):
         raise CaseError(source, "[report] spectrum_periods", f"{periods} must be increasing periods in "
                         "(0, 100] s (or empty for the default)")
+    _check_hysteretic(case, source)
     _check_physics(case, source)
     # the files the case names, read and checked now: a bad one must not start a run
     tables = []

@@ -82,6 +82,8 @@ from ..closures.shear_modulus import seed_idriss_gmax
 from ..closures.solids_pressure import reference_porosity_for
 from ..closures.viscosity import mooney_pringle
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
+from ..closures import hysteretic as _hyst_law
+from . import hysteretic_kernel as _hyst_kernel
 from . import shear_kernel as _shear_kernel
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
 from .two_fluid_1d import State, TwoFluid1D
@@ -214,7 +216,7 @@ class ColumnState:
 
     vertical: State
     wave: WaveState
-    shear: ShearState
+    shear: ShearState | np.ndarray  # the thesis laws' history, or the hysteretic law's state array
 
     @property
     def t(self) -> float:
@@ -261,7 +263,8 @@ class LiquefactionColumn:
                  damping_ratio: float = 0.05, damping_frequencies=(1.0, 10.0),
                  free_vibration: float = 5.0, settings: PicardSettings = PicardSettings(),
                  base_impedance: float | None = None, crust: Crust | None = None,
-                 fast_shear: bool = True, base_acceleration_at: Callable | None = None):
+                 fast_shear: bool = True, base_acceleration_at: Callable | None = None,
+                 hysteretic: np.ndarray | None = None):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand, self.crust = vertical, sand, crust
@@ -300,7 +303,13 @@ class LiquefactionColumn:
         # η_s of a Newtonian liquefied soil is fixed: computed once (None: the power law, per sub-step)
         self._eta_s = (None if np.any(np.asarray(sand.viscosity_exponent) != 1.0)
                        else sand.shear_viscosity(np.zeros(ns)))
-        self._kernel = self._kernel_arguments() if fast_shear else None
+        self._kernel = self._kernel_arguments() if fast_shear and hysteretic is None else None
+        # the hysteretic law's (n_all, NPARAM) parameters, saturated elements first (None: thesis laws)
+        self.hysteretic = None if hysteretic is None else np.ascontiguousarray(hysteretic, dtype=float)
+        if self.hysteretic is not None and self.hysteretic.shape[0] != nt:
+            raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
+        self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
+        self.floor_applied = False
 
     # ------------------------------------------------------------ state
     def initial_state(self, porosity, excess_ratio: float = 0.0) -> ColumnState:
@@ -320,6 +329,8 @@ class LiquefactionColumn:
         P = self.p_hydro + excess_ratio * sig0
         s = State(0.0, np.zeros(v.nv), np.zeros(v.nv), P, n, n_bar)
         self.sigma_v0, self.n0 = sig0, n.copy()
+        if self.hysteretic is not None:
+            return ColumnState(s, self.wave.rest(), _hyst_law.new_state(self.hysteretic.shape[0], self.hysteretic))
         return ColumnState(s, self.wave.rest(), ShearState.zeros(ne))
 
     # ------------------------------------------------------- diagnostics
@@ -392,6 +403,8 @@ class LiquefactionColumn:
         The saturated elements (the first ``n_sat``) take G_max from P_s and densify under the
         law; the crust's G_max, density and (zero) liquefied-soil viscosity are fixed.
         """
+        if self.hysteretic is not None:
+            return self._shear_hysteretic(s, t_new)
         v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
         n = s.vertical.n
         wave.rho[:ns] = self.mixture_density(n)
@@ -427,6 +440,67 @@ class LiquefactionColumn:
             if power:  # shear thinning: η_s from the rate of the last sub-step
                 wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / wave.h[:ns])
         return w, n_bar, hist, m, surface
+
+    def _shear_hysteretic(self, s: ColumnState, t_new: float):
+        """The sub-steps of :meth:`_shear` with the hysteretic law (:mod:`~twofluid.models.hysteretic_kernel`);
+        a sub-step whose Newton iterations fail is retried at half the size (four times at most)."""
+        v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
+        n = np.ascontiguousarray(s.vertical.n, dtype=float)
+        wave.rho[:ns] = self.mixture_density(n)
+        laws = v.compiled_laws()
+        mu_m = laws.mixture_viscosity(n) if laws is not None and not v.clo.viscosity_params \
+            else mooney_pringle(n, v.mat.mu_f)
+        w = s.wave
+        if self._eta_s is None:  # shear thinning: η_s from the rate at the start of the step
+            wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / wave.h[:ns])
+        else:
+            wave.eta[:ns] = mu_m + self._eta_s
+        span = t_new - s.t
+        dn = np.ascontiguousarray(self._ndot * span)
+        m = max(1, math.ceil(span / self.shear_step - 1e-9))
+        ne = wave.h.size
+        clo = v.clo
+        full = lambda x: np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (ns,)))
+        A, p_ref = full(clo.A), full(clo.p_ref)
+        for attempt in range(5):
+            dt = span / m
+            times = s.t + np.arange(1.0, m + 1.0) * dt
+            a_in = (np.array([self.a_g(t) for t in times.tolist()], dtype=float) if self.a_g_at is None
+                    else np.ascontiguousarray(self.a_g_at(times), dtype=float))
+            u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
+            st = np.array(s.shear, dtype=float)
+            nb = np.array(s.vertical.n_bar, dtype=float)
+            surface, tau, ps = np.empty(m), np.empty(ne), np.empty(ne)
+            code = _hyst_kernel.substeps(
+                u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
+                wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
+                0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
+                self.shaking_end, surface, tau, ps)
+            if code != 1:
+                break
+            m *= 2
+        if code != 0:
+            raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: "
+                                 + ("Newton did not converge" if code == 1 else "a non-finite value"))
+        out = WaveState(t_new, u, vel, acc, np.diff(u) / wave.h, tau)
+        return out, nb, st, m, list(zip(times.tolist(), surface.tolist()))
+
+    def reconsolidation_floor(self, s: ColumnState) -> np.ndarray:
+        """The post-liquefaction volumetric strain floor of Ishihara & Yoshimine (1992), as fitted by
+        Yoshimine et al. (2006), ε_v = 1.5 exp(−2.5 Dr) min(0.08, γ_max) per saturated element [-]
+        (0 for elements that generate no pore pressure)."""
+        par, st, ns = self.hysteretic, s.shear, self.n_sat
+        eps = 1.5 * np.exp(-2.5 * par[:ns, _hyst_law.P_DR]) * np.minimum(0.08, st[:ns, _hyst_law.S_GM])
+        return np.where(par[:ns, _hyst_law.P_LIQ] > 0.0, eps, 0.0)
+
+    def _apply_floor(self, s: ColumnState, n_bar: np.ndarray, st: np.ndarray) -> np.ndarray:
+        """n̄ lowered where the volumetric strain made so far is below the floor (a floor, not an
+        addition: the total is max(generated, floor)); ``st`` records it."""
+        ns = self.n_sat
+        deficit = np.maximum(self.reconsolidation_floor(ColumnState(s.vertical, s.wave, st))
+                             - st[:ns, _hyst_law.S_EPS], 0.0)
+        st[:ns, _hyst_law.S_EPS] += deficit
+        return n_bar - (1.0 - n_bar) * np.expm1(deficit)
 
     def _kernel_arguments(self):
         """The fixed arguments of the compiled shear kernel, or None where the case needs the
@@ -498,6 +572,11 @@ class LiquefactionColumn:
             if not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
                 raise StepFailure(s.t, dt, "shear sub-steps gave a non-finite reference porosity or "
                                   "displacement", s)
+        if (self.hysteretic is not None and not self.floor_applied
+                and s.t < self.shear_end - 1e-12 and t_new >= self.shear_end - 1e-9):
+            hist = np.array(hist, dtype=float)  # the shaking has ended: the reconsolidation floor
+            n_bar = self._apply_floor(s, n_bar, hist)
+            self.floor_applied = True
         vert = s.vertical.copy(n_bar=n_bar)
         if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
             self.v.continue_from(s.vertical, vert)
@@ -505,6 +584,8 @@ class LiquefactionColumn:
         for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
             vert, its = st.state, st.iterations
             inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
+        if self.hysteretic is not None and dt > 0.0:
+            self._ndot = (vert.n - s.vertical.n) / dt
         return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface))
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,

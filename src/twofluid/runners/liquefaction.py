@@ -54,7 +54,7 @@ from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings
 from ..verification.terzaghi import consolidation_coefficient
 from . import liquefaction_report as report
-from .liquefaction_site import Site, crust_for, sand_for, site_arrays
+from .liquefaction_site import Site, crust_for, hysteretic_parameters, sand_for, site_arrays
 
 __all__ = ["Built", "build_column", "run_liquefaction", "run_validated", "simplified_table", "PROFILE_COLUMNS"]
 
@@ -107,6 +107,7 @@ def build_column(case: dict, reference: bool = False) -> Built:
                      surcharge=st["surcharge"] + site.crust_weight)
     sigma_v0 = vertical.settled_solids_pressure(site.porosity) + vertical.surcharge
     sand = sand_for(case, source, site, sigma_v0)
+    crust = crust_for(case, source, site)
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
     accel_at = None if motion is None else (lambda t, m=motion: gm.value_at(m, t))
@@ -115,8 +116,10 @@ def build_column(case: dict, reference: bool = False) -> Built:
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
                                 free_vibration=sw["free_vibration"], settings=settings,
                                 base_impedance=schema_liquefaction.base_impedance(case),
-                                crust=crust_for(case, source, site), fast_shear=not reference,
-                                base_acceleration_at=accel_at)
+                                crust=crust, fast_shear=not reference,
+                                base_acceleration_at=accel_at,
+                                hysteretic=hysteretic_parameters(case, site, sigma_v0, crust,
+                                                                 np.broadcast_to(sand.k2max, sigma_v0.shape)))
     state = column.initial_state(site.porosity, st["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))

@@ -184,3 +184,43 @@ def crust_for(case: dict, source: str, site: Site) -> Crust | None:
     g_max = np.where(vs > 0.0, rho * vs * vs, seed_idriss_gmax(sig, 1.0) * k2)
     return Crust(h, rho, g_max, gamma_ref=np.array([layers[i]["gamma_ref"] for i in owner]),
                  reduction=_reduction(case, source, owner))
+
+
+def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: Crust | None,
+                          k2max: np.ndarray) -> np.ndarray | None:
+    """The hysteretic law's parameters of every shear-column element (saturated first, then the
+    crust; :func:`twofluid.models.hysteretic_sand.parameters`), or None for the thesis model.
+
+    A saturated element's soil comes from its layer's n160cs, else qc1ncs, else relative_density;
+    σ′_v0 is its geostatic effective stress. A crust element keeps its G_max and σ′_v fixed."""
+    if case["shear_wave"]["model"] != "hysteretic":
+        return None
+    from ..models.hysteretic_sand import parameters
+
+    layers = case["layers"]
+
+    def per(owner, key):
+        return np.array([layers[i][key] for i in owner], dtype=float)
+
+    def positive(x):
+        return np.where(x > 0.0, x, np.nan)
+
+    def rows(owner, sig, k2, liquefiable, g_fix):
+        return parameters(sigma_v0=sig, n160cs=positive(per(owner, "n160cs")),
+                          qc1ncs=positive(per(owner, "qc1ncs")), dr=per(owner, "relative_density"),
+                          k2max=k2, friction_angle=positive(per(owner, "friction_angle")),
+                          theta=np.array([layers[i]["gqh_theta"] for i in owner], dtype=float),
+                          mrdf=np.array([layers[i]["mrdf"] for i in owner], dtype=float),
+                          liquefiable=liquefiable, g_max_fixed=g_fix)
+
+    owner = site.layer_of
+    par = rows(owner, sigma_v0, k2max, np.array([layers[i]["liquefiable"] for i in owner], dtype=float), 0.0)
+    if crust is None:
+        return par
+    c_owner = site.crust_layer_of
+    load = crust.rho * case["materials"]["gravity"] * crust.h
+    above = np.cumsum(load[::-1])[::-1] - load
+    sig_c = case["site"]["surcharge"] + above + 0.5 * load
+    top = rows(c_owner, np.maximum(sig_c, 1.0), per(c_owner, "k2max"), 0.0, crust.g_max)
+    return np.concatenate([par, top])
+

@@ -1,0 +1,323 @@
+"""Hysteretic effective-stress shear law of saturated sand: the liquefaction column's default.
+
+One element of soil under horizontal shear (strain γ, skeleton stress τ) whose effective
+vertical stress P_s falls as pore pressure is generated. Written once, as scalar functions of
+an element's row in a state array and a parameter array, in plain Python that numba compiles
+(the column's kernel, :mod:`twofluid.models.hysteretic_kernel`) and that also runs un-jitted
+(the element test, debugging). docs/liquefaction.md, "The hysteretic model", has the why.
+
+**Strength and stiffness.** The skeleton's strength and small-strain modulus follow the current
+effective vertical stress, floored by the residual strength S_r:
+
+    p = max(P_s, S_r / tan φ′),   τ_max = p tan φ′,   G_max = 218.8 K2max √(p / 1 kPa) kPa,
+
+so γ_r = τ_max / G_max ∝ p^0.5 (Seed & Idriss 1970 for G_max; the floor acts on the shear law
+only and never feeds back into P_s). Above the water table (crust) P_s and G_max are fixed.
+
+**Backbone.** GQ/H (Groholski et al. 2016) in normalised form, x = |γ|/γ_r:
+
+    τ/τ_max = 2x / (1 + x + √((1 + x)² − 4 θ x)),   θ = θ1 + θ2 θ4 x^θ5 / (θ3^θ5 + θ4 x^θ5),
+
+θ = 0 is the hyperbola x/(1 + x) (Hardin & Drnevich), θ = 1 elastic–perfectly plastic.
+
+**Unloading and reloading.** From the last reversal (γ_0, τ_0), moving in direction d:
+
+    τ = τ_0 + d τ_max [F (2 f(x/2) − f(x)) + f(x)],   x = |γ − γ_0|/γ_r,  f the backbone ratio,
+
+with F = p1 − p2 (1 − G(γ_m)/G_max)^p3 the MRDF factor of Phillips & Hashash (2009) at the
+largest strain so far γ_m (F = 1: Masing's rule). Beyond ±γ_m in the direction of motion the
+branch does not go past the backbone. Reversal stresses are stored as τ/τ_max, so when τ_max
+shrinks they shrink with it (the mapping of Matasovic & Vucetic): no stress of an old reversal
+ever exceeds the new strength.
+
+**Cyclic mobility.** Dilation of the skeleton stiffens it again once the strain leaves a zone
+|γ − γ_c| ≤ γ_d around the centre of the cycles: the strength envelope is
+
+    τ_env = max(τ_max, τ_d),   τ_d = σ′_v0 tan φ′ min(1, (|γ − γ_c| − γ_d)/γ_dr) (≥ 0),
+
+and when loading outwards beyond γ_d the stress gains τ_d (additive, so it is continuous at the
+onset); a branch from a reversal above τ_max (a dilated state) is widened by
+κ = max(1, |d − τ_0/τ_max|/2) in stress and strain, so that it still reaches −d τ_max. Before liquefaction γ_c = 0
+and γ_d = ``gamma_d0``; at liquefaction γ_c becomes the middle of the current half cycle, and
+every later half cycle whose amplitude exceeds the threshold strain widens γ_d by ``gamma_d_step`` up to the
+limiting strain γ_lim(Dr) of Idriss & Boulanger (2008). The strain so grows cycle by cycle
+towards γ_lim instead of running away in the first element to liquefy.
+
+**Pore-pressure generation.** Cyclic damage counted per half cycle from the last reversal, with
+stress and strain amplitudes τ_a = |τ − τ_rev|/2, γ_a = |γ − γ_rev|/2:
+
+    dD = f_t(γ_a) / (2 N_L),   N_L = 15 (CRR / CSR)^(1/b),   CSR = τ_a / σ′_v0,
+    f_t = clip((γ_a − γ_t)/γ_t, 0, 1),
+
+CRR the field cyclic resistance at the element's σ′_v0 (M 7.5, K_σ applied) and b the slope of
+the CSR–N curve, both from (N1)60cs (:func:`twofluid.models.hysteretic_sand.derive`); no damage
+below the threshold strain γ_t. The generated excess pore-pressure ratio follows Seed & Booker
+(1977), r_g = (2/π) arcsin(D^(1/(2α))), α = 0.7, capped at ``r_cap``. Each increase of r_g lowers
+the effective stress by the same factor, P_s ← P_s (1 − r_g,new)/(1 − r_g,old), which for the
+exponential granular pressure of the two-fluid model is the reference-porosity change
+
+    n̄ ← n̄ + A (1 − n) ln((1 − r_g,new)/(1 − r_g,old)),
+
+so in an undrained element r_u = r_g exactly, and with drainage the two-fluid equations move the
+pressure as they do for any change of n̄.
+
+>>> import numpy as np
+>>> round(gqh_ratio(1.0, 0.0, 0.0, 1.0, 1.0, 1.0), 6)  # hyperbola at x = 1
+0.5
+>>> round(gqh_ratio(0.5, 1.0, 0.0, 1.0, 1.0, 1.0), 6), round(gqh_ratio(3.0, 1.0, 0.0, 1.0, 1.0, 1.0), 6)
+(0.5, 1.0)
+>>> round(seed_booker(0.5, 0.7), 4)
+0.4173
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "tangent", "direction",
+           "commit", "generated_ratio", "new_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
+
+KPA = 1000.0
+
+# ---- columns of the per-element state array (float64, one row per element)
+S_G = 0  # committed shear strain γ [-]
+S_T = 1  # committed skeleton stress over τ_max at commit, τ/τ_max [-]
+S_TAU = 2  # committed skeleton stress [Pa]
+S_GREV = 3  # strain at the last reversal [-]
+S_TREV = 4  # stress at the last reversal over τ_max then [-]
+S_TAUREV = 5  # stress at the last reversal [Pa] (for the half-cycle amplitude)
+S_DIR = 6  # direction of the last strain increment (−1, 0, +1)
+S_NREV = 7  # number of reversals so far
+S_GM = 8  # largest |γ| so far [-]
+S_D = 9  # damage of the completed half cycles [-]
+S_DPART = 10  # damage of the current half cycle so far [-]
+S_RG = 11  # generated excess pore-pressure ratio applied so far [-]
+S_EPS = 12  # volumetric strain made through n̄ so far, ln((1 − n̄)/(1 − n̄0)) [-]
+S_LIQ = 13  # 1 once the element has liquefied (D ≥ 1)
+S_GC = 14  # centre of the cycles γ_c [-]
+S_GD = 15  # half-width of the zone without dilation γ_d [-]
+S_TLIQ = 16  # time of liquefaction [s] (−1: not yet)
+NSTATE = 17
+STATE_COLUMNS = ("gamma", "tau_ratio", "tau", "gamma_rev", "tau_ratio_rev", "tau_rev", "direction",
+                 "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
+                 "liquefied", "gamma_centre", "gamma_d", "t_liquefied")
+
+# ---- columns of the per-element parameter array
+P_K2 = 0  # Seed–Idriss K2max [-]
+P_TANPHI = 1  # tan φ′ [-]
+P_SR = 2  # residual strength S_r [Pa]
+P_TH1, P_TH2, P_TH3, P_TH4, P_TH5 = 3, 4, 5, 6, 7  # GQ/H θ1..θ5 [-]
+P_P1, P_P2, P_P3 = 8, 9, 10  # MRDF p1..p3 [-]
+P_CRR = 11  # field CRR at σ′_v0 (M 7.5, K_σ) [-]
+P_B = 12  # slope b of CSR ∝ N^−b [-]
+P_GT = 13  # threshold strain γ_t [-]
+P_GLIM = 14  # limiting strain γ_lim [-]
+P_SIG0 = 15  # σ′_v0 [Pa]
+P_LIQ = 16  # 1: generates pore pressure (saturated, liquefiable)
+P_GDR = 17  # strain over which dilation restores the strength, γ_dr [-]
+P_GMAXFIX = 18  # > 0: fixed G_max [Pa] (crust)
+P_PSFIX = 19  # fixed effective vertical stress [Pa] (crust)
+P_DR = 20  # relative density Dr [-] (fraction, for the reconsolidation floor)
+P_ALPHA = 21  # Seed–Booker α [-]
+P_RCAP = 22  # largest generated ratio r_cap [-]
+P_DGD = 23  # widening of γ_d per liquefied half cycle [-]
+P_GD0 = 24  # γ_d before liquefaction [-]
+NPARAM = 25
+PARAM_COLUMNS = ("k2max", "tan_phi", "residual_strength", "theta1", "theta2", "theta3", "theta4",
+                 "theta5", "p1", "p2", "p3", "crr", "b", "gamma_threshold", "gamma_lim", "sigma_v0",
+                 "liquefiable", "gamma_dilation", "g_max_fixed", "p_s_fixed", "dr", "alpha", "r_cap",
+                 "gamma_d_step", "gamma_d0")
+
+
+def gqh_ratio(x, th1, th2, th3, th4, th5):
+    """τ/τ_max of the GQ/H backbone at normalised strain x = |γ|/γ_r ≥ 0 [-] (module docstring).
+
+    >>> round(gqh_ratio(0.0, 0.0, 0.0, 1.0, 1.0, 1.0), 6)
+    0.0
+    """
+    if x <= 0.0:
+        return 0.0
+    theta = th1
+    if th2 != 0.0:
+        xt = th4 * x ** th5
+        theta = th1 + th2 * xt / (th3 ** th5 + xt)
+    q = 1.0 + x
+    disc = q * q - 4.0 * theta * x
+    if disc < 0.0:
+        disc = 0.0
+    return 2.0 * x / (q + math.sqrt(disc))
+
+
+def seed_booker(damage, alpha):
+    """Seed & Booker (1977) r_u = (2/π) arcsin(D^(1/(2α))) for damage D = N/N_L ≥ 0 (1 at D ≥ 1).
+
+    >>> seed_booker(0.0, 0.7), seed_booker(2.0, 0.7)
+    (0.0, 1.0)
+    """
+    if damage <= 0.0:
+        return 0.0
+    if damage >= 1.0:
+        return 1.0
+    return 2.0 / math.pi * math.asin(damage ** (0.5 / alpha))
+
+
+def strength_modulus(ps, par, e):
+    """(τ_max [Pa], G_max [Pa]) of element ``e`` at effective vertical stress ``ps`` [Pa]."""
+    tanphi = par[e, P_TANPHI]
+    if par[e, P_GMAXFIX] > 0.0:
+        return max(par[e, P_PSFIX] * tanphi, par[e, P_SR]), par[e, P_GMAXFIX]
+    p = max(ps, par[e, P_SR] / tanphi, 1e-3)
+    return p * tanphi, 218.8 * KPA * par[e, P_K2] * math.sqrt(p / KPA)
+
+
+def _envelope(g, d, tau, st, par, e, s):
+    """``tau`` limited by the strength envelope, and at least the dilation stress when loading
+    outwards beyond γ_d (module docstring, "Cyclic mobility")."""
+    upper = s
+    lower = -s
+    ex = g - st[e, S_GC]
+    over = abs(ex) - st[e, S_GD]
+    if over > 0.0:
+        sd = par[e, P_SIG0] * par[e, P_TANPHI]
+        td = sd * min(1.0, over / par[e, P_GDR])
+        if ex > 0.0:
+            if td > upper:
+                upper = td
+            if d > 0.0:
+                tau += td
+        else:
+            if -td < lower:
+                lower = -td
+            if d < 0.0:
+                tau -= td
+    if tau > upper:
+        tau = upper
+    if tau < lower:
+        tau = lower
+    return tau
+
+
+def _branch(y, fm, th1, th2, th3, th4, th5):
+    """Φ(y) = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r: a Masing/MRDF branch over τ_max."""
+    x = abs(y)
+    phi = fm * (2.0 * gqh_ratio(0.5 * x, th1, th2, th3, th4, th5) - gqh_ratio(x, th1, th2, th3, th4, th5)) \
+        + gqh_ratio(x, th1, th2, th3, th4, th5)
+    return phi if y >= 0.0 else -phi
+
+
+def direction(g, st, e):
+    """Direction (±1) of a strain increment to ``g`` from the committed strain (the last one's if 0)."""
+    dg = g - st[e, S_G]
+    if dg > 0.0:
+        return 1.0
+    if dg < 0.0:
+        return -1.0
+    return st[e, S_DIR] if st[e, S_DIR] != 0.0 else 1.0
+
+
+def skeleton_stress(g, d, st, par, e, s, gr):
+    """Rate-independent skeleton stress [Pa] of element ``e`` at trial strain ``g`` reached by
+    moving in direction ``d`` (±1, fixed over a sub-step's Newton iterations) from its committed
+    state, with strength ``s`` [Pa] and reference strain ``gr`` = s/G_max [-].
+
+    Each branch is an odd function of γ − γ_0, smooth through its origin, so iterates on either
+    side of the committed strain see one smooth branch; ``d`` only chooses the origin: the
+    committed point where ``d`` reverses the last direction, else the last reversal."""
+    d_old = st[e, S_DIR]
+    th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
+    reversal = d_old != 0.0 and d != d_old
+    if st[e, S_NREV] == 0.0 and not reversal:  # first loading: the backbone
+        tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
+        return _envelope(g, d, tau, st, par, e, s)
+    if reversal:
+        g0 = st[e, S_G]
+        t0 = st[e, S_T]
+    else:
+        g0 = st[e, S_GREV]
+        t0 = st[e, S_TREV]
+    gm = st[e, S_GM]
+    xm = gm / gr
+    red = gqh_ratio(xm, th1, th2, th3, th4, th5) / xm if xm > 0.0 else 1.0
+    fm = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
+    # the branch's scale: 1 (Masing) from a reversal inside the strength; from a stress the dilation
+    # carried above it, wider, so that the branch still reaches the strength the other way
+    kappa = max(1.0, 0.5 * abs(d - t0))
+    tau = t0 * s + s * kappa * _branch((g - g0) / (kappa * gr), fm, th1, th2, th3, th4, th5)
+    if d * g > gm:  # beyond the largest strain so far: not past the backbone
+        tb = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
+        if (d > 0.0 and tau > tb) or (d < 0.0 and tau < tb):
+            tau = tb
+    return _envelope(g, d, tau, st, par, e, s)
+
+
+def tangent(g, d, tau, st, par, e, s, gr):
+    """One-sided difference dτ/dγ [Pa] at ``g`` in direction ``d`` (≥ 0), ``tau`` the stress
+    there: the Newton iterations' stiffness."""
+    h = (1e-6 * gr + 1e-9 * abs(g)) * d
+    k = (skeleton_stress(g + h, d, st, par, e, s, gr) - tau) / h
+    return k if k > 0.0 else 0.0
+
+
+def half_cycle_damage(ta, ga, par, e):
+    """Damage of a half cycle of stress amplitude ``ta`` [Pa] and strain amplitude ``ga`` [-]."""
+    gt = par[e, P_GT]
+    ft = (ga - gt) / gt
+    if ft <= 0.0 or ta <= 0.0:
+        return 0.0
+    if ft > 1.0:
+        ft = 1.0
+    csr = ta / par[e, P_SIG0]
+    return ft / 30.0 * (csr / par[e, P_CRR]) ** (1.0 / par[e, P_B])
+
+
+def commit(g, d, tau, st, par, e, s, t):
+    """Commit the converged strain ``g``, reached in direction ``d``, and stress ``tau`` [Pa] of
+    element ``e`` at time ``t`` [s]: reversals, the largest strain, damage and liquefaction.
+    Returns the total damage."""
+    g_old = st[e, S_G]
+    d_old = st[e, S_DIR]
+    if d_old != 0.0 and d != d_old:  # the half cycle ended at g_old
+        st[e, S_D] += st[e, S_DPART]
+        st[e, S_DPART] = 0.0
+        if st[e, S_LIQ] > 0.0 and 0.5 * abs(g_old - st[e, S_GREV]) > par[e, P_GT]:
+            st[e, S_GD] = min(par[e, P_GLIM], st[e, S_GD] + par[e, P_DGD])
+        st[e, S_GREV] = g_old
+        st[e, S_TREV] = st[e, S_T]
+        st[e, S_TAUREV] = st[e, S_TAU]
+        st[e, S_NREV] += 1.0
+    st[e, S_DIR] = d
+    st[e, S_G] = g
+    st[e, S_T] = tau / s
+    st[e, S_TAU] = tau
+    if abs(g) > st[e, S_GM]:
+        st[e, S_GM] = abs(g)
+    if par[e, P_LIQ] > 0.0:
+        dd = half_cycle_damage(0.5 * abs(tau - st[e, S_TAUREV]), 0.5 * abs(g - st[e, S_GREV]), par, e)
+        if dd > st[e, S_DPART]:
+            st[e, S_DPART] = dd
+        if st[e, S_LIQ] == 0.0 and st[e, S_D] + st[e, S_DPART] >= 1.0:
+            st[e, S_LIQ] = 1.0
+            st[e, S_TLIQ] = t
+            st[e, S_GC] = 0.5 * (g + st[e, S_GREV])
+    return st[e, S_D] + st[e, S_DPART]
+
+
+def generated_ratio(st, par, e):
+    """r_g of element ``e`` from its damage (Seed–Booker, capped at r_cap) [-]."""
+    r = seed_booker(st[e, S_D] + st[e, S_DPART], par[e, P_ALPHA])
+    cap = par[e, P_RCAP]
+    return r if r < cap else cap
+
+
+def new_state(n_elements: int, par=None) -> np.ndarray:
+    """A virgin state array (no shear history) for ``n_elements`` elements; γ_d from ``par``.
+
+    >>> new_state(2).shape
+    (2, 17)
+    """
+    st = np.zeros((n_elements, NSTATE))
+    st[:, S_TLIQ] = -1.0
+    if par is not None:
+        st[:, S_GD] = par[:, P_GD0]
+    return st

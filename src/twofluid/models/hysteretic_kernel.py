@@ -1,0 +1,297 @@
+"""The shear sub-steps of the liquefaction column with the hysteretic law, written once.
+
+One vertical step's shear sub-steps: Newmark average acceleration (β = 1/4, γ = 1/2) on linear
+elements with consistent mass (:mod:`twofluid.models.shear_column` has the equations and the
+compliant base), Newton iterations on the element stresses of
+:mod:`twofluid.closures.hysteretic`, then each element's commit (reversals, damage) and the
+pore-pressure generation as a change of n̄. The small-strain viscous floor is Rayleigh damping:
+mass-proportional a0 ρ̄ u̇ and stiffness-proportional a1 G_max(P_s) γ̇ with the *current*
+small-strain modulus (not the tangent, which is zero while the skeleton yields, and not the
+initial one, which would keep a viscous strength after liquefaction), plus the liquefied-soil
+and mixture viscosity η γ̇.
+
+The porosity of the saturated elements moves linearly over the vertical step from ``n`` by
+``dn`` (the previous step's change: the vertical model's drainage, extrapolated), so P_s — and
+with it the strength — changes smoothly from sub-step to sub-step instead of jumping at every
+vertical step.
+
+The same source runs compiled (:func:`compiled`, numba, built ahead of time by
+:mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
+:func:`substeps` with ``jit=False``), which is slow but steps through in a debugger.
+
+>>> import numpy as np
+>>> callable(compiled()) or compiled() is None
+True
+"""
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from ..closures import hysteretic as _law
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_EPS, S_RG
+
+__all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
+
+_MAX_EXPONENT = 700.0
+
+
+def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
+              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, ps_out):
+    """Advance len(a_in) sub-steps in place; returns 0, 1 (Newton did not converge: halve the
+    sub-step) or 2 (a non-finite value)."""
+    ne = h.size
+    nv = ne + 1
+    m = a_in.size
+    md = np.zeros(nv)
+    mo = np.empty(ne)
+    for e in range(ne):
+        me = rho[e] * h[e]
+        md[e] += me / 3.0
+        md[e + 1] += me / 3.0
+        mo[e] = me / 6.0
+    m1 = md.copy()
+    for e in range(ne):
+        m1[e] += mo[e]
+        m1[e + 1] += mo[e]
+    s = np.empty(ne)
+    gr = np.empty(ne)
+    gm = np.empty(ne)
+    cd = np.empty(nv)
+    co = np.empty(ne)
+    un = np.empty(nv)
+    acc = np.empty(nv)
+    vel = np.empty(nv)
+    res = np.empty(nv)
+    jd = np.empty(nv)
+    jo = np.empty(ne)
+    kk = np.empty(ne)
+    cp = np.empty(nv)
+    dp = np.empty(nv)
+    du = np.zeros(nv)
+    nn = np.empty(ne)
+    dirn = np.empty(ne)
+    g_prev = np.empty(ne)
+    t_prev = np.empty(ne)
+    c0 = 1.0 / (0.25 * dt * dt)
+    cc1 = 0.5 / (0.25 * dt)
+    for i in range(m):
+        t = t0 + (i + 1) * dt
+        frac = (i + 1.0) / m
+        for e in range(ne):
+            ps = 0.0
+            if e < ns:
+                nn[e] = n[e] + frac * dn[e]
+                one_m = 1.0 - nn[e]
+                if one_m > 0.0:
+                    ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
+            se, ge = _law.strength_modulus(ps, par, e)
+            if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
+                return 2
+            s[e] = se
+            gm[e] = ge
+            gr[e] = se / ge
+            ps_out[e] = ps
+        ag = a_in[i]
+        if not math.isfinite(ag):
+            return 2
+        for j in range(nv):
+            cd[j] = a0 * md[j]
+        cd[0] += impedance
+        for e in range(ne):
+            ke = (eta[e] + a1 * gm[e]) / h[e]
+            cd[e] += ke
+            cd[e + 1] += ke
+            co[e] = -ke + a0 * mo[e]
+        for j in range(nv):
+            un[j] = u[j] + dt * v[j] + 0.5 * dt * dt * a[j]
+        if first == 1:
+            un[0] = 0.0
+        for e in range(ne):  # each element's branch, fixed for the iterations: the predictor's
+            dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
+        converged = False
+        relax = 1.0
+        for it in range(max_iter):
+            if it == 25:
+                relax = 0.5  # still alternating: damped
+            for j in range(nv):
+                acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + a[j])
+                vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
+            for j in range(nv):
+                res[j] = md[j] * acc[j] + cd[j] * vel[j] + m1[j] * ag
+            for e in range(ne):
+                res[e] += mo[e] * acc[e + 1] + co[e] * vel[e + 1]
+                res[e + 1] += mo[e] * acc[e] + co[e] * vel[e]
+                g = (un[e + 1] - un[e]) / h[e]
+                te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                res[e] -= te
+                res[e + 1] += te
+                if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
+                    # the chord between the last two iterates: iterates that alternate across a kink
+                    # of the strength envelope converge like regula falsi instead of cycling
+                    ke = (te - t_prev[e]) / (g - g_prev[e])
+                    kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
+                else:
+                    kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
+                g_prev[e] = g
+                t_prev[e] = te
+            for j in range(nv):
+                jd[j] = c0 * md[j] + cc1 * cd[j]
+            for e in range(ne):
+                jd[e] += kk[e]
+                jd[e + 1] += kk[e]
+                jo[e] = c0 * mo[e] + cc1 * co[e] - kk[e]
+            # Thomas elimination on the free nodes first..ne: J du = −res
+            cp[first] = jo[first] / jd[first] if first < ne else 0.0
+            dp[first] = -res[first] / jd[first]
+            for j in range(first + 1, nv):
+                den = jd[j] - jo[j - 1] * cp[j - 1]
+                if j < ne:
+                    cp[j] = jo[j] / den
+                dp[j] = (-res[j] - jo[j - 1] * dp[j - 1]) / den
+            du[ne] = dp[ne]
+            for j in range(ne - 1, first - 1, -1):
+                du[j] = dp[j] - cp[j] * du[j + 1]
+            dmax = 0.0
+            umax = 0.0
+            for j in range(first, nv):
+                if not math.isfinite(du[j]):
+                    return 2
+                un[j] += relax * du[j]
+                if abs(du[j]) > dmax:
+                    dmax = abs(du[j])
+            for j in range(nv):
+                if abs(un[j]) > umax:
+                    umax = abs(un[j])
+            if dmax <= tol * max(umax, 1e-9):
+                converged = True
+                break
+        if not converged:
+            return 1
+        for j in range(nv):
+            acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + a[j])
+            vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
+        for e in range(ne):
+            g = (un[e + 1] - un[e]) / h[e]
+            te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+            tau_out[e] = te + (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])
+            _law.commit(g, dirn[e], te, st, par, e, s[e], t)
+            if e < ns and par[e, P_LIQ] > 0.0:
+                r_old = st[e, S_RG]
+                r_new = _law.generated_ratio(st, par, e)
+                if r_new > r_old:
+                    nb_old = nb[e]
+                    nb[e] = nb_old + A[e] * (1.0 - nn[e]) * math.log((1.0 - r_new) / (1.0 - r_old))
+                    st[e, S_EPS] += math.log((1.0 - nb[e]) / (1.0 - nb_old))
+                    st[e, S_RG] = r_new
+        for j in range(nv):
+            u[j] = un[j]
+            v[j] = vel[j]
+            a[j] = acc[j]
+        surface[i] = (ag if t <= shaking_end + 1e-12 else 0.0) + a[ne]
+    return 0
+
+
+def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_liq, gamma_liq,
+                    out_g, out_tau, out_ru):
+    """Undrained cyclic simple shear of element 0 of ``st``/``par``: uniform cycles of stress
+    (mode 0, τ = amplitude σ′_v0 sin 2πt) or strain (mode 1, γ = amplitude sin 2πt), t in cycles;
+    undrained, so P_s = σ′_v0 (1 − r_g). Fills out_* per step (len steps_per_cycle·max_cycles + 1)
+    and returns the cycles to the first r_u ≥ ``ru_liq`` or |γ| ≥ ``gamma_liq`` (−1: none; the
+    steps after it are not run). Stress control finds γ by bisection on the skeleton stress; a
+    stress the skeleton cannot carry within |γ| ≤ 1 counts as liquefaction."""
+    sig0 = par[0, P_SIG0]
+    nsteps = steps_per_cycle * max_cycles
+    out_g[0] = 0.0
+    out_tau[0] = 0.0
+    out_ru[0] = 0.0
+    for k in range(1, nsteps + 1):
+        t = k / steps_per_cycle
+        r = st[0, S_RG]
+        s, gmx = _law.strength_modulus(sig0 * (1.0 - r), par, 0)
+        gr = s / gmx
+        g_old = st[0, 0]
+        if mode == 1:
+            g = amplitude * math.sin(2.0 * math.pi * t)
+            d = _law.direction(g, st, 0)
+            tau = _law.skeleton_stress(g, d, st, par, 0, s, gr)
+        else:
+            target = amplitude * sig0 * math.sin(2.0 * math.pi * t)
+            d = 1.0 if target > st[0, 1] * s else -1.0  # from the committed stress τ/τ_max · τ_max
+            lo = g_old
+            step = 1e-6
+            hi = g_old + d * step
+            found = False
+            while abs(hi) <= 1.0:
+                th = _law.skeleton_stress(hi, d, st, par, 0, s, gr)
+                if d * (th - target) >= 0.0:
+                    found = True
+                    break
+                lo = hi
+                step *= 2.0
+                hi = g_old + d * step
+            if not found:
+                return t
+            for _ in range(80):
+                mid = 0.5 * (lo + hi)
+                tm = _law.skeleton_stress(mid, d, st, par, 0, s, gr)
+                if d * (tm - target) >= 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            g = hi
+            tau = _law.skeleton_stress(g, d, st, par, 0, s, gr)
+        _law.commit(g, d, tau, st, par, 0, s, t)
+        st[0, S_RG] = _law.generated_ratio(st, par, 0)
+        out_g[k] = g
+        out_tau[k] = tau
+        out_ru[k] = st[0, S_RG]
+        if st[0, S_RG] >= ru_liq or abs(g) >= gamma_liq:
+            return t
+    return -1.0
+
+
+#: argument types for the ahead-of-time build (C-contiguous float64 arrays, floats, integers)
+SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
+             "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
+             "f8[::1], f8[::1], f8[::1])")
+_HELPERS = (_law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
+            _law.skeleton_stress, _law.tangent,
+            _law.half_cycle_damage, _law.commit, _law.seed_booker, _law.generated_ratio)
+
+ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1])"
+
+_COMPILED = None
+_TRIED = False
+
+
+def compiled():
+    """The compiled kernel (arguments as :func:`_substeps`, arrays C-contiguous), or None where
+    it cannot be compiled or ``TWOFLUID_DISABLE_JIT`` is set (then :func:`substeps` runs the
+    plain Python)."""
+    global _COMPILED, _TRIED
+    if os.environ.get("TWOFLUID_DISABLE_JIT"):
+        return None
+    if not _TRIED:
+        _TRIED = True
+        from ..compiled import group
+
+        _COMPILED = group("hysteretic", {"substeps": (_substeps, SIGNATURE),
+                                         "element_cycles": (_element_cycles, ELEMENT_SIGNATURE)},
+                          helpers=_HELPERS)
+    return None if _COMPILED is None else _COMPILED["substeps"]
+
+
+def element_cycles(*args, jit: bool = True) -> float:
+    """Run the element test (arguments as :func:`_element_cycles`), compiled where possible."""
+    if jit and compiled() is not None:
+        return float(_COMPILED["element_cycles"](*args))
+    return float(_element_cycles(*args))
+
+
+def substeps(*args, jit: bool = True) -> int:
+    """Run the sub-steps (arguments as :func:`_substeps`), compiled where possible."""
+    k = compiled() if jit else None
+    return int(k(*args)) if k is not None else int(_substeps(*args))

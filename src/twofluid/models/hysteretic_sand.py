@@ -1,0 +1,183 @@
+"""Parameters of the hysteretic shear law (:mod:`twofluid.closures.hysteretic`) from the inputs an
+engineer has: (N1)60cs (SPT), q_c1Ncs (CPT) or Dr, and σ′_v0.
+
+Triggering is calibrated to the correlations of Idriss & Boulanger (2008) and Boulanger & Idriss
+(2014) that :mod:`twofluid.geotech` also uses for the simplified procedure, so the element test
+and the simplified table share CRR, K_σ and the slope b:
+
+* CRR = CRR_M7.5(N) · K_σ(σ′_v0, N), N = (N1)60cs (SPT; the CPT route uses its own CRR and C_σ);
+  the 0.9 factor for multidirectional shaking is **not** applied: a uniform cycle of the element
+  at CSR = CRR_M7.5 (σ′_v0 = 1 atm) liquefies in 15 cycles, and the 1D column, shaken in one
+  direction, is given the field resistance as the correlation states it;
+* b from the magnitude scaling factor: MSF = (15/N_M)^b with MSF_max the MSF at M ≈ 5.25, where
+  Idriss & Boulanger's (2008) clean-sand MSF (derived with b = 0.34) reaches its cap 1.8; so
+  N_M ≈ 15/1.8^(1/0.34) = 2.66 cycles there and b = ln MSF_max / ln(15/2.66), MSF_max of
+  Boulanger & Idriss (2014) from (N1)60cs (or q_c1Ncs);
+* residual strength S_r/σ′_v0 of Idriss & Boulanger (2008), void redistribution negligible,
+  ≤ tan φ′, with (N1)60cs-Sr = (N1)60cs (clean sand: no fines adjustment);
+* γ_lim = 1.859 (1.1 − Dr)³ (Yoshimine et al. 2006), Dr = √((N1)60cs/46);
+* φ′ = 33° + 3 I_R, I_R = Dr (10 − ln p′/kPa) − 1 clipped to [0, 4] (Bolton 1986, triaxial form;
+  p′ = σ′_v0 (1 + 2 K0)/3 with K0 = 0.5), unless given.
+
+>>> row = derive(n160cs=10.0, sigma_v0=100e3)
+>>> round(float(row["crr"]), 4), round(float(row["b"]), 3)
+(0.1182, 0.101)
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..closures import hysteretic as law
+from ..geotech.simplified import crr_75, k_sigma
+
+__all__ = ["derive", "parameters", "csr_slope_b", "residual_strength_ratio", "bolton_friction_angle",
+           "cpt_crr_75", "cpt_k_sigma", "DEFAULTS", "K0"]
+
+K0 = 0.5  # at-rest earth pressure coefficient of the element tests and of σ′_m [-]
+_N_SMALL_M = 15.0 / 1.8 ** (1.0 / 0.34)  # equivalent cycles at M ≈ 5.25 (module docstring)
+PA = 101325.0
+
+#: defaults of the parameters that are not correlations (docs/liquefaction.md states each)
+DEFAULTS = {
+    "gamma_threshold": 5e-5,  # no damage below (|Δγ|/2 ≤ γ_t), full above 2 γ_t [-]
+    "gamma_dilation": 0.005,  # dilation restores σ′_v0 tan φ′ over this strain beyond γ_d [-]
+    "gamma_d0": 0.005,  # zone without dilation before liquefaction [-]
+    "gamma_d_steps": 100.0,  # γ_d widens by γ_lim/100 per liquefied half cycle [-]
+    "alpha": 0.7,  # Seed–Booker shape [-]
+    "r_cap": 0.999,  # largest generated ratio [-]
+}
+
+
+def csr_slope_b(msf_max):
+    """Slope b of CSR ∝ N^−b implied by MSF_max (module docstring) [-].
+
+    >>> round(float(csr_slope_b(1.8)), 3)
+    0.34
+    """
+    return np.log(np.asarray(msf_max, dtype=float)) / math.log(15.0 / _N_SMALL_M)
+
+
+def residual_strength_ratio(n160cs, tan_phi=np.inf):
+    """S_r/σ′_v0 of liquefied clean sand, void redistribution negligible (Idriss & Boulanger 2008) [-].
+
+    S_r/σ′ = exp(N/16 + ((N − 16)/21.2)³ − 3.0) (1 + exp(N/2.4 − 6.6)) ≤ tan φ′.
+
+    >>> round(float(residual_strength_ratio(10.0)), 4)
+    0.0989
+    """
+    n = np.asarray(n160cs, dtype=float)
+    r = np.exp(n / 16.0 + ((n - 16.0) / 21.2) ** 3 - 3.0) * (1.0 + np.exp(n / 2.4 - 6.6))
+    return np.minimum(r, tan_phi)
+
+
+def bolton_friction_angle(dr, p_mean_pa):
+    """Peak friction angle φ′ [deg] = 33 + 3 I_R, I_R = Dr (10 − ln p′) − 1 in [0, 4] (Bolton 1986).
+
+    Dr [-] fraction, p′ [Pa].
+
+    >>> round(float(bolton_friction_angle(0.47, 66.7e3)), 2)
+    38.18
+    """
+    ir = np.clip(np.asarray(dr) * (10.0 - np.log(np.asarray(p_mean_pa) / 1e3)) - 1.0, 0.0, 4.0)
+    return 33.0 + 3.0 * ir
+
+
+def cpt_crr_75(qc1ncs):
+    """CRR_M7.5,1atm from q_c1Ncs, Boulanger & Idriss (2014) [-].
+
+    >>> round(float(cpt_crr_75(100.0)), 4)
+    0.1373
+    """
+    q = np.asarray(qc1ncs, dtype=float)
+    return np.exp(q / 113.0 + (q / 1000.0) ** 2 - (q / 140.0) ** 3 + (q / 137.0) ** 4 - 2.80)
+
+
+def cpt_k_sigma(sigma_v_eff_pa, qc1ncs):
+    """K_σ = 1 − C_σ ln(σ′_v/P_a) ≤ 1.1, C_σ = 1/(37.3 − 8.27 q_c1Ncs^0.264) ≤ 0.3 [-]."""
+    q = np.minimum(np.asarray(qc1ncs, dtype=float), 211.0)
+    c = np.minimum(1.0 / (37.3 - 8.27 * q ** 0.264), 0.3)
+    return np.minimum(1.0 - c * np.log(np.asarray(sigma_v_eff_pa) / PA), 1.1)
+
+
+def derive(*, n160cs=None, qc1ncs=None, dr=None, sigma_v0, friction_angle=None):
+    """Correlated parameters of one soil at σ′_v0 [Pa]: a dict of crr, b, tan_phi,
+    residual_strength [Pa], gamma_lim, dr (fraction), n160cs. Give one of (N1)60cs, q_c1Ncs or Dr
+    [%] (then (N1)60cs = 46 Dr²); friction_angle [deg], None: Bolton's."""
+    sig = float(sigma_v0)
+    if qc1ncs is not None:
+        q = float(qc1ncs)
+        dr_f = min(max(0.478 * q ** 0.264 - 1.063, 0.05), 1.0)
+        n = 46.0 * dr_f * dr_f
+        crr = float(cpt_crr_75(q) * cpt_k_sigma(sig, q))
+        msf_max = min(1.09 + (q / 180.0) ** 3, 2.2)
+    else:
+        if n160cs is not None:
+            n = float(n160cs)
+            dr_f = min(math.sqrt(n / 46.0), 1.0)
+        else:
+            dr_f = float(dr) / 100.0
+            n = 46.0 * dr_f * dr_f
+        crr = float(crr_75(n) * k_sigma(sig, n))
+        msf_max = min(1.09 + (n / 31.5) ** 2, 2.2)
+    p_mean = sig * (1.0 + 2.0 * K0) / 3.0
+    phi = float(bolton_friction_angle(dr_f, p_mean)) if friction_angle is None else float(friction_angle)
+    tan_phi = math.tan(math.radians(phi))
+    return {"crr": crr, "b": float(csr_slope_b(msf_max)), "tan_phi": tan_phi,
+            "residual_strength": float(residual_strength_ratio(n, tan_phi)) * sig,
+            "gamma_lim": 1.859 * max(1.1 - dr_f, 0.0) ** 3, "dr": dr_f, "n160cs": n,
+            "friction_angle": phi}
+
+
+def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, friction_angle=None,
+               theta=(0.0, 0.0, 1.0, 1.0, 1.0), mrdf=(1.0, 0.0, 1.0), liquefiable=True,
+               g_max_fixed=0.0, **overrides) -> np.ndarray:
+    """The (n, NPARAM) parameter array of :mod:`twofluid.closures.hysteretic` for n elements.
+
+    Every argument is a scalar or an (n,) array (``theta`` (5,) or (n, 5), ``mrdf`` (3,) or (n, 3)).
+    ``g_max_fixed`` > 0 marks an element above the water table: fixed G_max [Pa] and effective
+    stress σ′_v0, no pore pressure. ``overrides`` replace :data:`DEFAULTS`.
+
+    >>> p = parameters(sigma_v0=[50e3, 100e3], n160cs=10.0)
+    >>> p.shape, bool(p[1, law.P_SR] > p[0, law.P_SR])
+    ((2, 25), True)
+    """
+    sig = np.atleast_1d(np.asarray(sigma_v0, dtype=float))
+    ne = sig.size
+    each = lambda x: np.broadcast_to(np.asarray(x if x is not None else np.nan, dtype=float), (ne,))
+    n_a, q_a, d_a = each(n160cs), each(qc1ncs), each(dr)
+    phi_a = each(friction_angle)
+    opts = dict(DEFAULTS, **overrides)
+    par = np.zeros((ne, law.NPARAM))
+    for e in range(ne):
+        kw = {}
+        if np.isfinite(q_a[e]) and q_a[e] > 0.0:
+            kw["qc1ncs"] = q_a[e]
+        elif np.isfinite(n_a[e]) and n_a[e] > 0.0:
+            kw["n160cs"] = n_a[e]
+        else:
+            kw["dr"] = d_a[e] if np.isfinite(d_a[e]) else 47.0
+        c = derive(sigma_v0=sig[e], friction_angle=None if not np.isfinite(phi_a[e]) else phi_a[e], **kw)
+        par[e, law.P_TANPHI] = c["tan_phi"]
+        par[e, law.P_SR] = c["residual_strength"]
+        par[e, law.P_CRR] = c["crr"]
+        par[e, law.P_B] = c["b"]
+        par[e, law.P_GLIM] = max(c["gamma_lim"], opts["gamma_d0"])
+        par[e, law.P_DR] = c["dr"]
+        par[e, law.P_DGD] = c["gamma_lim"] / opts["gamma_d_steps"]
+    par[:, law.P_K2] = each(k2max)
+    th = np.broadcast_to(np.asarray(theta, dtype=float), (ne, 5))
+    par[:, law.P_TH1:law.P_TH5 + 1] = th
+    par[:, law.P_P1:law.P_P3 + 1] = np.broadcast_to(np.asarray(mrdf, dtype=float), (ne, 3))
+    par[:, law.P_GT] = opts["gamma_threshold"]
+    par[:, law.P_SIG0] = sig
+    gfix = each(g_max_fixed)
+    par[:, law.P_GMAXFIX] = gfix
+    par[:, law.P_PSFIX] = np.where(gfix > 0.0, sig, 0.0)
+    par[:, law.P_LIQ] = np.where(gfix > 0.0, 0.0, np.broadcast_to(np.asarray(liquefiable, dtype=float), (ne,)))
+    par[:, law.P_GDR] = opts["gamma_dilation"]
+    par[:, law.P_ALPHA] = opts["alpha"]
+    par[:, law.P_RCAP] = opts["r_cap"]
+    par[:, law.P_GD0] = opts["gamma_d0"]
+    return np.ascontiguousarray(par)
