@@ -126,8 +126,8 @@ _MOTION = [
     K("magnitude", float, 6.95, "-", "moment magnitude M_w of the earthquake (the simplified procedure's "
       "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record (each bundled "
       "record's M_w: data/ground_motions/PROVENANCE.md)", lo=5.0, hi=9.0),
-    K("polarity", int, 1, "-", "sign of the record: 1 as recorded, -1 reversed (a → −a, after the scaling); "
-      "an ensemble runs each record with both", choices=(1, -1)),
+    K("polarity", int, 1, "-", "sign of the record: 1 as recorded, -1 reversed (a → −a, after the scaling); on "
+      "level ground the response is the mirror image (same r_u, settlement, peak strains)", choices=(1, -1)),
 ]
 
 _SHEAR = [

@@ -264,7 +264,7 @@ class BundledRecord:
     path : str
         Path under ``twofluid/data/ground_motions``.
     earthquake, station, component : str
-        As in the PEER NGA-West2 file header.
+        The earthquake and station; the component as the PEER file's header gives it.
     magnitude : float
         Moment magnitude M_w of the earthquake (PEER NGA-West2): the value of ``[ground_motion]
         magnitude`` (the simplified procedure's magnitude scaling factor) for this record.
@@ -292,9 +292,9 @@ class BundledRecord:
 _SHIPPED = (
     BundledRecord("RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "Imperial Valley-02, 1940", "El Centro Array #9",
                   "180", 6.95, "D"),
-    BundledRecord("RSN1120_KOBE_TAK000.AT2", "Kobe, Japan, 1995", "Takatori", "000", 6.9, "D"),
+    BundledRecord("RSN1120_KOBE_TAK000.AT2", "Kobe, Japan, 1995", "Takatori", "0", 6.9, "D"),
     BundledRecord("RSN779_LOMAP_LGP000.AT2", "Loma Prieta, 1989", "LGPC (Los Gatos Presentation Center)",
-                  "000", 6.93, "C"),
+                  "0", 6.93, "C"),
     BundledRecord("RSN1180_CHICHI_CHY002-N.AT2", "Chi-Chi, Taiwan, 1999", "CHY002", "N", 7.62, "D"),
     BundledRecord("RSN1762_HECTOR_ABY360.AT2", "Hector Mine, 1999", "Amboy", "360", 7.13, "C"),
     BundledRecord("liquefied-site/RSN8119_CCHURCH_PRPCS.AT2", "Christchurch, New Zealand, 2011",
