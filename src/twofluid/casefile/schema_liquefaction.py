@@ -6,7 +6,7 @@ layers above it are a dry or moist crust (unit weight, stiffness; no pore pressu
 below it are saturated soil (particle size or hydraulic conductivity, porosity or void ratio,
 skeleton compressibility, shear modulus and its reduction curve, densification law,
 liquefied-soil viscosity, liquefiable or not). Sections: ``[site]`` (water table, surcharge,
-initial state), ``[[layers]]``, ``[ground_motion]`` (record, scaling, magnitude),
+initial state), ``[[layers]]``, ``[ground_motion]`` (record, scaling, polarity, magnitude),
 ``[shear_wave]`` (horizontal equation: sub-step, damping, base), ``[reconsolidation]`` (vertical
 step after the shaking, dissipation criterion) and ``[report]``. ``[closures.drag]`` and
 ``[closures.viscosity]`` are those of the 1D model; ``[time] step`` is the vertical step while
@@ -126,7 +126,8 @@ LAYER_KEYS = [
 _MOTION = [
     K("file", str, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "-", "acceleration record — of the base "
       "([shear_wave] base = \"rigid\") or of the bedrock outcrop (\"compliant\"): a bundled name "
-      "(data/ground_motions) or a path (.AT2 in g, or .csv time_s,acceleration) relative to the case file"),
+      "(data/ground_motions: El Centro, Kobe Takatori, Loma Prieta LGPC, Chi-Chi CHY002, Hector Mine Amboy; "
+      "PROVENANCE.md there) or a path (.AT2 in g, or .csv time_s,acceleration) relative to the case file"),
     K("units", str, "g", "-", "CSV acceleration units (an .AT2 record is in g by its format)",
       choices=("g", "m/s2"), used_when=("file", Suffixes((".csv",)))),
     K("pga_g", float, 0.1, "g", "peak |a| the record is scaled to; 0 switches the shaking off",
@@ -135,7 +136,10 @@ _MOTION = [
     K("baseline_order", int, 1, "-", "polynomial order of the velocity baseline removed before scaling "
       "(0: none)", lo=0, hi=3),
     K("magnitude", float, 6.95, "-", "moment magnitude M_w of the earthquake (the simplified procedure's "
-      "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record", lo=5.0, hi=9.0),
+      "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record (each bundled "
+      "record's M_w: data/ground_motions/PROVENANCE.md)", lo=5.0, hi=9.0),
+    K("polarity", int, 1, "-", "sign of the record: 1 as recorded, -1 reversed (a → −a, after the scaling); on "
+      "level ground the response is the mirror image (same r_u, settlement, peak strains)", choices=(1, -1)),
 ]
 
 _SHEAR = [
@@ -289,6 +293,7 @@ def check_liquefaction(case: dict, source: str) -> None:
         load_ann_weights(case, source, i)
         tables.append(load_reduction_table(case, source, i))
     load_motion(case, source)
+    _warn_liquefied_site_record(case, source)
     for i, table in enumerate(tables):  # last: a warning only for a valid case
         _warn_softening(case, source, i, table)
     for i, wet in enumerate(saturated(case)):
@@ -528,9 +533,24 @@ def _record_path(case: dict, source: str) -> Path:
                         f"bundled record ({exc})") from None
 
 
+def _warn_liquefied_site_record(case: dict, source: str) -> None:
+    """A record made at a site that itself liquefied, used as an input motion (valid, but it carries
+    that site's liquefied response: softened, long-period, its peaks clipped)."""
+    from ..io import ground_motion as gm
+
+    if case["ground_motion"]["pga_g"] == 0.0:
+        return
+    entry = gm.liquefied_site_record(_record_path(case, source))
+    if entry is not None:
+        warnings.warn(CaseWarning(f"{source}: [ground_motion] file: {entry.name} ({entry.earthquake}, "
+                                  f"{entry.station}) was recorded at a site that itself liquefied: an example of "
+                                  "such a surface record, not an input motion (data/ground_motions/PROVENANCE.md)"),
+                      stacklevel=3)
+
+
 def load_motion(case: dict, source: str):
     """The base record in m/s²: read, cut to ``duration``, baseline-corrected, scaled to
-    ``pga_g``; None if ``pga_g = 0``. Every problem is a CaseError naming the file and key."""
+    ``pga_g`` with the sign ``polarity``; None if ``pga_g = 0``. Every problem is a CaseError naming the file and key."""
     from ..io import ground_motion as gm
 
     g = case["ground_motion"]
@@ -568,7 +588,7 @@ def load_motion(case: dict, source: str):
         raise CaseError(source, key, f"{path.name}{cut} is {what}: it cannot be scaled to pga_g = "
                         f"{g['pga_g']:g}; valid: a record with non-zero acceleration, or pga_g = 0 "
                         "for no shaking")
-    return gm.scale_to_pga(m, g["pga_g"])
+    return gm.scale_to_pga(m, g["pga_g"], polarity=g["polarity"])
 
 
 register_model("liquefaction_1d", SECTIONS_LIQUEFACTION, check_liquefaction, {"layers": LAYER_KEYS})

@@ -9,6 +9,8 @@ g = 9.80665 m/s² (the unit of the record, not the gravity of a case).
 (5372, 0.01, 0.281)
 >>> round(scale_to_pga(m, 0.1).pga_g, 6)
 0.1
+>>> bundled("RSN1120_KOBE_TAK000.AT2").magnitude
+6.9
 """
 from __future__ import annotations
 
@@ -24,7 +26,7 @@ from .tables import TableError, read_columns
 
 __all__ = ["G_STANDARD", "GroundMotion", "GroundMotionError", "read_at2", "read_csv",
            "load", "scale_to_pga", "baseline_correct", "value_at", "bundled_record",
-           "write_csv"]
+           "write_csv", "BundledRecord", "BUNDLED", "bundled", "liquefied_site_record"]
 
 G_STANDARD = 9.80665  # [m/s²] the unit "g" of strong-motion records
 _HEADER = re.compile(r"NPTS\s*=\s*([^,\s]+)\s*,?\s*DT\s*=\s*([^\s,]+)", re.IGNORECASE)
@@ -208,11 +210,20 @@ def write_csv(motion: GroundMotion, path: str | Path, units: str = "m/s2") -> Pa
     return path
 
 
-def scale_to_pga(motion: GroundMotion, pga_g: float) -> GroundMotion:
-    """Return the record multiplied so that its peak |a| is ``pga_g`` [g]."""
+def scale_to_pga(motion: GroundMotion, pga_g: float, polarity: int = 1) -> GroundMotion:
+    """Return the record multiplied so that its peak |a| is ``pga_g`` [g], with the sign
+    ``polarity`` (1: as recorded, -1: reversed, a → −a; a suite run with both polarities sees each
+    record's asymmetric pulses in both directions).
+
+    >>> m = GroundMotion(np.array([0.0, 0.01, 0.02]), np.array([0.0, 2.0, -1.0]))
+    >>> scale_to_pga(m, 0.1, polarity=-1).acceleration / G_STANDARD
+    array([-0.  , -0.1 ,  0.05])
+    """
+    if polarity not in (1, -1) or isinstance(polarity, bool):
+        raise ValueError(f"scale_to_pga: polarity must be 1 or -1, got {polarity!r}")
     if motion.pga == 0.0:
         raise GroundMotionError(f"{motion.source or motion.name}: cannot scale a zero record")
-    factor = pga_g * G_STANDARD / motion.pga
+    factor = polarity * pga_g * G_STANDARD / motion.pga
     return replace(motion, acceleration=motion.acceleration * factor)
 
 
@@ -243,12 +254,89 @@ def value_at(motion: GroundMotion, t) -> np.ndarray:
     return np.interp(t, motion.time, motion.acceleration, left=0.0, right=0.0)
 
 
+@dataclass(frozen=True)
+class BundledRecord:
+    """What the package says of one shipped record (``data/ground_motions/PROVENANCE.md`` gives the
+    sources, distances, site classes and how each record enters a run).
+
+    Attributes
+    ----------
+    path : str
+        Path under ``twofluid/data/ground_motions``.
+    earthquake, station, component : str
+        The earthquake and station; the component as the PEER file's header gives it.
+    magnitude : float
+        Moment magnitude M_w of the earthquake (PEER NGA-West2): the value of ``[ground_motion]
+        magnitude`` (the simplified procedure's magnitude scaling factor) for this record.
+    site_class : str
+        NEHRP site class of the recording station (from its V_s30).
+    input_motion : bool
+        False for a record made at a site that itself liquefied: it carries that site's
+        liquefied response and ships as an example of such a surface record, not as an input.
+    """
+
+    path: str
+    earthquake: str
+    station: str
+    component: str
+    magnitude: float
+    site_class: str
+    input_motion: bool = True
+
+    @property
+    def name(self) -> str:
+        """File name (the name a case file gives in ``[ground_motion] file``)."""
+        return self.path.rsplit("/", 1)[-1]
+
+
+_SHIPPED = (
+    BundledRecord("RSN6_IMPVALL.I_I-ELC180-hor1.AT2", "Imperial Valley-02, 1940", "El Centro Array #9",
+                  "180", 6.95, "D"),
+    BundledRecord("RSN1120_KOBE_TAK000.AT2", "Kobe, Japan, 1995", "Takatori", "0", 6.9, "D"),
+    BundledRecord("RSN779_LOMAP_LGP000.AT2", "Loma Prieta, 1989", "LGPC (Los Gatos Presentation Center)",
+                  "0", 6.93, "C"),
+    BundledRecord("RSN1180_CHICHI_CHY002-N.AT2", "Chi-Chi, Taiwan, 1999", "CHY002", "N", 7.62, "D"),
+    BundledRecord("RSN1762_HECTOR_ABY360.AT2", "Hector Mine, 1999", "Amboy", "360", 7.13, "C"),
+    BundledRecord("liquefied-site/RSN8119_CCHURCH_PRPCS.AT2", "Christchurch, New Zealand, 2011",
+                  "Pages Road Pumping Station (PRPC)", "S", 6.2, "D", input_motion=False),
+)
+#: The shipped records by file name (the input suite, then the liquefied-site example).
+BUNDLED: dict[str, BundledRecord] = {b.name: b for b in _SHIPPED}
+
+
+def bundled(name: str) -> BundledRecord | None:
+    """The shipped record called ``name`` (its file name, or its path under
+    ``data/ground_motions``), or None if no shipped record has that name.
+
+    >>> bundled("liquefied-site/RSN8119_CCHURCH_PRPCS.AT2").input_motion
+    False
+    >>> bundled("my-record.csv") is None
+    True
+    """
+    entry = BUNDLED.get(Path(name).name)
+    return entry if entry is not None and name in (entry.name, entry.path) else None
+
+
+def liquefied_site_record(path: str | Path) -> BundledRecord | None:
+    """The shipped record of a site that itself liquefied whose file name ``path`` has (wherever
+    the file lies: a copy is the same recording), else None.
+
+    >>> liquefied_site_record("/some/where/RSN8119_CCHURCH_PRPCS.AT2").station
+    'Pages Road Pumping Station (PRPC)'
+    >>> liquefied_site_record("RSN1120_KOBE_TAK000.AT2") is None
+    True
+    """
+    entry = BUNDLED.get(Path(path).name)
+    return entry if entry is not None and not entry.input_motion else None
+
+
 def bundled_record(name: str) -> Path:
-    """Path of a record shipped in ``twofluid/data/ground_motions`` (see PROVENANCE.md)."""
+    """Path of a record shipped in ``twofluid/data/ground_motions`` (see PROVENANCE.md there): by
+    file name, or by path under that folder (``liquefied-site/RSN8119_CCHURCH_PRPCS.AT2``)."""
     folder = resources.files("twofluid") / "data" / "ground_motions"
-    entry = folder / name
-    if not entry.is_file():
-        shipped = sorted(p.name for p in folder.iterdir()
-                         if p.name.lower().endswith((".at2", ".csv")))
+    entry = bundled(name)
+    target = folder.joinpath(*(entry.path if entry else name).split("/"))
+    if not target.is_file():
+        shipped = [b.path for b in _SHIPPED]
         raise FileNotFoundError(f"no bundled record {name!r}; shipped: {', '.join(shipped)}")
-    return Path(str(entry))
+    return Path(str(target))
