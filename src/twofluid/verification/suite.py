@@ -6,7 +6,7 @@ The full report (tables, definitions and tolerances) is written only where asked
 Each check returns rows ``{check, quantity, unit, reference, computed, error,
 tolerance, error_kind, pass}``; the definitions and tolerances are in the
 docstrings of the check modules (:mod:`.kynch_check`, :mod:`.terzaghi_check`,
-:mod:`.properties_check`, :mod:`.order_check`) and are copied into the report.
+:mod:`.scott_check`, :mod:`.properties_check`, :mod:`.order_check`) and are copied into the report.
 The Slis et al. validation table (:mod:`.slis_check`) and the 2D annulus study
 (:func:`twofluid.verification.annular.convergence_table`) are appended.
 ``quick=True`` runs cheaper settings of the same checks (used by the tests).
@@ -21,7 +21,7 @@ from typing import Callable
 
 import numpy as np
 
-from . import kynch_check, order_check, properties_check, slis_check, terzaghi_check
+from . import kynch_check, order_check, properties_check, scott_check, slis_check, terzaghi_check
 
 __all__ = ["CHECKS", "run_checks", "format_table", "machine", "report", "verify", "validation_summary"]
 
@@ -35,6 +35,7 @@ def _checks(quick: bool) -> list[tuple[str, Callable[[], list[dict]]]]:
         ("kynch contraction", lambda: kc.step_change_rows(0.80, 0.70, **mid)),
         ("kynch settling", lambda: kc.settling_rows(**mid)),
         ("terzaghi reduced", lambda: terzaghi_check.consolidation_rows(model="reduced_1d")),
+        ("scott solidification", lambda: scott_check.solidification_rows() + scott_check.liquefaction_column_rows()),
         ("conservation", lambda: pc.conservation_rows("fluidized-bed-step", "reduced_1d", 10.0)
          + pc.conservation_rows("settling-illite", "two_fluid_1d", 30.0)),
         ("hydrostatic", lambda: pc.hydrostatic_rows("two_fluid_1d") + pc.hydrostatic_rows("reduced_1d")),
@@ -125,7 +126,7 @@ def machine() -> str:
 
 def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall: float) -> str:
     """The text of docs/verification.md."""
-    from . import kynch_check as k, order_check as o, properties_check as p, terzaghi_check as t
+    from . import kynch_check as k, order_check as o, properties_check as p, scott_check as sc, terzaghi_check as t
 
     parts = [
         "# Verification",
@@ -140,6 +141,7 @@ def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall:
         "## Definitions and tolerances",
     ]
     for title, mod in (("Kynch kinematic-wave theory", k), ("Terzaghi consolidation", t),
+                       ("Scott (1986) solidification of a liquefied sand column", sc),
                        ("Conservation, hydrostatic consistency, gauge invariance, reduced vs full", p),
                        ("Observed order of convergence", o), ("Slis et al. (1959) step changes", slis_check)):
         parts += ["", f"### {title}", "", "```text", (mod.__doc__ or "").strip(), "```"]
