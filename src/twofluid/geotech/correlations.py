@@ -114,7 +114,7 @@ def crr_75_cpt(qc1ncs):
     deterministic curve, probability 16 %). The case histories span q_c1Ncs ≈ 20–180; the
     curve rises steeply beyond (CRR = 0.93 at 180, 3.7 at 211).
 
-    Hand value, q = 100: 0.88496 + 0.01 − 0.36443 + 0.28298 − 2.8 = −1.98569, CRR = 0.1373:
+    Hand value, q = 100: 0.88496 + 0.01 − 0.36443 + 0.28387 − 2.8 = −1.98561, CRR = 0.1373:
 
     >>> round(float(crr_75_cpt(100.0)), 4)
     0.1373
