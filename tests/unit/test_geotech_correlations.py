@@ -43,7 +43,8 @@ def test_cpt_and_spt_c_sigma_are_the_same_dr_relation():
 
 def test_cpt_crr_msf_and_k_sigma_hand_values():
     # q = 100: exponent 0.884956 + 0.01 − 0.364431 + 0.283870 − 2.8 = −1.985605
-    assert float(co.crr_75_cpt(100.0)) == pytest.approx(math.exp(-1.985605), rel=1e-6)
+    # (terms to 6 decimals: the hand value is good to 2e-6)
+    assert float(co.crr_75_cpt(100.0)) == pytest.approx(math.exp(-1.985605), rel=5e-6)
     assert float(co.crr_75_cpt(0.0)) == pytest.approx(math.exp(-2.8), rel=1e-14)
     assert float(co.msf_max_cpt(100.0)) == pytest.approx(1.09 + (100 / 180) ** 3, rel=1e-14)
     assert float(co.msf_max_cpt(400.0)) == 2.2 and float(co.msf_max_spt(60.0)) == 2.2
