@@ -110,7 +110,7 @@ def modified_hyperbolic_damping(gamma: ArrayLike, gamma_r, a, d_min, b) -> np.nd
     x = g / gamma_r
     # 4 (x − ln(1 + x))(1 + x)/x² − 2 with a series below x = 1e-3, where it loses digits
     big = 4.0 * (x - np.log1p(x)) * (1.0 + x) / np.where(x > 0, x * x, 1.0) - 2.0
-    small = (2.0 / 3.0) * x - (1.0 / 6.0) * x * x
+    small = x * (2.0 / 3.0 - x * (1.0 / 3.0 - 0.2 * x))   # its series, error O(x⁴)
     d1 = (100.0 / np.pi) * np.where(x > 1e-3, big, small)
     c1 = -1.1143 * a * a + 1.8618 * a + 0.2523
     c2 = 0.0805 * a * a - 0.0710 * a - 0.0095
