@@ -181,7 +181,7 @@ def csr_slope_b(msf_max):
         b = ln(MSF_max) / ln(15/N_5.25) = 0.34 ln(MSF_max) / ln(1.8).
 
     This inversion is ours (B&I give the trend in b, not this formula): it reproduces
-    Idriss's pair (1.8, 0.34) exactly and gives b = 0.046 at MSF_max = 1.09 (very loose sand,
+    Idriss's pair (1.8, 0.34) exactly and gives b = 0.050 at MSF_max = 1.09 (very loose sand,
     an almost flat CSR–N curve) and b = 0.456 at 2.2 (dense sand). MSF_max [-] ≥ 1.
 
     Hand value, (N1)60cs = 11.5 (Dr 50 %): MSF_max = 1.2233, b = 0.34 · 0.20155/0.58779 = 0.1166:
