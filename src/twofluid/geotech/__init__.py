@@ -5,7 +5,9 @@
 - :mod:`.settlement` — post-liquefaction volumetric strain (Ishihara & Yoshimine 1992,
   as fitted by Idriss & Boulanger 2008);
 - :mod:`.profile` — both over a layered profile (:func:`simplified_procedure`);
-- :mod:`.spectra` — elastic response spectra (Nigam & Jennings 1969).
+- :mod:`.spectra` — elastic response spectra (Nigam & Jennings 1969);
+- :mod:`.correlations` — Dr [%] from (N1)60cs and q_c1Ncs, the CPT route of B&I (2014), the
+  CSR–N slope b from MSF_max, residual strength, K_α, Seed–Booker r_u (docs/dynamic-curves.md).
 
 All are pure NumPy functions; see ``docs/simplified.md``.
 """
