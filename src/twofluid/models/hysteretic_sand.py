@@ -9,12 +9,12 @@ and the simplified table share CRR, K_σ and the slope b:
   the 0.9 factor for multidirectional shaking is **not** applied: a uniform cycle of the element
   at CSR = CRR_M7.5 (σ′_v0 = 1 atm) liquefies in 15 cycles, and the 1D column, shaken in one
   direction, is given the field resistance as the correlation states it;
-* b from the magnitude scaling factor: MSF = (15/N_M)^b with MSF_max the MSF at M ≈ 5.25, where
-  Idriss & Boulanger's (2008) clean-sand MSF (derived with b = 0.34) reaches its cap 1.8; so
-  N_M ≈ 15/1.8^(1/0.34) = 2.66 cycles there and b = ln MSF_max / ln(15/2.66), MSF_max of
-  Boulanger & Idriss (2014) from (N1)60cs (or q_c1Ncs);
+* b from the magnitude scaling factor (:func:`twofluid.geotech.correlations.csr_slope_b`:
+  MSF = (15/N_M)^b, MSF_max at M = 5.25 where Idriss's clean-sand MSF, derived with b = 0.34,
+  caps at 1.8), MSF_max of Boulanger & Idriss (2014) from (N1)60cs (or q_c1Ncs);
 * residual strength S_r/σ′_v0 of Idriss & Boulanger (2008), void redistribution negligible,
-  ≤ tan φ′, with (N1)60cs-Sr = (N1)60cs (clean sand: no fines adjustment);
+  ≤ tan φ′ (:func:`twofluid.geotech.correlations.residual_strength_ratio_ib2008`), with
+  (N1)60cs-Sr = (N1)60cs (clean sand: no fines adjustment);
 * γ_lim = 1.859 (1.1 − Dr)³ (Yoshimine et al. 2006), Dr = √((N1)60cs/46);
 * φ′ = 33° + 3 I_R, I_R = Dr (10 − ln p′/kPa) − 1 clipped to [0, 4] (Bolton 1986, triaxial form;
   p′ = σ′_v0 (1 + 2 K0)/3 with K0 = 0.5), unless given.
@@ -30,13 +30,13 @@ import math
 import numpy as np
 
 from ..closures import hysteretic as law
+from ..geotech.correlations import csr_slope_b, residual_strength_ratio_ib2008
 from ..geotech.simplified import crr_75, k_sigma
 
-__all__ = ["derive", "parameters", "csr_slope_b", "residual_strength_ratio", "bolton_friction_angle",
+__all__ = ["derive", "parameters", "bolton_friction_angle",
            "cpt_crr_75", "cpt_k_sigma", "DEFAULTS", "K0"]
 
 K0 = 0.5  # at-rest earth pressure coefficient of the element tests and of σ′_m [-]
-_N_SMALL_M = 15.0 / 1.8 ** (1.0 / 0.34)  # equivalent cycles at M ≈ 5.25 (module docstring)
 PA = 101325.0
 
 #: defaults of the parameters that are not correlations (docs/liquefaction.md states each)
@@ -48,28 +48,6 @@ DEFAULTS = {
     "alpha": 0.7,  # Seed–Booker shape [-]
     "r_cap": 0.999,  # largest generated ratio [-]
 }
-
-
-def csr_slope_b(msf_max):
-    """Slope b of CSR ∝ N^−b implied by MSF_max (module docstring) [-].
-
-    >>> round(float(csr_slope_b(1.8)), 3)
-    0.34
-    """
-    return np.log(np.asarray(msf_max, dtype=float)) / math.log(15.0 / _N_SMALL_M)
-
-
-def residual_strength_ratio(n160cs, tan_phi=np.inf):
-    """S_r/σ′_v0 of liquefied clean sand, void redistribution negligible (Idriss & Boulanger 2008) [-].
-
-    S_r/σ′ = exp(N/16 + ((N − 16)/21.2)³ − 3.0) (1 + exp(N/2.4 − 6.6)) ≤ tan φ′.
-
-    >>> round(float(residual_strength_ratio(10.0)), 4)
-    0.0989
-    """
-    n = np.asarray(n160cs, dtype=float)
-    r = np.exp(n / 16.0 + ((n - 16.0) / 21.2) ** 3 - 3.0) * (1.0 + np.exp(n / 2.4 - 6.6))
-    return np.minimum(r, tan_phi)
 
 
 def bolton_friction_angle(dr, p_mean_pa):
@@ -125,7 +103,7 @@ def derive(*, n160cs=None, qc1ncs=None, dr=None, sigma_v0, friction_angle=None):
     phi = float(bolton_friction_angle(dr_f, p_mean)) if friction_angle is None else float(friction_angle)
     tan_phi = math.tan(math.radians(phi))
     return {"crr": crr, "b": float(csr_slope_b(msf_max)), "tan_phi": tan_phi,
-            "residual_strength": float(residual_strength_ratio(n, tan_phi)) * sig,
+            "residual_strength": float(residual_strength_ratio_ib2008(n, friction_angle_deg=phi)) * sig,
             "gamma_lim": 1.859 * max(1.1 - dr_f, 0.0) ** 3, "dr": dr_f, "n160cs": n,
             "friction_angle": phi}
 
