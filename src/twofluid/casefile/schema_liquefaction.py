@@ -117,10 +117,12 @@ LAYER_KEYS = [
       "procedure). 0: not given", lo=0.0, hi=250.0),
     K("friction_angle", float, 0.0, "deg", "hysteretic model: φ′ of the strength τ_max = σ′_v tan φ′; 0: "
       "Bolton (1986), 33° + 3 I_R from Dr and σ′_m", lo=0.0, hi=50.0),
-    K("gqh_theta", FLOATS, [0.0, 0.0, 1.0, 1.0, 1.0], "-", "hysteretic model: GQ/H backbone θ1…θ5 "
-      "(Groholski et al. 2016); [0, 0, 1, 1, 1] is the hyperbola with strength τ_max"),
-    K("mrdf", FLOATS, [1.0, 0.0, 1.0], "-", "hysteretic model: p1, p2, p3 of the MRDF unload–reload "
-      "factor F = p1 − p2 (1 − G(γ_m)/G_max)^p3 (Phillips & Hashash 2009); [1, 0, 1] is Masing's rule"),
+    K("gqh_theta", FLOATS, [], "-", "hysteretic model: GQ/H backbone θ1…θ5 (Groholski et al. 2016); "
+      "[0, 0, 1, 1, 1] is the hyperbola with strength τ_max; empty: fitted to Menq's (2003) G/G_max curve "
+      "at the layer's mid-depth σ′_m and to the strength"),
+    K("mrdf", FLOATS, [], "-", "hysteretic model: p1, p2, p3 of the MRDF unload–reload factor "
+      "F = p1 − p2 (1 − G(γ_m)/G_max)^p3 (Phillips & Hashash 2009); [1, 0, 1] is Masing's rule; empty: "
+      "fitted to Menq's (2003) damping curve with the backbone"),
 ]
 
 _MOTION = [
@@ -237,13 +239,13 @@ def _check_hysteretic(case: dict, source: str) -> None:
         return
     for i, la in enumerate(case["layers"]):
         th, p = la["gqh_theta"], la["mrdf"]
-        if len(th) != 5 or not (0.0 <= th[0] <= 1.0 and 0.0 <= th[0] + th[1] <= 1.0 and th[2] > 0.0
-                                and th[3] > 0.0 and th[4] > 0.0):
+        if th and (len(th) != 5 or not (th[0] <= 1.0 and th[1] >= 0.0 and th[0] + th[1] <= 1.0 and th[2] > 0.0
+                                and th[3] > 0.0 and th[4] > 0.0)):
             raise CaseError(source, f"{layer_label(case, i)} gqh_theta", f"{th} must be five numbers "
-                            "θ1..θ5 with 0 ≤ θ1 ≤ 1, 0 ≤ θ1 + θ2 ≤ 1 and θ3, θ4, θ5 > 0")
-        if len(p) != 3 or not (0.0 < p[0] <= 1.0 and 0.0 <= p[1] <= p[0] and p[2] > 0.0):
+                            "θ1..θ5 with θ1 ≤ 1, θ1 + θ2 ≤ 1 and θ3, θ4, θ5 > 0 (or empty: fitted)")
+        if p and (len(p) != 3 or not (0.0 < p[0] <= 1.0 and 0.0 <= p[1] <= p[0] and p[2] > 0.0)):
             raise CaseError(source, f"{layer_label(case, i)} mrdf", f"{p} must be three numbers p1, p2, p3 "
-                            "with 0 < p1 ≤ 1, 0 ≤ p2 ≤ p1 and p3 > 0")
+                            "with 0 < p1 ≤ 1, 0 ≤ p2 ≤ p1 and p3 > 0 (or empty: fitted)")
         if la["n160cs"] > 0.0 and la["qc1ncs"] > 0.0:
             raise CaseError(source, f"{layer_label(case, i)} qc1ncs", "give n160cs or qc1ncs, not both")
 

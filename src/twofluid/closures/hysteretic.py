@@ -33,7 +33,7 @@ ever exceeds the new strength.
 **Cyclic mobility.** Dilation of the skeleton stiffens it again once the strain leaves a zone
 |γ − γ_c| ≤ γ_d around the centre of the cycles: the strength envelope is
 
-    τ_env = max(τ_max, τ_d),   τ_d = σ′_v0 tan φ′ min(1, (|γ − γ_c| − γ_d)/γ_dr) (≥ 0),
+    τ_env = max(τ_max, τ_d),   τ_d = σ′_v0 tan φ′ S((|γ − γ_c| − γ_d)/γ_dr),  S(r) = r²(3 − 2r) on [0, 1],
 
 and when loading outwards beyond γ_d the stress gains τ_d (additive, so it is continuous at the
 onset); a branch from a reversal above τ_max (a dilated state) is widened by
@@ -74,6 +74,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from . import backbones as _bb
 
 __all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "tangent", "direction",
            "commit", "generated_ratio", "new_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
@@ -131,22 +133,15 @@ PARAM_COLUMNS = ("k2max", "tan_phi", "residual_strength", "theta1", "theta2", "t
 
 
 def gqh_ratio(x, th1, th2, th3, th4, th5):
-    """τ/τ_max of the GQ/H backbone at normalised strain x = |γ|/γ_r ≥ 0 [-] (module docstring).
+    """τ/τ_max of the GQ/H backbone at normalised strain x = |γ|/γ_r ≥ 0 [-] (module docstring;
+    :func:`twofluid.closures.backbones.gqh_core`, 0 at x ≤ 0).
 
     >>> round(gqh_ratio(0.0, 0.0, 0.0, 1.0, 1.0, 1.0), 6)
     0.0
     """
     if x <= 0.0:
         return 0.0
-    theta = th1
-    if th2 != 0.0:
-        xt = th4 * x ** th5
-        theta = th1 + th2 * xt / (th3 ** th5 + xt)
-    q = 1.0 + x
-    disc = q * q - 4.0 * theta * x
-    if disc < 0.0:
-        disc = 0.0
-    return 2.0 * x / (q + math.sqrt(disc))
+    return _bb.gqh_core(x, th1, th2, th3, th4, th5)
 
 
 def seed_booker(damage, alpha):
@@ -180,7 +175,8 @@ def _envelope(g, d, tau, st, par, e, s):
     over = abs(ex) - st[e, S_GD]
     if over > 0.0:
         sd = par[e, P_SIG0] * par[e, P_TANPHI]
-        td = sd * min(1.0, over / par[e, P_GDR])
+        r = over / par[e, P_GDR]
+        td = sd * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
         if ex > 0.0:
             if td > upper:
                 upper = td

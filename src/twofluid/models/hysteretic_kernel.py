@@ -257,7 +257,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8[::1])")
-_HELPERS = (_law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
+_HELPERS = (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
             _law.skeleton_stress, _law.tangent,
             _law.half_cycle_damage, _law.commit, _law.seed_booker, _law.generated_ratio)
 

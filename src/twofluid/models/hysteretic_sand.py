@@ -25,6 +25,7 @@ and the simplified table share CRR, K_σ and the slope b:
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -33,16 +34,17 @@ from ..closures import hysteretic as law
 from ..geotech.correlations import csr_slope_b, residual_strength_ratio_ib2008
 from ..geotech.simplified import crr_75, k_sigma
 
-__all__ = ["derive", "parameters", "bolton_friction_angle",
+__all__ = ["derive", "parameters", "menq_fit", "bolton_friction_angle",
            "cpt_crr_75", "cpt_k_sigma", "DEFAULTS", "K0"]
 
 K0 = 0.5  # at-rest earth pressure coefficient of the element tests and of σ′_m [-]
 PA = 101325.0
+KPA = 1000.0  # [Pa]
 
 #: defaults of the parameters that are not correlations (docs/liquefaction.md states each)
 DEFAULTS = {
     "gamma_threshold": 5e-5,  # no damage below (|Δγ|/2 ≤ γ_t), full above 2 γ_t [-]
-    "gamma_dilation": 0.005,  # dilation restores σ′_v0 tan φ′ over this strain beyond γ_d [-]
+    "gamma_dilation": 0.02,  # dilation restores σ′_v0 tan φ′ over this strain beyond γ_d [-]
     "gamma_d0": 0.005,  # zone without dilation before liquefaction [-]
     "gamma_d_steps": 100.0,  # γ_d widens by γ_lim/100 per liquefied half cycle [-]
     "alpha": 0.7,  # Seed–Booker shape [-]
@@ -159,3 +161,26 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
     par[:, law.P_RCAP] = opts["r_cap"]
     par[:, law.P_GD0] = opts["gamma_d0"]
     return np.ascontiguousarray(par)
+
+
+@functools.lru_cache(maxsize=256)
+def _menq_fit(sigma_v: float, tan_phi: float, g_max: float):
+    from ..closures.backbone_fit import fit_gqh
+    from ..closures.dynamic_curves import menq, menq_damping
+
+    g = np.logspace(-6.0, -1.5, 30)
+    sm = sigma_v * (1.0 + 2.0 * K0) / 3.0
+    fit = fit_gqh(g, menq(g, sm), menq_damping(g, sm), tau_max=sigma_v * tan_phi, g_max=g_max)
+    return tuple(float(x) for x in fit.theta), tuple(float(x) for x in fit.mrdf), float(fit.d_min)
+
+
+def menq_fit(sigma_v, tan_phi, g_max):
+    """GQ/H θ1…θ5 and MRDF p1…p3 fitted to Menq's (2003) clean-sand curves (C_u = 1.5,
+    D50 = 0.5 mm) at σ′_m = σ′_v (1 + 2 K0)/3, with the strength σ′_v tan φ′ and G_max [Pa]
+    (:func:`twofluid.closures.backbone_fit.fit_gqh`); returns (theta, mrdf, d_min). Cached.
+
+    >>> theta, mrdf, d_min = menq_fit(60e3, 0.78, 218.8e3 * 30 * 60 ** 0.5)
+    >>> len(theta), len(mrdf), bool(0.0 < d_min < 0.02)
+    (5, 3, True)
+    """
+    return _menq_fit(float(f"{sigma_v:.6g}"), float(f"{tan_phi:.6g}"), float(f"{g_max:.6g}"))

@@ -81,6 +81,7 @@ from ..closures.reference_porosity import ShearState, byrne_constants
 from ..closures.shear_modulus import seed_idriss_gmax
 from ..closures.solids_pressure import reference_porosity_for
 from ..closures.viscosity import mooney_pringle
+from ..geotech.settlement import max_shear_strain
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
 from ..closures import hysteretic as _hyst_law
 from . import hysteretic_kernel as _hyst_kernel
@@ -488,9 +489,16 @@ class LiquefactionColumn:
     def reconsolidation_floor(self, s: ColumnState) -> np.ndarray:
         """The post-liquefaction volumetric strain floor of Ishihara & Yoshimine (1992), as fitted by
         Yoshimine et al. (2006), ε_v = 1.5 exp(−2.5 Dr) min(0.08, γ_max) per saturated element [-]
-        (0 for elements that generate no pore pressure)."""
+        (0 for elements that generate no pore pressure), with γ_max the larger of the element's own
+        largest strain and the γ_max(FS, Dr) of Idriss & Boulanger (2008) at the factor of safety
+        its cyclic loading implies, FS = D^−b (D its damage: the cycles it took over the cycles to
+        liquefaction, b its CSR–N slope; docs/liquefaction.md says why)."""
         par, st, ns = self.hysteretic, s.shear, self.n_sat
-        eps = 1.5 * np.exp(-2.5 * par[:ns, _hyst_law.P_DR]) * np.minimum(0.08, st[:ns, _hyst_law.S_GM])
+        dr = par[:ns, _hyst_law.P_DR]
+        damage = st[:ns, _hyst_law.S_D] + st[:ns, _hyst_law.S_DPART]
+        fs = np.where(damage > 0.0, np.maximum(damage, 1e-300) ** -par[:ns, _hyst_law.P_B], np.inf)
+        gamma = np.maximum(st[:ns, _hyst_law.S_GM], max_shear_strain(fs, dr))
+        eps = 1.5 * np.exp(-2.5 * dr) * np.minimum(0.08, gamma)
         return np.where(par[:ns, _hyst_law.P_LIQ] > 0.0, eps, 0.0)
 
     def _apply_floor(self, s: ColumnState, n_bar: np.ndarray, st: np.ndarray) -> np.ndarray:

@@ -20,6 +20,7 @@ import numpy as np
 from ..casefile import schema_liquefaction as sl
 from ..casefile.builder import closures
 from ..closures import drag as drag_laws
+from ..closures import hysteretic as law
 from ..closures.shear_modulus import seed_idriss_gmax, tabulated_curve
 from ..mesh.line import LineMesh
 from ..models.liquefaction_1d import Crust, Sand
@@ -192,10 +193,12 @@ def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: C
     crust; :func:`twofluid.models.hysteretic_sand.parameters`), or None for the thesis model.
 
     A saturated element's soil comes from its layer's n160cs, else qc1ncs, else relative_density;
-    σ′_v0 is its geostatic effective stress. A crust element keeps its G_max and σ′_v fixed."""
+    σ′_v0 is its geostatic effective stress. A crust element keeps its G_max and σ′_v fixed. A layer
+    without ``gqh_theta`` (``mrdf``) gets the GQ/H backbone (MRDF factor) fitted to Menq's curves at
+    the σ′_v of its middle element, with that element's strength and G_max."""
     if case["shear_wave"]["model"] != "hysteretic":
         return None
-    from ..models.hysteretic_sand import parameters
+    from ..models.hysteretic_sand import KPA, menq_fit, parameters
 
     layers = case["layers"]
 
@@ -206,12 +209,24 @@ def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: C
         return np.where(x > 0.0, x, np.nan)
 
     def rows(owner, sig, k2, liquefiable, g_fix):
-        return parameters(sigma_v0=sig, n160cs=positive(per(owner, "n160cs")),
-                          qc1ncs=positive(per(owner, "qc1ncs")), dr=per(owner, "relative_density"),
-                          k2max=k2, friction_angle=positive(per(owner, "friction_angle")),
-                          theta=np.array([layers[i]["gqh_theta"] for i in owner], dtype=float),
-                          mrdf=np.array([layers[i]["mrdf"] for i in owner], dtype=float),
-                          liquefiable=liquefiable, g_max_fixed=g_fix)
+        par = parameters(sigma_v0=sig, n160cs=positive(per(owner, "n160cs")),
+                         qc1ncs=positive(per(owner, "qc1ncs")), dr=per(owner, "relative_density"),
+                         k2max=k2, friction_angle=positive(per(owner, "friction_angle")),
+                         liquefiable=liquefiable, g_max_fixed=g_fix)
+        for i in sorted(set(owner.tolist())):
+            idx = np.flatnonzero(owner == i)
+            mid = idx[idx.size // 2]
+            la = layers[i]
+            theta, mrdf = la["gqh_theta"], la["mrdf"]
+            if not theta or not mrdf:
+                g_max = par[mid, law.P_GMAXFIX] if par[mid, law.P_GMAXFIX] > 0.0 else \
+                    218.8 * KPA * par[mid, law.P_K2] * np.sqrt(sig[mid] / KPA)
+                th_fit, p_fit, _ = menq_fit(sig[mid], par[mid, law.P_TANPHI], g_max)
+                theta = theta or th_fit
+                mrdf = mrdf or p_fit
+            par[idx, law.P_TH1:law.P_TH5 + 1] = theta
+            par[idx, law.P_P1:law.P_P3 + 1] = mrdf
+        return par
 
     owner = site.layer_of
     par = rows(owner, sigma_v0, k2max, np.array([layers[i]["liquefiable"] for i in owner], dtype=float), 0.0)
@@ -220,7 +235,6 @@ def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: C
     c_owner = site.crust_layer_of
     load = crust.rho * case["materials"]["gravity"] * crust.h
     above = np.cumsum(load[::-1])[::-1] - load
-    sig_c = case["site"]["surcharge"] + above + 0.5 * load
-    top = rows(c_owner, np.maximum(sig_c, 1.0), per(c_owner, "k2max"), 0.0, crust.g_max)
+    sig_c = np.maximum(case["site"]["surcharge"] + above + 0.5 * load, 1.0)
+    top = rows(c_owner, sig_c, per(c_owner, "k2max"), 0.0, crust.g_max)
     return np.concatenate([par, top])
-
