@@ -177,10 +177,47 @@ def _menq_fit(sigma_v: float, tan_phi: float, g_max: float):
 def menq_fit(sigma_v, tan_phi, g_max):
     """GQ/H θ1…θ5 and MRDF p1…p3 fitted to Menq's (2003) clean-sand curves (C_u = 1.5,
     D50 = 0.5 mm) at σ′_m = σ′_v (1 + 2 K0)/3, with the strength σ′_v tan φ′ and G_max [Pa]
-    (:func:`twofluid.closures.backbone_fit.fit_gqh`); returns (theta, mrdf, d_min). Cached.
+    (:func:`twofluid.closures.backbone_fit.fit_gqh`); returns (theta, mrdf, d_min).
+
+    A fit costs about 1.5 s of CPU, so each is kept in memory and in a small JSON file in the
+    compiled kernels' cache folder (:func:`twofluid.compiled.cache_dir`), keyed by its inputs to
+    six digits and the fitting module's source; later runs read it back.
 
     >>> theta, mrdf, d_min = menq_fit(60e3, 0.78, 218.8e3 * 30 * 60 ** 0.5)
     >>> len(theta), len(mrdf), bool(0.0 < d_min < 0.02)
     (5, 3, True)
     """
-    return _menq_fit(float(f"{sigma_v:.6g}"), float(f"{tan_phi:.6g}"), float(f"{g_max:.6g}"))
+    key = (float(f"{sigma_v:.6g}"), float(f"{tan_phi:.6g}"), float(f"{g_max:.6g}"))
+    return _disk_cached(key)
+
+
+@functools.lru_cache(maxsize=256)
+def _disk_cached(key):
+    import hashlib
+    import json
+    import os
+    from pathlib import Path
+
+    from ..closures import backbone_fit, dynamic_curves
+    from ..compiled import cache_dir
+
+    folder = cache_dir()
+    digest = hashlib.sha256(repr(key).encode())
+    for mod in (backbone_fit, dynamic_curves):
+        digest.update(Path(mod.__file__).read_bytes())
+    path = None if folder is None else folder / f"menq_fit_{digest.hexdigest()[:20]}.json"
+    if path is not None and path.is_file():
+        try:
+            d = json.loads(path.read_text())
+            return tuple(d["theta"]), tuple(d["mrdf"]), float(d["d_min"])
+        except (OSError, ValueError, KeyError, TypeError):
+            pass
+    out = _menq_fit(*key)
+    if path is not None:
+        try:
+            tmp = path.with_suffix(f".{os.getpid()}.tmp")
+            tmp.write_text(json.dumps({"theta": out[0], "mrdf": out[1], "d_min": out[2]}))
+            os.replace(tmp, path)
+        except OSError:
+            pass
+    return out
