@@ -173,6 +173,8 @@ def _cmd_ensemble(args) -> int:
 
 
 def _cmd_element_test(args) -> int:
+    if args.model == "hysteretic":
+        return _element_test_hysteretic(args)
     from .models.element_test import check_options, run_element_test
 
     check_options({"--csr": args.csr, "--gamma": args.gamma, "--sigma-v0": args.sigma_v0, "--dr": args.dr,
@@ -200,6 +202,65 @@ def _cmd_element_test(args) -> int:
               f"in {args.max_cycles:g} cycles (final r_u = {float(res.r_u[-1, 0]):.3f})")
     if args.out:
         print(f"results and plot written to {args.out}")
+    return 0
+
+
+def _element_test_hysteretic(args) -> int:
+    from .models.element_test import check_options
+    from .models.element_test_hysteretic import csr_n_curve, element_test
+
+    check_options({"--csr": args.csr, "--gamma": args.gamma, "--sigma-v0": args.sigma_v0, "--dr": args.dr,
+                   "--k2max": args.k2max, "--max-cycles": args.max_cycles,
+                   "--steps-per-cycle": args.steps_per_cycle})
+    for opt, value, hi in (("--n160cs", args.n160cs, 46.0), ("--qc1ncs", args.qc1ncs, 250.0)):
+        if value is not None and not 0.0 < value <= hi:
+            from .casefile.schema import CaseError
+
+            raise CaseError("element-test", opt, f"{value:g} is outside the valid range (0, {hi:g}]")
+    if args.out:
+        from .io.folders import check_out_dir
+
+        check_out_dir(args.out, "element-test --out", own=False)
+    soil = dict(n160cs=args.n160cs, qc1ncs=args.qc1ncs, dr=args.dr,
+                k2max=30.0 if args.k2max is None else args.k2max)
+    sig = args.sigma_v0 * 1e3
+    if args.curve:
+        rows = csr_n_curve(sigma_v0=sig, **soil)
+        print(f"CSR-N curve, hysteretic model, sigma'_v0 = {args.sigma_v0:g} kPa "
+              "(liquefied: r_u >= 0.98 or gamma >= 3 %)")
+        print("      CSR   N model   N correlation   CSR error")
+        for r in rows:
+            print(f"  {r['csr']:7.4f}  {r['cycles_model']:8.2f}  {r['cycles_correlation']:14.1f}  "
+                  f"{100 * r['csr_error']:+9.1f} %")
+        if args.out:
+            import json
+            from pathlib import Path
+
+            from .plots.element_test import plot_csr_n
+
+            out = Path(args.out)
+            out.mkdir(parents=True, exist_ok=True)
+            with open(out / "csr_n.csv", "w") as f:
+                f.write("csr,cycles_model,cycles_correlation,csr_error\n")
+                for r in rows:
+                    f.write(f"{r['csr']:.6g},{r['cycles_model']:.6g},{r['cycles_correlation']:.6g},"
+                            f"{r['csr_error']:.6g}\n")
+            (out / "summary.json").write_text(json.dumps({"csr_n": rows, "sigma_v0_Pa": sig,
+                                                          "soil": soil}, indent=2) + "\n")
+            plot_csr_n(rows, out / "csr_n.png")
+            print(f"results and plot written to {args.out}")
+        return 0
+    csr = args.csr if args.gamma is None and args.csr is not None else (0.12 if args.gamma is None else None)
+    r = element_test(csr=csr, gamma_amplitude=args.gamma, sigma_v0=sig, max_cycles=int(args.max_cycles),
+                     steps_per_cycle=args.steps_per_cycle, **soil)
+    load = f"CSR = {csr:g}" if csr is not None else f"gamma_a = {args.gamma:g}"
+    if r.cycles == r.cycles:
+        extra = f" (correlation: {r.correlation_cycles:.2f})" if csr is not None else ""
+        print(f"undrained cyclic simple shear, hysteretic model, {load}, sigma'_v0 = {args.sigma_v0:g} kPa: "
+              f"liquefied (r_u >= 0.98 or gamma >= 3 %) after {r.cycles:.2f} cycles{extra}")
+    else:
+        print(f"undrained cyclic simple shear, hysteretic model, {load}, sigma'_v0 = {args.sigma_v0:g} kPa: "
+              f"not liquefied in {args.max_cycles:g} cycles (final r_u = {float(r.r_u[-1]):.3f})")
     return 0
 
 
@@ -277,6 +338,13 @@ def parser() -> argparse.ArgumentParser:
     et.add_argument("--k2max", type=float, help="Seed-Idriss K2max [-] (default 30)")
     et.add_argument("--gamma-ref", type=float, help="reference strain of G/G_max [-] (default 1e-3)")
     et.add_argument("--law", default="byrne", choices=("byrne", "ann"), help="reference-porosity law")
+    et.add_argument("--model", default="thesis", choices=("thesis", "hysteretic"),
+                    help="shear law: thesis (backbone and densification law) or hysteretic (calibrated to "
+                    "the CRR curve of (N1)60cs)")
+    et.add_argument("--n160cs", type=float, help="hysteretic: (N1)60cs (default from --dr)")
+    et.add_argument("--qc1ncs", type=float, help="hysteretic: q_c1Ncs, the CPT route")
+    et.add_argument("--curve", action="store_true", help="hysteretic: the CSR-N curve against the "
+                    "correlation (printed; csr_n.csv and csr_n.png with --out)")
     et.add_argument("--drained", action="store_true", help="drained test (P_s held, n follows n-bar)")
     et.add_argument("--max-cycles", type=float, default=50.0, help="length of the test [cycles] "
                     "(default 50; the test stops earlier once liquefied)")

@@ -144,3 +144,21 @@ def test_the_plain_python_and_the_compiled_kernel_agree():
     b = _element(10.0, 0.14, max_cycles=20, jit=False)
     assert a[0] == b[0]
     np.testing.assert_allclose(a[2], b[2], rtol=1e-9, atol=1e-15)
+
+
+def test_element_test_command_prints_the_csr_n_curve(tmp_path):
+    """`twofluid element-test --model hysteretic --curve` prints and writes the curve; bad --n160cs
+    is one line and exit 2."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "et"
+    r = subprocess.run([sys.executable, "-m", "twofluid.cli", "element-test", "--model", "hysteretic",
+                        "--n160cs", "15", "--curve", "--out", str(out)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "N correlation" in r.stdout and (out / "csr_n.csv").is_file() and (out / "csr_n.png").is_file()
+    rows = np.genfromtxt(out / "csr_n.csv", delimiter=",", names=True)
+    assert np.all(np.abs(rows["csr_error"]) <= 0.15)
+    bad = subprocess.run([sys.executable, "-m", "twofluid.cli", "element-test", "--model", "hysteretic",
+                          "--n160cs", "99"], capture_output=True, text=True)
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "--n160cs" in bad.stderr

@@ -4,6 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import matplotlib
+import matplotlib.ticker
 
 from .agg import new_figure, write_png
 
@@ -11,7 +12,7 @@ from .agg import new_figure, write_png
 # this module (models.element_test closes pyplot's figures), as this module did before.
 matplotlib.use("Agg")
 
-__all__ = ["plot_element_test"]
+__all__ = ["plot_element_test", "plot_csr_n"]
 
 #: resolution of the PNG [dots per inch]
 DPI = 120
@@ -67,6 +68,33 @@ def plot_element_test(result, path: str | Path | None = None, element: int = 0,
             else "no liquefaction"
         title = f"{drained} cyclic simple shear ({mode}-controlled): {told}"
     fig.suptitle(title)
+    if path is not None:
+        write_png(fig, path)
+    return fig
+
+
+def plot_csr_n(rows, path: str | Path | None = None, title: str | None = None):
+    """The model's cycles to liquefaction against the correlation's CSR–N curve.
+
+    ``rows`` as :func:`twofluid.models.element_test_hysteretic.csr_n_curve` returns them; the band
+    is ±15 % in CSR around the correlation."""
+    import numpy as np
+
+    fig = new_figure((6.0, 4.2), DPI, layout="constrained")
+    ax = fig.add_subplot(1, 1, 1)
+    csr = np.array([r["csr"] for r in rows])
+    n_c = np.array([r["cycles_correlation"] for r in rows])
+    n_m = np.array([r["cycles_model"] for r in rows])
+    ax.plot(n_c, csr, "k-", label="correlation: CRR (15/N)^b")
+    ax.fill_between(n_c, 0.85 * csr, 1.15 * csr, color="0.85", label="±15 % in CSR")
+    ax.plot(n_m, csr, "o", color="C0", label="element test (r_u ≥ 0.98 or γ ≥ 3 %)")
+    ax.set_xscale("log")
+    ax.set_xticks(n_c, [f"{v:g}" for v in n_c])
+    ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    ax.set_xlabel("uniform cycles to liquefaction N")
+    ax.set_ylabel("CSR = τ/σ′_v0")
+    ax.set_title(title or "Undrained cyclic simple shear, hysteretic model")
+    ax.legend(fontsize=8)
     if path is not None:
         write_png(fig, path)
     return fig
