@@ -9,7 +9,7 @@ from MSF_max (:mod:`twofluid.models.hysteretic_sand`).
 
 >>> r = element_test(csr=0.13, n160cs=10.0)
 >>> round(r.cycles, 1), round(r.correlation_cycles, 1)
-(5.8, 5.7)
+(6.2, 5.9)
 """
 from __future__ import annotations
 
