@@ -44,6 +44,7 @@ from ..casefile.loader import load_case
 from ..casefile.schema import CaseError, revalidate
 from ..closures import drag as drag_laws
 from ..closures.shear_modulus import seed_idriss_gmax
+from ..geotech import filtering
 from ..io import ground_motion as gm
 from ..io.folders import default_out_dir
 from ..io.results import (CsvStream, NonFiniteOutput, ResultWriter, check_finite, write_json,
@@ -131,6 +132,29 @@ def build_column(case: dict, reference: bool = False) -> Built:
                         f"{la['compressibility']:g} with p_ref = {la['p_ref']:g} Pa gives an initial reference "
                         f"porosity outside (0, 1) ({nb[bad]:.4g}); lower A or p_ref")
     return Built(column, state, motion, tm["end"], tm["step"], case["reconsolidation"]["step"], site)
+
+
+def total_stress_surface(case: dict):
+    """(t [s], absolute surface acceleration [m/s²]) of the same column without pore-pressure
+    generation (every layer ``liquefiable = false``: n̄ held, total stress), run to the end of the
+    shear wave; None without shaking. Its low-passed peak is the a_max of the simplified
+    procedure's "run" column, so that the procedure's CSR comes from the site's response as a
+    total-stress analysis gives it, as the procedure's r_d assumes."""
+    import copy
+
+    if case["ground_motion"]["pga_g"] == 0.0:
+        return None
+    c = copy.deepcopy(case)
+    for la in c["layers"]:
+        la["liquefiable"] = False
+    b = build_column(c)
+    col = b.column
+    t, a = [], []
+    for step in col.run(b.state, col.shear_end, b.dt, b.dt_after):
+        for ti, ai in step.surface:
+            t.append(ti)
+            a.append(ai)
+    return np.array(t), np.array(a)
 
 
 def simplified_table(case, a_max_g: float | None = None):
@@ -326,8 +350,12 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     if round(last.t, 9) not in profiles:
         profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
         writer.profile(last.t, profiles[round(last.t, 9)])  # the state it stopped at, in the file too
+    try:
+        total = total_stress_surface(case)
+    except Exception:  # noqa: BLE001 - the companion run only informs the simplified table
+        total = None
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
-                              settle_shaking)
+                              settle_shaking, total)
     write_json(out / "summary.json", summary)
     try:
         report.write_tables(out, summary, extra, rec)
@@ -346,7 +374,8 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     return RunResult(status, out, summary, profiles, hist)
 
 
-def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow, settle_shaking):
+def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow, settle_shaking,
+             total=None):
     """summary.json, and the per-element and per-layer arrays behind the CSV tables and figures."""
     col, site = b.column, b.site
     mesh = col.v.mesh
@@ -359,6 +388,8 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
     solids = col.v.solids_volume(last.vertical)
     first = rec.first
     liq = np.isfinite(first)
+    by_shaking = liq & (np.nan_to_num(first, nan=np.inf) < col.shear_end - 1e-9)
+    after = liq & ~by_shaking
     t = np.array(rec.t)
     pb = np.array(rec.pbase)
     first_info = None
@@ -393,7 +424,13 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                           case["report"]["spectrum_damping"])
     pga_in = 0.0 if b.motion is None else b.motion.pga / report.G
     pga_surf = 0.0 if not rec.surface_a else float(np.max(np.abs(rec.surface_a))) / report.G
-    simp_run = report.simplified_rows(col, site, case, pga_surf)
+    pga_lp = sa_surf = None
+    if len(rec.surface_a) > 2:
+        pga_lp = filtering.low_passed_peak(rec.surface_t, rec.surface_a) / report.G
+        sa_surf = {f"{p:g}": v / report.G for p, v in filtering.spectral_ordinates(rec.surface_t, rec.surface_a).items()}
+    pga_ts = None if total is None or total[0].size < 3 else filtering.low_passed_peak(*total) / report.G
+    a_run = pga_ts if pga_ts is not None else (pga_lp if pga_lp is not None else pga_surf)
+    simp_run = report.simplified_rows(col, site, case, min(a_run, 3.0))
     simp_in = report.simplified_rows(col, site, case, pga_in)
     ns = col.n_sat
     layers = []
@@ -443,6 +480,11 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                     "end_s": col.shaking_end, "shear_wave_end_s": col.shear_end,
                     "applied_pga_m_s2": None if b.motion is None else b.motion.pga, "base": base,
                     "peak_surface_acceleration_g": pga_surf,
+                    "peak_surface_acceleration_low_passed_g": pga_lp,
+                    "low_pass": f"4th-order Butterworth, zero phase (forwards and backwards), "
+                                f"{filtering.CUTOFF_HZ:g} Hz, on the surface motion resampled to the shear sub-step",
+                    "surface_Sa_g": sa_surf, "surface_Sa_damping": 0.05,
+                    "peak_surface_acceleration_total_stress_low_passed_g": pga_ts,
                     "modulus_reduction": curves.pop() if len(curves) == 1 else "per layer"},
         "r_u_definition": "(P - P_hydrostatic) / sigma'_v0 per saturated element; liquefied: r_u > "
                           f"{rec.ru_liq:g}",
@@ -455,6 +497,14 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
         "first_liquefaction": first_info,
         "liquefied_depth_range_m": _zone(rec.ever, col),
         "liquefied_thickness_m": float(mesh.lengths[rec.ever].sum()),
+        "liquefied_depth_range_shaking_m": _zone(by_shaking, col),
+        "liquefied_thickness_shaking_m": float(mesh.lengths[by_shaking].sum()),
+        "liquefied_depth_range_after_shaking_m": _zone(after, col),
+        "liquefied_thickness_after_shaking_m": float(mesh.lengths[after].sum()),
+        "liquefied_by_definition": ("shaking: r_u > the threshold first reached while the shear wave runs "
+                                    f"(t < {col.shear_end:g} s); after shaking: first reached later, by upward "
+                                    "seepage from below (or, with the hysteretic model, the reconsolidation floor "
+                                    "applied when the shear wave stops)"),
         "peak_r_u_top_element": float(rec.peak[-1]),
         "surface": boil,
         "settlement_end_of_shaking_m": settle_shaking,
@@ -468,9 +518,12 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
         "simplified_procedure": {
             "method": "Idriss & Boulanger (2008, 2014): r_d, MSF, K_sigma, CRR from (N1)60cs = 46 Dr^2; "
                       "settlement: Ishihara & Yoshimine (1992)",
-            "a_max_run_g": min(pga_surf, 3.0), "a_max_input_g": pga_in, "magnitude": m["magnitude"],
-            "a_max_run_note": None if pga_surf <= 3.0 else f"the run's peak surface acceleration "
-                              f"{pga_surf:.3g} g is above the procedure's range; evaluated at 3 g",
+            "a_max_run_g": min(a_run, 3.0), "a_max_input_g": pga_in, "magnitude": m["magnitude"],
+            "a_max_run_definition": ("low-passed peak surface acceleration of the same column in total stress "
+                                     "(no pore-pressure generation)" if pga_ts is not None else
+                                     "low-passed peak surface acceleration of this run (no total-stress run)"),
+            "a_max_run_note": None if a_run <= 3.0 else f"the peak surface acceleration "
+                              f"{a_run:.3g} g is above the procedure's range; evaluated at 3 g",
             "liquefied_depth_range_run_m": _fs_zone(simp_run, col),
             "liquefied_depth_range_input_m": _fs_zone(simp_in, col),
             "settlement_run_m": simp_run.total_settlement_m,
