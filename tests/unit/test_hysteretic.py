@@ -118,24 +118,24 @@ def test_stress_of_an_old_reversal_never_exceeds_the_new_strength():
 @pytest.mark.parametrize("dr", [0.35, 0.55, 0.75])
 @pytest.mark.parametrize("gamma_max", [0.005, 0.03, 0.1])
 def test_reconsolidation_floor(dr, gamma_max):
-    """ε_v floor = 1.5 exp(−2.5 Dr) min(0.08, γ_max) (Yoshimine et al. 2006), applied as a floor."""
-    from twofluid.models.liquefaction_1d import LiquefactionColumn
+    """ε_v floor = 1.5 exp(−2.5 Dr) min(0.08, γ_max) (Yoshimine et al. 2006) with γ_max the larger of
+    the element's strain and I&B's γ_max(FS = D^−b, Dr); 0 where no pore pressure is generated."""
+    from twofluid.geotech.settlement import max_shear_strain
+    from twofluid.models.liquefaction_1d import ColumnState, LiquefactionColumn
 
-    par = hs.parameters(sigma_v0=[50e3, 80e3], dr=100 * dr)
-    st = law.new_state(2, par)
+    par = hs.parameters(sigma_v0=[50e3, 80e3, 80e3], dr=100 * dr, liquefiable=[True, True, False])
+    st = law.new_state(3, par)
     st[:, law.S_GM] = gamma_max
-    st[1, law.S_EPS] = 0.5  # already more than the floor: no change
+    st[1, law.S_D] = 3.0  # liquefied: FS = 3^-b
     col = LiquefactionColumn.__new__(LiquefactionColumn)
-    col.hysteretic, col.n_sat = par, 2
-
-    class S:
-        vertical = None
-        wave = None
-    nb = np.array([0.42, 0.42])
-    out = col._apply_floor(S(), nb, st)
-    expect = 1.5 * math.exp(-2.5 * par[0, law.P_DR]) * min(0.08, gamma_max)
-    assert math.isclose(math.log((1 - out[0]) / (1 - nb[0])), expect, rel_tol=1e-12)
-    assert out[1] == nb[1]
+    col.hysteretic, col.n_sat = par, 3
+    eps = col.reconsolidation_floor(ColumnState(None, None, st))
+    expect0 = 1.5 * math.exp(-2.5 * par[0, law.P_DR]) * min(0.08, gamma_max)
+    g1 = max(gamma_max, float(max_shear_strain(3.0 ** -par[1, law.P_B], par[1, law.P_DR])))
+    expect1 = 1.5 * math.exp(-2.5 * par[1, law.P_DR]) * min(0.08, g1)
+    assert math.isclose(eps[0], expect0, rel_tol=1e-12)
+    assert math.isclose(eps[1], expect1, rel_tol=1e-12) and eps[1] >= eps[0] * (1 - 1e-12)
+    assert eps[2] == 0.0
 
 
 def test_the_plain_python_and_the_compiled_kernel_agree():

@@ -178,12 +178,15 @@ def test_weights_path_is_relative_to_the_case_file_and_read_once(folder, monkeyp
     real = rp.load_weights
     monkeypatch.setattr(rp, "load_weights", lambda p=None: calls.append(p) or real(p))
     path = folder / "ann.toml"
-    path.write_text(_case(layer={"reference_porosity_law": "ann", "ann_weights": "weights.json"}))
+    path.write_text(_case(layer={"reference_porosity_law": "ann", "ann_weights": "weights.json"},
+                          shear_wave={"model": "thesis"}))
     # the current folder (work/) holds no weights.json: found next to the case file
     r = run_liquefaction(str(path), folder / "out")
     assert r.status == "completed"
     assert r.summary["shear_substeps"] >= 20  # the law ran at every sub-step ...
-    assert len(calls) == 2  # ... but the file was read once by the validation, once by the build
+    # ... but the file was read once by the validation, once by the build and once by the build of
+    # the total-stress companion run (the simplified procedure's a_max)
+    assert len(calls) == 3
     assert all(str(p) == str(folder / "weights.json") for p in calls)
     w = build_column(load_case(str(path))).column.sand.law_params["weights"]
     assert isinstance(w, rp.AnnWeights)
@@ -218,7 +221,7 @@ def test_non_finite_shear_step_is_a_failed_run_with_its_results(folder, monkeypa
     # the reference shear path calls seed_idriss_gmax; the compiled kernel evaluates G_max itself
     monkeypatch.setattr(liquefaction_1d._shear_kernel, "available", lambda: False)
     path = folder / "ok.toml"
-    path.write_text(_case())
+    path.write_text(_case(shear_wave={"model": "thesis"}))
     out = folder / "out"
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 1
     captured = capsys.readouterr()
@@ -248,7 +251,7 @@ def test_tabulated_reduction_from_a_csv_next_to_the_case_file(folder):
     for name, sand in (("hyp", {}), ("same", {"modulus_reduction": "tabulated", "reduction_file": "same.csv"}),
                        ("stiff", {"modulus_reduction": "tabulated", "reduction_file": "stiff.csv"})):
         path = folder / f"{name}.toml"
-        path.write_text(_case(layer=sand, ground_motion={"pga_g": 0.5}))
+        path.write_text(_case(layer=sand, ground_motion={"pga_g": 0.5}, shear_wave={"model": "thesis"}))
         r = run_liquefaction(str(path), folder / name)
         assert r.status == "completed"
         assert r.summary["shaking"]["modulus_reduction"] == ("hyperbolic" if name == "hyp" else "tabulated")

@@ -145,11 +145,11 @@ _MOTION = [
 ]
 
 _SHEAR = [
-    K("model", str, "thesis", "-", "shear law of the soil: thesis (the non-linear elastic backbone and "
-      "densification law of Pringle 2001, the bundled cases' calibration) or hysteretic (GQ/H backbone "
-      "with Masing/MRDF rules, strength σ′_v tan φ′ floored by S_r, cyclic mobility, pore pressure "
-      "calibrated to the CRR curve of (N1)60cs; docs/liquefaction.md, \"The hysteretic model\": in "
-      "development, not yet the default)", choices=("hysteretic", "thesis")),
+    K("model", str, "hysteretic", "-", "shear law of the soil: hysteretic (GQ/H backbone with Masing/MRDF "
+      "rules, strength σ′_v tan φ′ floored by the residual strength, cyclic mobility, pore pressure "
+      "calibrated to the CRR curve of (N1)60cs; docs/liquefaction.md) or thesis (the non-linear elastic "
+      "backbone and densification law of Pringle 2001: thesis reproduction only, not for design; warns)",
+      choices=("hysteretic", "thesis")),
     K("step", float, 0.005, "s", "sub-step of the horizontal equation (Newmark average acceleration)",
       lo=0.0, lo_open=True, hi=0.05),
     K("damping_ratio", float, 0.05, "-", "Rayleigh damping ratio ξ at the two frequencies: with the thesis "
@@ -236,6 +236,9 @@ _SATURATED_ONLY = ("particle_diameter", "hydraulic_conductivity", "porosity", "v
 def _check_hysteretic(case: dict, source: str) -> None:
     """The hysteretic model's per-layer lists, and a warning for the thesis model."""
     if case["shear_wave"]["model"] == "thesis":
+        warnings.warn(CaseWarning(f"{source}: [shear_wave] model = \"thesis\": the non-linear elastic backbone "
+                                  "of Pringle (2001), kept to reproduce the thesis: no hysteresis, no residual "
+                                  "strength, no cyclic mobility; not for design"), stacklevel=2)
         return
     for i, la in enumerate(case["layers"]):
         th, p = la["gqh_theta"], la["mrdf"]

@@ -37,7 +37,8 @@ ever exceeds the new strength.
 
 and when loading outwards beyond γ_d the stress gains τ_d (additive, so it is continuous at the
 onset); a branch from a reversal above τ_max (a dilated state) is widened by
-κ = max(1, |d − τ_0/τ_max|/2) in stress and strain, so that it still reaches −d τ_max. Before liquefaction γ_c = 0
+κ = max(1, |d − τ_0/τ_max|/(1 + F)) in stress and strain, so that it still reaches d τ_max; a
+liquefied element takes Masing's branches (F = 1) between its dilation stops. Before liquefaction γ_c = 0
 and γ_d = ``gamma_d0``; at liquefaction γ_c becomes the middle of the current half cycle, and
 every later half cycle whose amplitude exceeds the threshold strain widens γ_d by ``gamma_d_step`` up to the
 limiting strain γ_lim(Dr) of Idriss & Boulanger (2008). The strain so grows cycle by cycle
@@ -235,10 +236,11 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     gm = st[e, S_GM]
     xm = gm / gr
     red = gqh_ratio(xm, th1, th2, th3, th4, th5) / xm if xm > 0.0 else 1.0
-    fm = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
-    # the branch's scale: 1 (Masing) from a reversal inside the strength; from a stress the dilation
-    # carried above it, wider, so that the branch still reaches the strength the other way
-    kappa = max(1.0, 0.5 * abs(d - t0))
+    # MRDF's factor; a liquefied element flows between its dilation stops on Masing branches
+    fm = 1.0 if st[e, S_LIQ] > 0.0 else par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
+    # the branch's scale: 1 from a reversal inside the strength; from a stress the dilation carried
+    # above it, wider, so that the branch still reaches the strength the other way (asymptote d τ_max)
+    kappa = max(1.0, abs(d - t0) / (1.0 + fm)) if abs(t0) > 1.0 else 1.0
     tau = t0 * s + s * kappa * _branch((g - g0) / (kappa * gr), fm, th1, th2, th3, th4, th5)
     if d * g > gm:  # beyond the largest strain so far: not past the backbone
         tb = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)

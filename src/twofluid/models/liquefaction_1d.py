@@ -502,13 +502,38 @@ class LiquefactionColumn:
         return np.where(par[:ns, _hyst_law.P_LIQ] > 0.0, eps, 0.0)
 
     def _apply_floor(self, s: ColumnState, n_bar: np.ndarray, st: np.ndarray) -> np.ndarray:
-        """n̄ lowered where the volumetric strain made so far is below the floor (a floor, not an
-        addition: the total is max(generated, floor)); ``st`` records it."""
-        ns = self.n_sat
-        deficit = np.maximum(self.reconsolidation_floor(ColumnState(s.vertical, s.wave, st))
-                             - st[:ns, _hyst_law.S_EPS], 0.0)
-        st[:ns, _hyst_law.S_EPS] += deficit
-        return n_bar - (1.0 - n_bar) * np.expm1(deficit)
+        """The reconsolidation floor, applied when the shear wave stops (a floor, not an addition).
+
+        Each element will settle by the strain its drainage has made so far, ln((1 − n)/(1 − n0)),
+        plus what its skeleton makes as P_s recovers from its present value P_end to σ′_v0, about
+        A ln(σ′_v0/P_end). Where that total is below the floor, the skeleton's compressibility for
+        that reloading is raised to A′ = (floor − drained)/ln(σ′_v0/P_end), with n̄ remapped so that
+        P_s does not change: the strain then comes out of the two-fluid drainage as the excess pore
+        pressure dissipates (it takes longer, as a softer skeleton must), without a jump of r_u. An
+        element that has already drained (r_u ≤ 0.05: no pore pressure left to drain) takes the rest
+        as a drop of n̄, the only way left to it. ``st`` records the strain added; returns n̄."""
+        ns, v = self.n_sat, self.v
+        n = s.vertical.n
+        floor = self.reconsolidation_floor(ColumnState(s.vertical, s.wave, st))
+        drained = np.log((1.0 - n) / (1.0 - self.n0))
+        p_end = np.maximum(v.solids_pressure(n, n_bar), 1e-300)
+        A = np.array(np.broadcast_to(np.asarray(v.clo.A, dtype=float), (ns,)))
+        p_ref = np.broadcast_to(np.asarray(v.clo.p_ref, dtype=float), (ns,))
+        span = np.log(np.maximum(self.sigma_v0 / p_end, 1.0))
+        need = floor - drained
+        soft = (need > A * span) & (span > -np.log(0.95))  # r_u > 0.05 left: a softer reloading
+        a_new = np.where(soft, need / np.where(soft, span, 1.0), A)
+        nb = np.array(n_bar, dtype=float)
+        # P_s(n, n̄′, A′) = P_s(n, n̄, A): 1 − n̄′ = (1 − n)(1 − A′ ln(P_end/p_ref))
+        nb = np.where(soft, 1.0 - (1.0 - n) * (1.0 - a_new * np.log(p_end / p_ref)), nb)
+        rest = np.where(~soft, np.maximum(need - A * span, 0.0), 0.0)
+        nb = nb - (1.0 - nb) * np.expm1(rest)
+        st[:ns, _hyst_law.S_EPS] += np.where(soft, need - A * span, rest)
+        if np.any(soft):
+            from dataclasses import replace
+
+            v.clo = replace(v.clo, A=a_new)
+        return nb
 
     def _kernel_arguments(self):
         """The fixed arguments of the compiled shear kernel, or None where the case needs the

@@ -52,7 +52,7 @@ from ..io.results import (CsvStream, NonFiniteOutput, ResultWriter, check_finite
 from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalColumn
 from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
-from ..timestepping.backward_euler import PicardSettings
+from ..timestepping.backward_euler import PicardSettings, StepFailure
 from ..verification.terzaghi import consolidation_coefficient
 from . import liquefaction_report as report
 from .liquefaction_site import Site, crust_for, hysteretic_parameters, sand_for, site_arrays
@@ -350,10 +350,12 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     if round(last.t, 9) not in profiles:
         profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
         writer.profile(last.t, profiles[round(last.t, 9)])  # the state it stopped at, in the file too
-    try:
-        total = total_stress_surface(case)
-    except Exception:  # noqa: BLE001 - the companion run only informs the simplified table
-        total = None
+    total = None
+    if status == "completed":  # the companion run informs the simplified table only
+        try:
+            total = total_stress_surface(case)
+        except (StepFailure, FloatingPointError, ValueError):
+            total = None
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
                               settle_shaking, total)
     write_json(out / "summary.json", summary)
