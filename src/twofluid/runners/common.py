@@ -163,20 +163,50 @@ def validated_case(case) -> dict:
 
 @contextmanager
 def sigterm_as_interrupt():
-    """SIGTERM raises :class:`Terminated` while a run is going (main thread only: signal
-    handlers cannot be set elsewhere, e.g. in a worker thread of an ensemble)."""
+    """SIGTERM raises :class:`Terminated` (and SIGINT ``KeyboardInterrupt``, where Python's own
+    handler is in place) while a run is going; main thread only: signal handlers cannot be set
+    elsewhere, e.g. in a worker thread of an ensemble (None is yielded there).
+
+    Yields a dict: ``got`` is the first signal received (or None). Once the caller sets
+    ``finishing`` (the run has ended and is writing its last record), a signal is only noted, not
+    raised, so that the caller can say in the summary that the run was interrupted as it ended."""
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield None
         return
+    state = {"got": None, "finishing": False}
 
     def handler(signum, frame):
-        raise Terminated()
+        if state["got"] is None:
+            state["got"] = signum
+        if state["finishing"]:
+            return
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
 
     old = signal.signal(signal.SIGTERM, handler)
+    old_int = signal.getsignal(signal.SIGINT)
+    own_int = old_int is signal.default_int_handler or getattr(old_int, "twofluid_handler", False)
+    if own_int:
+        signal.signal(signal.SIGINT, handler)
     try:
-        yield
+        yield state
     finally:
         signal.signal(signal.SIGTERM, old)
+        if own_int:
+            signal.signal(signal.SIGINT, old_int)
+
+
+def _interrupted_as_it_ended(res: RunResult, out: Path, signum: int) -> RunResult:
+    """A signal that came as the run was ending: the summary says so (status interrupted), whatever
+    the run had written; the files of the run are complete."""
+    reason = "terminated (SIGTERM)" if signum == signal.SIGTERM else "interrupted by the user (Ctrl-C)"
+    summary = dict(res.summary)
+    before = f"{summary.get('status', res.status)}" + (f", {summary['reason']}" if summary.get("reason") else "")
+    summary["status"] = "interrupted"
+    summary["reason"] = f"{reason} as the run ended; its outputs are complete ({before})"
+    if (out / "summary.json").is_file():
+        write_json(out / "summary.json", summary)
+    res.status, res.summary = "interrupted", summary
+    return res
 
 
 def _outside_loop(case: dict, out: Path, status: str, reason: str, wall: float) -> dict:
@@ -235,7 +265,7 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
     runner = getattr(importlib.import_module(mod), func)
     wall0 = time.perf_counter()
     try:
-        with OutputFolder(out) as folder, sigterm_as_interrupt():
+        with sigterm_as_interrupt() as sig, OutputFolder(out) as folder:
             token = _PHASE.set("set-up")
             try:
                 res = runner(case, out, progress=progress)
@@ -254,6 +284,10 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
                 res = RunResult("failed", out, summary)
             finally:
                 _PHASE.reset(token)
+                if sig is not None:
+                    sig["finishing"] = True  # from here a signal is noted, not raised
+            if sig is not None and sig["got"] is not None and res.status != "interrupted":
+                res = _interrupted_as_it_ended(res, out, sig["got"])
         if memory:
             res.tables = {p.name: read_table(p) for p in sorted(out.glob("*.csv"))}
             res.out_dir = None
