@@ -403,6 +403,9 @@ def revalidate(case: dict, source: str) -> dict:
     keys without effect that a resolved case carries raise no warning."""
     if not isinstance(case, dict):
         raise CaseError(source, "case", f"must be a table of sections (a dict), got {type(case).__name__}")
+    if not isinstance(case.get("_source", ""), str):
+        raise CaseError("<api>", "_source", f"must be a string (the file the case was loaded from), got "
+                        f"{type(case['_source']).__name__}")
     doc = {k: v for k, v in case.items() if not (isinstance(k, str) and k.startswith("_"))}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CaseWarning)

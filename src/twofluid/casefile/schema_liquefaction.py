@@ -19,6 +19,8 @@ import math
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from ..geotech.profile import SIGMA_EFF_MAX_PA
 from ..io.tables import TableError, read_columns
 from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, register_model
@@ -491,6 +493,24 @@ def _record_path(case: dict, source: str) -> Path:
                         f"bundled record ({exc})") from None
 
 
+#: the sample intervals [s] a record may have (strong-motion records: 0.001 to 0.05 s)
+RECORD_DT = (1e-4, 1.0)
+
+
+def _check_sampling(m, path: Path, source: str, key: str) -> None:
+    """A record sampled at one constant interval within :data:`RECORD_DT` (the shear wave, the
+    response spectra and the record's cut all take it so), else a CaseError saying where it is not."""
+    steps = np.diff(m.time)
+    if m.dt is None:
+        i = int(np.argmax(np.abs(steps - steps[0]) > 1e-6 * steps[0]))
+        raise CaseError(source, key, f"{path.name}: uneven time steps ({steps[0]:.6g} s, then {steps[i]:.6g} s "
+                        f"after t = {m.time[i]:.6g} s); valid: a record sampled at one constant interval "
+                        "(resample it, e.g. by linear interpolation, to a constant step)")
+    if not RECORD_DT[0] <= m.dt <= RECORD_DT[1]:
+        raise CaseError(source, key, f"{path.name}: sample interval DT = {m.dt:g} s is outside the valid range "
+                        f"[{RECORD_DT[0]:g}, {RECORD_DT[1]:g}] s")
+
+
 def load_motion(case: dict, source: str):
     """The base record in m/s²: read, cut to ``duration``, baseline-corrected, scaled to
     ``pga_g``; None if ``pga_g = 0``. Every problem is a CaseError naming the file and key."""
@@ -507,6 +527,7 @@ def load_motion(case: dict, source: str):
         raise CaseError(source, key, str(exc)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise CaseError(source, key, f"{path}: cannot be read ({exc})") from None
+    _check_sampling(m, path, source, key)
     if g["duration"] > 0.0:
         keep = m.time <= g["duration"] + 1e-12
         if int(keep.sum()) < 2:

@@ -404,6 +404,14 @@ class OutputFolder:
         doc = {"files": files, "started_ns": self._started}
         _write_manifest(self.path / MANIFEST, (json.dumps(doc, indent=1) + "\n").encode())
 
+    def refresh(self) -> None:
+        """Record the files again as they are now (after a file was rewritten once the folder was closed)."""
+        try:
+            self._save(final=True)
+        except OSError as e:
+            warnings.warn(OutputWarning(f"{self.path / MANIFEST}: cannot be written ({e.strerror or e})"),
+                          stacklevel=2)
+
     def abandon(self) -> None:
         """The run did not start (bad input found late): leave the folder as it was found, if new."""
         self._abandoned = True

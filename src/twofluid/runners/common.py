@@ -229,6 +229,30 @@ def _outside_loop(case: dict, out: Path, status: str, reason: str, wall: float) 
     return summary
 
 
+def _run_claimed(runner, case: dict, out: Path, progress: bool, folder, sig, wall0: float) -> RunResult:
+    """The runner in its claimed folder: an interruption or failure outside its time loop is a
+    summary that says so; from its end on, a signal is only noted (``sig``)."""
+    token = _PHASE.set("set-up")
+    try:
+        return runner(case, out, progress=progress)
+    except KeyboardInterrupt as exc:
+        summary = _outside_loop(case, out, "interrupted", _interrupt_reason(exc), time.perf_counter() - wall0)
+        return RunResult("interrupted", out, summary)
+    except CaseError:
+        folder.abandon()
+        raise
+    except (StepFailure, *_NUMERICAL_ERRORS) as exc:
+        if isinstance(exc, _PROGRAM_ERRORS):
+            raise
+        text = str(exc) if isinstance(exc, (NonFiniteOutput, StepFailure)) else f"{type(exc).__name__}: {exc}"
+        summary = _outside_loop(case, out, "failed", text, time.perf_counter() - wall0)
+        return RunResult("failed", out, summary)
+    finally:
+        _PHASE.reset(token)
+        if sig is not None:
+            sig["finishing"] = True  # from here a signal is noted, not raised
+
+
 def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = None) -> RunResult:
     """Run ``case`` (resolved or edited dict, bundled name or TOML path).
 
@@ -265,29 +289,14 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
     runner = getattr(importlib.import_module(mod), func)
     wall0 = time.perf_counter()
     try:
-        with sigterm_as_interrupt() as sig, OutputFolder(out) as folder:
-            token = _PHASE.set("set-up")
-            try:
-                res = runner(case, out, progress=progress)
-            except KeyboardInterrupt as exc:
-                summary = _outside_loop(case, out, "interrupted", _interrupt_reason(exc),
-                                        time.perf_counter() - wall0)
-                res = RunResult("interrupted", out, summary)
-            except CaseError:
-                folder.abandon()
-                raise
-            except (StepFailure, *_NUMERICAL_ERRORS) as exc:
-                if isinstance(exc, _PROGRAM_ERRORS):
-                    raise
-                text = str(exc) if isinstance(exc, (NonFiniteOutput, StepFailure)) else f"{type(exc).__name__}: {exc}"
-                summary = _outside_loop(case, out, "failed", text, time.perf_counter() - wall0)
-                res = RunResult("failed", out, summary)
-            finally:
-                _PHASE.reset(token)
-                if sig is not None:
-                    sig["finishing"] = True  # from here a signal is noted, not raised
+        with sigterm_as_interrupt() as sig:
+            with OutputFolder(out) as folder:
+                res = _run_claimed(runner, case, out, progress, folder, sig, wall0)
+                if sig is not None and sig["got"] is not None and res.status != "interrupted":
+                    res = _interrupted_as_it_ended(res, out, sig["got"])
             if sig is not None and sig["got"] is not None and res.status != "interrupted":
-                res = _interrupted_as_it_ended(res, out, sig["got"])
+                res = _interrupted_as_it_ended(res, out, sig["got"])  # it came as the folder was closed
+                folder.refresh()
         if memory:
             res.tables = {p.name: read_table(p) for p in sorted(out.glob("*.csv"))}
             res.out_dir = None
