@@ -424,6 +424,12 @@ def _main(argv=None) -> int:
     except CaseError as exc:
         print(f"twofluid: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader of the output has gone (`twofluid cases | head`): nothing to say
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 141
     except OSError as exc:  # a file that could be checked but not written (disk full, removed meanwhile)
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"twofluid: error: {where}{exc.strerror or exc}", file=sys.stderr)

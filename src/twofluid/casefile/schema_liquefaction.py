@@ -23,7 +23,7 @@ import numpy as np
 
 from ..geotech.profile import SIGMA_EFF_MAX_PA
 from ..io.tables import TableError, read_columns
-from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, register_model
+from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, given_keys, register_model
 
 __all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "case_relative_path", "load_motion",
            "load_ann_weights", "load_reduction_table", "base_impedance", "layer_label", "saturated",
@@ -68,8 +68,9 @@ LAYER_KEYS = [
       "(0: not given)", lo=0.0, hi=0.7),
     K("void_ratio", float, 0.0, "-", "saturated layer, instead of porosity: e = n/(1 − n), valid "
       "[0.25, 2.33] (0: not given)", lo=0.0, hi=2.34),
-    K("relative_density", float, 47.0, "%", "Dr: Byrne's C1 = 7600 Dr^−2.5; the simplified procedure's "
-      "(N1)60 = 46 (Dr/100)²", lo=0.0, lo_open=True, hi=100.0),
+    K("relative_density", float, 47.0, "%", "Dr in per cent (a value ≤ 1, a fraction given for per cent, "
+      "is refused): Byrne's C1 = 7600 Dr^−2.5; the simplified procedure's (N1)60 = 46 (Dr/100)²; "
+      "saturated layers only", lo=1.0, lo_open=True, hi=100.0),
     K("k2max", float, 30.0, "-", "Seed–Idriss modulus number: G_max = 218.8 K2max √(σ′/1 kPa) kPa "
       "(ignored when shear_wave_velocity > 0)", lo=0.0, lo_open=True, hi=200.0),
     K("shear_wave_velocity", float, 0.0, "m/s", "small-strain V_s instead of k2max: G_max = ρ V_s² at the "
@@ -257,11 +258,17 @@ def check_liquefaction(case: dict, source: str) -> None:
     for i, table in enumerate(tables):  # last: a warning only for a valid case
         _warn_softening(case, source, i, table)
     for i, wet in enumerate(saturated(case)):
-        given = [k for k in _SATURATED_ONLY if not wet and case["layers"][i][k] > 0.0]
+        la = case["layers"][i]
+        given = [k for k in _SATURATED_ONLY if not wet and la[k] > 0.0]
+        given += [k for k in ("relative_density",) if not wet and k in given_keys("layers", i)]
         if given:
             warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} {', '.join(given)}: ignored above the "
                                       "water table (a crust has its unit_weight, stiffness and G/G_max only)"),
                           stacklevel=3)
+        if la["shear_wave_velocity"] > 0.0 and "k2max" in given_keys("layers", i):
+            warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} k2max: ignored (shear_wave_velocity = "
+                                      f"{la['shear_wave_velocity']:g} m/s gives G_max; k2max is used only when "
+                                      "shear_wave_velocity is 0)"), stacklevel=3)
 
 
 def _check_layers(case: dict, source: str) -> None:

@@ -101,7 +101,7 @@ def spectra(motion, surface_t, surface_a, periods=None, damping: float = 0.05) -
 
 
 def profile_stresses(col, site, case: dict) -> dict:
-    """Depth ranges, total and effective vertical stress at rest [Pa], Dr [-] and whether each
+    """Depth ranges, total and effective vertical stress at rest [Pa], Dr [%] and whether each
     element of the whole column (saturated, bottom first, then the crust) can liquefy."""
     ys = col.y_all
     H = col.ground_surface
@@ -116,7 +116,7 @@ def profile_stresses(col, site, case: dict) -> dict:
         c = col.crust
         load = c.rho * col.v.mat.g * c.h
         sig_eff[ns:] = case["site"]["surcharge"] + np.cumsum(load[::-1])[::-1] - 0.5 * load
-    dr = np.array([layers[i]["relative_density"] / 100.0 for i in owner])
+    dr = np.array([layers[i]["relative_density"] for i in owner])
     liq = np.array([layers[i]["liquefiable"] for i in owner], dtype=bool)
     liq[ns:] = False
     return {"z_top_m": z_top, "z_bottom_m": z_bot, "sigma_v_Pa": sig_eff + u_hydro,
