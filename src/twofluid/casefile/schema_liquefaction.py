@@ -25,7 +25,8 @@ from ..geotech.profile import SIGMA_EFF_MAX_PA
 from ..io.tables import TableError, read_columns
 from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, given_keys, register_model
 
-__all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "case_relative_path", "load_motion",
+__all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "report_depths", "case_relative_path",
+           "load_motion",
            "load_ann_weights", "load_reduction_table", "base_impedance", "layer_label", "saturated",
            "layer_elements", "layer_porosity", "effective_stress_bounds", "VISCOSITY_MAX", "VISCOSITY_DEFAULT"]
 
@@ -156,9 +157,10 @@ _RECON = [
 ]
 
 _REPORT = [
-    K("depths", FLOATS, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], "m",
+    K("depths", FLOATS, [], "m",
       "depths below the ground surface of the r_u and σ′_v time series (in the saturated layers; "
-      "[output] probes, heights above the base, are added)"),
+      "[output] probes, heights above the base, are added); empty: nine depths evenly spaced through "
+      "the saturated layers, z_w + k (H − z_w)/10 for k = 1 … 9 (water table z_w, base H)"),
     K("ru_liquefied", float, 0.95, "-", "r_u above which an element counts as liquefied", lo=0.0, hi=1.0,
       lo_open=True),
     K("field_interval", float, 0.1, "s", "time between rows of the r_u depth–time field (0: every step)",
@@ -211,6 +213,22 @@ def layer_porosity(layer: dict) -> float:
 _SATURATED_ONLY = ("particle_diameter", "hydraulic_conductivity", "porosity", "void_ratio")
 
 
+def report_depths(case: dict) -> list[float]:
+    """``[report] depths``, or where it is empty the nine depths that fit the site: z_w + k (H − z_w)/10,
+    k = 1 … 9, through the saturated layers (water table z_w, base H) [m].
+
+    >>> report_depths({"report": {"depths": []}, "site": {"water_table_depth": 2.0},
+    ...                "layers": [{"thickness": 2.0}, {"thickness": 10.0}]})[:3]
+    [3.0, 4.0, 5.0]
+    """
+    given = case["report"]["depths"]
+    if given:
+        return list(given)
+    zw = case["site"]["water_table_depth"]
+    H = sum(la["thickness"] for la in case["layers"])
+    return [zw + k * (H - zw) / 10.0 for k in range(1, 10)]
+
+
 def check_liquefaction(case: dict, source: str) -> None:
     """Cross-key checks of a ``liquefaction_1d`` case (one-line CaseError naming file and key)."""
     t, out = case["time"], case["output"]
@@ -233,7 +251,7 @@ def check_liquefaction(case: dict, source: str) -> None:
     if not g["file"] and g["pga_g"] > 0.0:
         raise CaseError(source, "[ground_motion] file", "a record is needed when pga_g > 0")
     zw = case["site"]["water_table_depth"]
-    for z in case["report"]["depths"]:
+    for z in report_depths(case):
         if not zw <= z <= H:
             raise CaseError(source, "[report] depths", f"{z:g} lies outside [{zw:g}, {H:g}] m (the saturated "
                             "layers, depths below the ground surface)")
