@@ -20,7 +20,7 @@ def _cmd_run(args) -> int:
     from .runners import run_case
 
     res = run_case(args.case, default_out_dir if args.out is None else args.out,
-                   progress=not args.quiet and sys.stderr.isatty(),
+                   progress=False if args.quiet else (True if sys.stderr.isatty() else "lines"),
                    plots=False if args.no_plots else None)
     s = res.summary
     clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" and not s.get("stepping_fallback") \
@@ -224,7 +224,8 @@ def parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="run a bundled case or a case file")
     r.add_argument("case", help="bundled case name (see `twofluid cases`) or path to a TOML file")
     r.add_argument("--out", help="output folder (default: twofluid-out/<case name>)")
-    r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--quiet", action="store_true", help="no progress bar (or, when stderr is not a terminal, "
+                   "no progress lines)")
     r.add_argument("--no-plots", action="store_true", help="write no PNG plots (overrides [output] plots)")
     r.set_defaults(func=_cmd_run)
     sp = sub.add_parser("simplified", help="the simplified liquefaction procedure (Idriss & Boulanger) on a "

@@ -28,7 +28,7 @@ from ..io.results import NonFiniteOutput, read_table, reset_nonfinite, write_jso
 from ..timestepping.backward_euler import StepFailure
 from ..io.folders import OutputFolder, check_out_dir, default_out_dir
 
-__all__ = ["RunResult", "RunGuard", "Terminated", "run_case", "run_guard", "validated_case", "RUNNERS"]
+__all__ = ["RunResult", "RunGuard", "LineProgress", "Terminated", "run_case", "run_guard", "validated_case", "RUNNERS"]
 
 
 @dataclass
@@ -64,9 +64,59 @@ class _NoBar:
         pass
 
 
-def _bar(t_end: float, progress: bool):
+class LineProgress:
+    """Progress as plain lines on stderr, for output that is not a terminal (a batch job's log, a
+    notebook): one line at least every 10 % of the simulated time and at least every 30 s of wall time
+    (never more often than every 10 % or 30 s), from 5 s into the run on (a short run prints none).
+    The progress bar's interface (``update``, ``reset``, ``close``, ``n``, ``bar_format``)."""
+
+    STEP, EVERY_S, QUIET_S = 0.1, 30.0, 5.0
+
+    def __init__(self, total: float | None, stream=None, clock=time.monotonic):
+        import sys
+
+        self.stream = stream if stream is not None else sys.stderr
+        self.clock = clock
+        self.bar_format = ""
+        self.n = 0.0
+        self._t0 = clock()
+        self.reset(total)
+
+    def reset(self, total=None) -> None:
+        self.total, self.n = total, 0.0
+        self._last_at, self._last_n = self.clock(), 0.0
+
+    def update(self, dn: float) -> None:
+        self.n += dn
+        now = self.clock()
+        if now - self._t0 < self.QUIET_S:
+            return
+        frac = (self.n / self.total) if self.total else None
+        due = now - self._last_at >= self.EVERY_S
+        if frac is not None and int(frac / self.STEP + 1e-9) > int(self._last_n / self.total / self.STEP + 1e-9):
+            due = True
+        if due:
+            self._say(now, frac)
+
+    def _say(self, now: float, frac) -> None:
+        wall = now - self._t0
+        what = (f"t = {self.n:.4g} of {self.total:.4g} s simulated ({100 * frac:.0f} %)" if frac is not None
+                else f"step {self.n:.0f}")
+        try:
+            print(f"twofluid: {what}, {wall:.0f} s elapsed", file=self.stream, flush=True)
+        except (OSError, ValueError):
+            pass
+        self._last_at, self._last_n = now, self.n
+
+    def close(self) -> None:
+        pass
+
+
+def _bar(t_end: float, progress):
     if not progress:
         return _NoBar()
+    if progress == "lines":
+        return LineProgress(t_end)
     from tqdm import tqdm
 
     return tqdm(total=t_end, unit="s", leave=False,
