@@ -1,7 +1,6 @@
 """Command line: parses arguments and calls the library. Nothing else lives here."""
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 
@@ -214,7 +213,10 @@ def _cluster_options(p) -> None:
                    "(instead of a local cluster)")
 
 
-def parser() -> argparse.ArgumentParser:
+def parser():
+    """The command line's argparse parser (argparse imported here: main's signal handlers come first)."""
+    import argparse
+
     p = argparse.ArgumentParser(prog="twofluid", description="Finite element model of saturated "
                                 "granular material and liquid moving together (Pringle 2001).")
     from . import __version__

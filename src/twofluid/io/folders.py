@@ -284,8 +284,8 @@ class OutputFolder:
             raise CaseError(str(p), "output folder", f"cannot be created ({exc.strerror or exc})") from None
         self._lock()
         try:
+            self._refuse_leftovers()  # before anything is removed: a refused folder stays as it was
             self._clear()
-            self._refuse_leftovers()
             self._started = time.time_ns()
             self._written = {n: None for n in self.keep if (p / n).is_file()}
             _CLAIMED[self._key] = self
@@ -341,10 +341,11 @@ class OutputFolder:
             return {str(n): ["<=", when] for n in files}, 0
         return ({str(n): s for n, s in files.items()} if isinstance(files, dict) else {}), started
 
-    def _clear(self) -> None:
-        """Remove the files the folder's previous run wrote and that are still as it left them."""
+    def _clearable(self) -> list[str]:
+        """The files the folder's previous run wrote and that are still as it left them."""
         p = self.path
         files, started = self._recorded()
+        out = []
         for n, was in files.items():
             if "/" in n or "\\" in n or n in ("", ".", "..", LOCK, MANIFEST) or n in self.keep:
                 continue
@@ -358,14 +359,21 @@ class OutputFolder:
             else:  # recorded while the run went (it was stopped): written since that run began
                 same = started > 0 and now[1] >= started
             if same:
-                (p / n).unlink(missing_ok=True)
+                out.append(n)
+        return out
+
+    def _clear(self) -> None:
+        """Remove the files the folder's previous run wrote and that are still as it left them."""
+        for n in self._clearable():
+            (self.path / n).unlink(missing_ok=True)
 
     def _refuse_leftovers(self) -> None:
         """Before anything runs: no entry left with a name twofluid writes (it would be overwritten)."""
         recorded = set(self._recorded()[0])
+        clearable = set(self._clearable())
         for e in sorted(self.path.iterdir(), key=lambda e: e.name):
             n = e.name
-            if n in (LOCK, MANIFEST) or not is_output_name(n):
+            if n in (LOCK, MANIFEST) or n in clearable or not is_output_name(n):
                 if e.is_symlink() and n in (MANIFEST,):
                     raise CaseError(str(e), "output folder", "is a symbolic link; remove it")
                 continue
