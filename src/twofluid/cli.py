@@ -1,7 +1,6 @@
 """Command line: parses arguments and calls the library. Nothing else lives here."""
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 
@@ -19,7 +18,8 @@ def _cmd_run(args) -> int:
     from .io.folders import default_out_dir
     from .runners import run_case
 
-    res = run_case(args.case, args.out or default_out_dir, progress=not args.quiet and sys.stderr.isatty(),
+    res = run_case(args.case, default_out_dir if args.out is None else args.out,
+                   progress=False if args.quiet else (True if sys.stderr.isatty() else "lines"),
                    plots=False if args.no_plots else None)
     s = res.summary
     clock = "pseudo-time t" if s.get("stepping") == "pseudo_transient" and not s.get("stepping_fallback") \
@@ -29,7 +29,7 @@ def _cmd_run(args) -> int:
     if s["status"] != "completed":
         print(f"  {s['reason']}; everything written so far is in {res.out_dir}", file=sys.stderr)
         if s["status"] == "interrupted":
-            return 143 if "SIGTERM" in str(s.get("reason", "")) else 130
+            return _Signals.status(str(s.get("reason", "")))
         return 1
     if str(s.get("reason", "")).startswith(("steady", "dissipated", "stopped at the end time")):
         print(f"  {s['reason']}")  # why a completed run ended: steady state, dissipation, or its end time
@@ -98,7 +98,7 @@ def _cmd_verify(args) -> int:
     from .verification.slis_check import slis_markdown
     from .verification.suite import format_table, validation_summary, verify
 
-    if args.out and not args.no_write:  # before computing
+    if args.out is not None and not args.no_write:  # before computing
         from .io.folders import check_out_file
 
         check_out_file(args.out, "verify --out")
@@ -128,11 +128,11 @@ def _cmd_sensitivity(args) -> int:
                         f"parameter ({len(args.vary)}), not {len(by)}")
     _check_workers(args)
     changes = [parse_change(v, b) for v, b in zip(args.vary, by * len(args.vary) if len(by) == 1 else by)]
-    if args.csv:  # before computing
+    if args.csv is not None:  # before computing
         from .io.folders import check_out_file
 
         check_out_file(args.csv, "sensitivity --csv")
-    if args.out:
+    if args.out is not None:
         from .io.folders import check_out_dir
 
         check_out_dir(args.out, "sensitivity --out", own=False)
@@ -149,21 +149,25 @@ def _check_workers(args) -> None:
 
     if args.workers is not None and not 1 <= args.workers <= 1024:
         raise CaseError("command line", "--workers", f"{args.workers} is outside the valid range [1, 1024]")
+    if args.scheduler is not None and not args.scheduler.strip():
+        raise CaseError("command line", "--scheduler", "is empty; give the address a running scheduler prints")
 
 
 def _cmd_ensemble(args) -> int:
     from .ensemble import load_ensemble, run_ensemble
+    from .ensemble.engine import ensemble_out_dir
+    from .io.folders import check_out_dir
 
     _check_workers(args)
     spec = load_ensemble(args.file)  # every error of the file before a cluster starts
-    out = args.out or f"twofluid-out/{spec.name}"
+    out = check_out_dir(ensemble_out_dir(spec) if args.out is None else args.out, "ensemble --out")
     try:
         rows = run_ensemble(spec, out, workers=args.workers, scheduler=args.scheduler,
                             progress=not args.quiet and sys.stderr.isatty())
     except KeyboardInterrupt:
         print(f"twofluid: interrupted; the finished members are in {out}/members.csv (run again to "
               "run the rest)", file=sys.stderr)
-        return 130
+        return _Signals.status()
     done = sum(r["status"] == "completed" for r in rows)
     print(f"{spec.name}: {done} of {len(rows)} members completed; results in {out}")
     for r in rows:
@@ -181,7 +185,7 @@ def _cmd_element_test(args) -> int:
                    "--porosity": args.porosity, "--A": args.A, "--k2max": args.k2max,
                    "--gamma-ref": args.gamma_ref, "--max-cycles": args.max_cycles,
                    "--steps-per-cycle": args.steps_per_cycle})
-    if args.out:  # before computing
+    if args.out is not None:  # before computing
         from .io.folders import check_out_dir
 
         check_out_dir(args.out, "element-test --out", own=False)
@@ -270,7 +274,10 @@ def _cluster_options(p) -> None:
                    "(instead of a local cluster)")
 
 
-def parser() -> argparse.ArgumentParser:
+def parser():
+    """The command line's argparse parser (argparse imported here: main's signal handlers come first)."""
+    import argparse
+
     p = argparse.ArgumentParser(prog="twofluid", description="Finite element model of saturated "
                                 "granular material and liquid moving together (Pringle 2001).")
     from . import __version__
@@ -280,7 +287,8 @@ def parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="run a bundled case or a case file")
     r.add_argument("case", help="bundled case name (see `twofluid cases`) or path to a TOML file")
     r.add_argument("--out", help="output folder (default: twofluid-out/<case name>)")
-    r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--quiet", action="store_true", help="no progress bar (or, when stderr is not a terminal, "
+                   "no progress lines)")
     r.add_argument("--no-plots", action="store_true", help="write no PNG plots (overrides [output] plots)")
     r.set_defaults(func=_cmd_run)
     sp = sub.add_parser("simplified", help="the simplified liquefaction procedure (Idriss & Boulanger) on a "
@@ -367,7 +375,113 @@ def one_blas_thread() -> None:
             os.environ.setdefault(var, "1")
 
 
+class _Signals:
+    """The command's own handlers of SIGINT and SIGTERM for its whole life (a run installs its own
+    while it goes and restores these): both raise ``KeyboardInterrupt``, and which one came is noted,
+    so a signal at any moment — during the imports, after the run — ends the command with one line
+    and exit status 130 (SIGINT) or 143 (SIGTERM), never a traceback or a kill."""
+
+    got: int | None = None
+
+    @classmethod
+    def handler(cls, signum, frame):
+        cls.got = cls.got or signum
+        raise KeyboardInterrupt
+
+    handler.__func__.twofluid_handler = True
+
+    @classmethod
+    def install(cls):
+        """Install the handlers; return the ones they replace (None where none was replaced)."""
+        import signal
+
+        cls.got = None
+        try:
+            if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:  # ignored on purpose (nohup, a background job)
+                return None, signal.signal(signal.SIGTERM, cls.handler)
+            return signal.signal(signal.SIGINT, cls.handler), signal.signal(signal.SIGTERM, cls.handler)
+        except ValueError:  # not the main thread (main() called from a thread): Python's defaults stay
+            return None
+
+    @classmethod
+    def late(cls) -> None:
+        """The command's work is done (or it is saying that it was interrupted): a signal now exits at
+        once with its status (130, 143), without a traceback from the interpreter's shutdown."""
+        import signal
+
+        def leave(signum, frame):
+            cls.got = cls.got or signum
+            try:
+                os.write(2, b"twofluid: interrupted as it ended (its outputs are complete)\n")
+            except OSError:
+                pass
+            cls.leave(143 if signum == signal.SIGTERM else 130)
+
+        try:
+            if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
+                signal.signal(signal.SIGINT, leave)
+            signal.signal(signal.SIGTERM, leave)
+        except ValueError:
+            pass
+
+    @staticmethod
+    def leave(rc: int) -> None:
+        """End the process with status ``rc`` now: the output flushed, logging shut down, no
+        interpreter shutdown (every file of twofluid is closed by then)."""
+        import logging
+
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        try:
+            logging.shutdown()
+        except Exception:  # noqa: BLE001 - leaving anyway
+            pass
+        os._exit(rc)
+
+    @staticmethod
+    def restore(old) -> None:
+        import signal
+
+        if old is not None:
+            if old[0] is not None:
+                signal.signal(signal.SIGINT, old[0])
+            signal.signal(signal.SIGTERM, old[1])
+
+    @classmethod
+    def status(cls, reason: str = "") -> int:
+        import signal
+
+        return 143 if cls.got == signal.SIGTERM or "SIGTERM" in reason else 130
+
+
 def main(argv=None) -> int:
+    """The command line. ``argv``: the arguments (called from Python: returns the exit status, the
+    caller's signal handlers restored); None: ``sys.argv``, the command itself, which ends the process
+    with the status (skipping the interpreter's shutdown, where a signal would kill it). Exit status:
+    0, 1 (a run failed, a file could not be written), 2 (bad input), 130 (SIGINT), 143 (SIGTERM)."""
+    old = _Signals.install()
+    rc = 130
+    try:
+        try:
+            rc = _main(argv)
+        except KeyboardInterrupt:
+            if argv is None:
+                _Signals.late()  # a second signal while saying so ends it at once, with the same status
+            print("twofluid: interrupted", file=sys.stderr)
+            rc = _Signals.status()
+        return rc
+    finally:
+        if argv is None:  # the command: a signal from here to the exit ends it with the signal's status
+            _Signals.late()
+            _Signals.leave(rc)
+        else:  # called from Python: its handlers back
+            _Signals.restore(old)
+
+
+def _main(argv=None) -> int:
     import warnings
 
     from .casefile.schema import CaseError, CaseWarning
@@ -382,11 +496,15 @@ def main(argv=None) -> int:
     except CaseError as exc:
         print(f"twofluid: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("twofluid: interrupted", file=sys.stderr)
-        return 130
+    except BrokenPipeError:  # the reader of the output has gone (`twofluid cases | head`): nothing to say
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 141
     except OSError as exc:  # a file that could be checked but not written (disk full, removed meanwhile)
-        print(f"twofluid: error: {exc}", file=sys.stderr)
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"twofluid: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 1
     finally:
         warnings.showwarning = default_show

@@ -1,8 +1,8 @@
 """The simplified procedure over a layered profile (crust, loose sand, dense sand).
 
 Profile (also the worked example of docs/simplified.md): water table at 2 m, crust
-0–2 m (18 kN/m³, not liquefiable), loose sand 2–6 m (Dr 0.45, 19 kN/m³), dense sand
-6–10 m (Dr 0.80, 20 kN/m³), γ_w = 9.81 kN/m³; rows of 2 m; a_max = 0.25 g, M_w = 6.95.
+0–2 m (18 kN/m³, not liquefiable), loose sand 2–6 m (Dr 45 %, 19 kN/m³), dense sand
+6–10 m (Dr 80 %, 20 kN/m³), γ_w = 9.81 kN/m³; rows of 2 m; a_max = 0.25 g, M_w = 6.95.
 
 Hand row 2 (z = 2–4 m, mid 3 m): σ_v = 2·18 + 1·19 = 55 kPa, u = 9.81 kPa,
 σ′_v = 45.19 kPa; FS = 0.65330 (every factor by hand in test_geotech_simplified.py).
@@ -20,7 +20,7 @@ Z_TOP = np.array([0.0, 2.0, 4.0, 6.0, 8.0])
 Z_BOT = Z_TOP + 2.0
 S_V = np.array([18.0, 55.0, 93.0, 132.0, 172.0]) * 1e3
 U = np.array([0.0, 9.81, 29.43, 49.05, 68.67]) * 1e3
-DR = np.array([0.45, 0.45, 0.45, 0.80, 0.80])
+DR = np.array([45.0, 45.0, 45.0, 80.0, 80.0])  # per cent, as the API takes it
 LIQ = np.array([False, True, True, True, True])
 
 
@@ -55,7 +55,7 @@ def test_unsaturated_rows_cannot_liquefy():
 def test_fs_falls_with_a_max_and_rises_with_density():
     fs = np.array([run(a_max_g=a).FS[1:] for a in (0.1, 0.2, 0.3, 0.4)])
     assert np.all(np.diff(fs, axis=0) < 0.0)
-    fs_dr = np.array([run(relative_density=d).FS[1:] for d in (0.3, 0.5, 0.7, 0.9)])
+    fs_dr = np.array([run(relative_density=d).FS[1:] for d in (30.0, 50.0, 70.0, 90.0)])
     assert np.all(np.diff(fs_dr, axis=0) > 0.0)
     s = [run(a_max_g=a).total_settlement_m for a in (0.1, 0.2, 0.3, 0.4)]
     assert np.all(np.diff(s) >= 0.0) and s[-1] > s[0]
@@ -94,6 +94,7 @@ def test_table_and_rows():
     (dict(sigma_v_eff_Pa=np.full(5, np.nan)), "sigma_v_eff_Pa"),
     (dict(sigma_v_Pa=S_V * 100, sigma_v_eff_Pa=(S_V - U) * 100), "sigma_v_eff_Pa"),
     (dict(relative_density=DR * 100), "relative_density"),
+    (dict(relative_density=DR / 100), "relative_density"),
     (dict(liquefiable=[1, 1, 1, 1, 1]), "liquefiable"),
     (dict(a_max_g=-0.1), "a_max_g"),
     (dict(a_max_g="big"), "a_max_g"),
@@ -105,6 +106,11 @@ def test_bad_arguments_name_the_argument(kw, key):
         run(**kw)
     msg = str(err.value)
     assert f": {key}:" in msg and "\n" not in msg
+
+
+def test_a_fraction_given_for_per_cent_is_refused_with_what_it_meant():
+    with pytest.raises(CaseError, match=r"relative_density: 0.45 is <= 1: Dr is in per cent.*did you mean 45"):
+        run(relative_density=DR / 100)
 
 
 def test_docs_worked_example_is_current():

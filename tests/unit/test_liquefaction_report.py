@@ -1,4 +1,4 @@
-"""The liquefaction report tables: a NaN is refused, never written; inf keeps its meaning."""
+"""The liquefaction report tables: a NaN is refused, never written; inf (cannot liquefy) is an empty cell."""
 import math
 
 import pytest
@@ -17,7 +17,7 @@ def test_a_nan_in_a_report_table_is_refused_naming_file_column_and_row(tmp_path)
 def test_inf_and_none_are_written_as_documented(tmp_path):
     path = tmp_path / "elements.csv"
     _write_csv(path, ["depth_m", "FS"], [[1.0, math.inf], [2.0, None]])
-    assert path.read_text().splitlines() == ["depth_m,FS", "1,inf", "2,"]
+    assert path.read_text().splitlines() == ["depth_m,FS", "1,", "2,"]
 
 
 def test_tables_of_numbers_are_written_as_the_general_writer_writes_them(tmp_path):

@@ -130,7 +130,7 @@ def test_outputs_with_depths_from_the_ground_surface(layered):
     lay = list(csv.DictReader(open(out / "layers.csv")))
     assert [r["layer"] for r in lay] == ["crust", "loose sand", "dense sand"]
     assert float(lay[1]["liquefied_thickness_m"]) == pytest.approx(s["layers"][1]["liquefied_thickness_m"])
-    assert lay[0]["peak_r_u"] == "" and lay[0]["FS_min_simplified_input"] == "inf"
+    assert lay[0]["peak_r_u"] == "" and lay[0]["FS_min_simplified_input"] == "" and lay[0]["FS_note"] == "NL"
     spec = list(csv.DictReader(open(out / "spectra.csv")))
     assert set(spec[0]) == {"period_s", "Sa_input_g", "Sa_surface_g", "amplification"}
     probes = list(csv.DictReader(open(out / "probes.csv")))

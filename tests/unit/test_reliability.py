@@ -287,26 +287,19 @@ def test_writers_refuse_non_finite_values_but_leave_undefined_cells_empty(tmp_pa
     assert lines == ["time_s,porosity,Us_m_s", "0,0.5,0.1", "0,0.6,"]
 
 
-def test_a_full_disk_leaves_no_half_row(tmp_path):
+def test_a_full_disk_leaves_no_half_row(tmp_path, monkeypatch):
     s = CsvStream(tmp_path / "t.csv", ["a", "b"])
     s.rows([[1.0, 2.0]])
+    real = os.write
 
-    real = s._f
+    def half_then_full(fd, data):  # the disk takes half the rows, then is full
+        real(fd, bytes(data[: len(data) // 2]))
+        raise OSError(28, "No space left on device")
 
-    class HalfWriter:
-        closed = False
-
-        def write(self, text):
-            real.write(text[: len(text) // 2])
-            real.flush()
-            raise OSError(28, "No space left on device")
-
-        def __getattr__(self, name):
-            return getattr(real, name)
-
-    s._f = HalfWriter()
-    with pytest.raises(OSError):
+    monkeypatch.setattr(os, "write", half_then_full)
+    with pytest.raises(OSError, match="t.csv"):
         s.rows([[3.0, 4.0], [5.0, 6.0]])
+    monkeypatch.undo()
     assert (tmp_path / "t.csv").read_bytes() == b"a,b\r\n1,2\r\n"
 
 

@@ -39,6 +39,9 @@ def _locate(case) -> tuple[Path | object, str, str]:
     if path.suffix == ".toml" or path.exists() or os.sep in str(case):
         if path.is_dir():
             raise CaseError(str(path), "file", "is a folder, not a case file")
+        if path.exists() and not path.is_file():
+            raise CaseError(str(path), "file", "is not a case file (a device, pipe or other special file; "
+                            "a case file is a TOML text file)")
         if not path.is_file():
             raise CaseError(str(path), "file", "does not exist")
         return path, str(path), path.stem[:100]

@@ -7,13 +7,14 @@ reference table of ``docs/case-file.md`` from the same data.
 """
 from __future__ import annotations
 
+import contextvars
 import math
 import warnings
 from dataclasses import dataclass
 from typing import Any
 
 __all__ = ["Key", "SCHEMA", "INITIAL_1D", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning",
-           "validate", "revalidate", "effective", "markdown", "check_schedule"]
+           "validate", "revalidate", "effective", "markdown", "check_schedule", "given_keys"]
 
 REQUIRED = object()
 #: every number of a case lies in ±[WORKING_MIN, WORKING_MAX] or is 0: no quantity of the model
@@ -202,6 +203,17 @@ ARRAYS: dict[str, dict[str, list[Key]]] = {}
 
 IGNORED: dict[str, dict[str, dict[str, str]]] = {}
 
+#: the keys a document gives in each entry of its arrays of tables, while its model's check runs
+#: ({array: [set of keys per entry]}; see :func:`given_keys`)
+_GIVEN: "contextvars.ContextVar[dict]" = contextvars.ContextVar("twofluid_given_keys", default={})
+
+
+def given_keys(array: str, i: int) -> set:
+    """The keys the case file gave in entry ``i`` of ``[[array]]`` (for a model's check: a key left at
+    its default is not "given"; a resolved case checked again gives every key, and warns of none)."""
+    entries = _GIVEN.get().get(array, [])
+    return entries[i] if i < len(entries) else set()
+
 
 def register_model(model: str, sections: dict[str, list[Key]], check=None,
                    arrays: dict[str, list[Key]] | None = None,
@@ -294,8 +306,10 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
         raise CaseError(source, full, f"{value!r} is not valid; valid: {key.range_text()}")
     if key.lo is not None or key.hi is not None:
         if _out_of_range(key, value):
+            hint = (f"; the unit is per cent: did you mean {value * 100:g} (×100)?"
+                    if key.unit == "%" and 0.0 < value <= 1.0 else "")
             raise CaseError(source, full, f"{value!r} is outside the valid range {key.range_text()} "
-                            f"[{key.unit}]")
+                            f"[{key.unit}]{hint}")
     return value
 
 
@@ -342,7 +356,11 @@ def validate(doc: dict, source: str = "<case>", name: str = "case") -> dict:
                 unused.append(f"{source}: [{where}] {key}: ignored ({why})")
     check = MODEL_CHECKS.get(case["model"])
     if check is not None:
-        check(resolved, source)
+        token = _GIVEN.set({name: [set(item) for item in tables.get(name, [])] for name in arrays})
+        try:
+            check(resolved, source)
+        finally:
+            _GIVEN.reset(token)
     from .derived import check_derived
 
     check_derived(resolved, source)
@@ -403,6 +421,9 @@ def revalidate(case: dict, source: str) -> dict:
     keys without effect that a resolved case carries raise no warning."""
     if not isinstance(case, dict):
         raise CaseError(source, "case", f"must be a table of sections (a dict), got {type(case).__name__}")
+    if not isinstance(case.get("_source", ""), str):
+        raise CaseError("<api>", "_source", f"must be a string (the file the case was loaded from), got "
+                        f"{type(case['_source']).__name__}")
     doc = {k: v for k, v in case.items() if not (isinstance(k, str) and k.startswith("_"))}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CaseWarning)

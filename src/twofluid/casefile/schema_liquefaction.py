@@ -19,11 +19,14 @@ import math
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from ..geotech.profile import SIGMA_EFF_MAX_PA
 from ..io.tables import TableError, read_columns
-from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, register_model
+from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, given_keys, register_model
 
-__all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "case_relative_path", "load_motion",
+__all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "report_depths", "case_relative_path",
+           "load_motion",
            "load_ann_weights", "load_reduction_table", "base_impedance", "layer_label", "saturated",
            "layer_elements", "layer_porosity", "effective_stress_bounds", "VISCOSITY_MAX", "VISCOSITY_DEFAULT"]
 
@@ -66,8 +69,9 @@ LAYER_KEYS = [
       "(0: not given)", lo=0.0, hi=0.7),
     K("void_ratio", float, 0.0, "-", "saturated layer, instead of porosity: e = n/(1 − n), valid "
       "[0.25, 2.33] (0: not given)", lo=0.0, hi=2.34),
-    K("relative_density", float, 47.0, "%", "Dr: Byrne's C1 = 7600 Dr^−2.5; the simplified procedure's "
-      "(N1)60 = 46 (Dr/100)²", lo=0.0, lo_open=True, hi=100.0),
+    K("relative_density", float, 47.0, "%", "Dr in per cent (a value ≤ 1, a fraction given for per cent, "
+      "is refused): Byrne's C1 = 7600 Dr^−2.5; the simplified procedure's (N1)60 = 46 (Dr/100)²; "
+      "saturated layers only", lo=1.0, lo_open=True, hi=100.0),
     K("k2max", float, 30.0, "-", "Seed–Idriss modulus number: G_max = 218.8 K2max √(σ′/1 kPa) kPa "
       "(ignored when shear_wave_velocity > 0)", lo=0.0, lo_open=True, hi=200.0),
     K("shear_wave_velocity", float, 0.0, "m/s", "small-strain V_s instead of k2max: G_max = ρ V_s² at the "
@@ -178,9 +182,10 @@ _RECON = [
 ]
 
 _REPORT = [
-    K("depths", FLOATS, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], "m",
+    K("depths", FLOATS, [], "m",
       "depths below the ground surface of the r_u and σ′_v time series (in the saturated layers; "
-      "[output] probes, heights above the base, are added)"),
+      "[output] probes, heights above the base, are added); empty: nine depths evenly spaced through "
+      "the saturated layers, z_w + k (H − z_w)/10 for k = 1 … 9 (water table z_w, base H)"),
     K("ru_liquefied", float, 0.95, "-", "r_u above which an element counts as liquefied", lo=0.0, hi=1.0,
       lo_open=True),
     K("field_interval", float, 0.1, "s", "time between rows of the r_u depth–time field (0: every step)",
@@ -253,6 +258,22 @@ def _check_hysteretic(case: dict, source: str) -> None:
             raise CaseError(source, f"{layer_label(case, i)} qc1ncs", "give n160cs or qc1ncs, not both")
 
 
+def report_depths(case: dict) -> list[float]:
+    """``[report] depths``, or where it is empty the nine depths that fit the site: z_w + k (H − z_w)/10,
+    k = 1 … 9, through the saturated layers (water table z_w, base H) [m].
+
+    >>> report_depths({"report": {"depths": []}, "site": {"water_table_depth": 2.0},
+    ...                "layers": [{"thickness": 2.0}, {"thickness": 10.0}]})[:3]
+    [3.0, 4.0, 5.0]
+    """
+    given = case["report"]["depths"]
+    if given:
+        return list(given)
+    zw = case["site"]["water_table_depth"]
+    H = sum(la["thickness"] for la in case["layers"])
+    return [zw + k * (H - zw) / 10.0 for k in range(1, 10)]
+
+
 def check_liquefaction(case: dict, source: str) -> None:
     """Cross-key checks of a ``liquefaction_1d`` case (one-line CaseError naming file and key)."""
     t, out = case["time"], case["output"]
@@ -275,7 +296,7 @@ def check_liquefaction(case: dict, source: str) -> None:
     if not g["file"] and g["pga_g"] > 0.0:
         raise CaseError(source, "[ground_motion] file", "a record is needed when pga_g > 0")
     zw = case["site"]["water_table_depth"]
-    for z in case["report"]["depths"]:
+    for z in report_depths(case):
         if not zw <= z <= H:
             raise CaseError(source, "[report] depths", f"{z:g} lies outside [{zw:g}, {H:g}] m (the saturated "
                             "layers, depths below the ground surface)")
@@ -302,11 +323,17 @@ def check_liquefaction(case: dict, source: str) -> None:
     for i, table in enumerate(tables):  # last: a warning only for a valid case
         _warn_softening(case, source, i, table)
     for i, wet in enumerate(saturated(case)):
-        given = [k for k in _SATURATED_ONLY if not wet and case["layers"][i][k] > 0.0]
+        la = case["layers"][i]
+        given = [k for k in _SATURATED_ONLY if not wet and la[k] > 0.0]
+        given += [k for k in ("relative_density",) if not wet and k in given_keys("layers", i)]
         if given:
             warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} {', '.join(given)}: ignored above the "
                                       "water table (a crust has its unit_weight, stiffness and G/G_max only)"),
                           stacklevel=3)
+        if la["shear_wave_velocity"] > 0.0 and "k2max" in given_keys("layers", i):
+            warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} k2max: ignored (shear_wave_velocity = "
+                                      f"{la['shear_wave_velocity']:g} m/s gives G_max; k2max is used only when "
+                                      "shear_wave_velocity is 0)"), stacklevel=3)
 
 
 def _check_layers(case: dict, source: str) -> None:
@@ -553,6 +580,24 @@ def _warn_liquefied_site_record(case: dict, source: str) -> None:
                       stacklevel=3)
 
 
+#: the sample intervals [s] a record may have (strong-motion records: 0.001 to 0.05 s)
+RECORD_DT = (1e-4, 1.0)
+
+
+def _check_sampling(m, path: Path, source: str, key: str) -> None:
+    """A record sampled at one constant interval within :data:`RECORD_DT` (the shear wave, the
+    response spectra and the record's cut all take it so), else a CaseError saying where it is not."""
+    steps = np.diff(m.time)
+    if m.dt is None:
+        i = int(np.argmax(np.abs(steps - steps[0]) > 1e-6 * steps[0]))
+        raise CaseError(source, key, f"{path.name}: uneven time steps ({steps[0]:.6g} s, then {steps[i]:.6g} s "
+                        f"after t = {m.time[i]:.6g} s); valid: a record sampled at one constant interval "
+                        "(resample it, e.g. by linear interpolation, to a constant step)")
+    if not RECORD_DT[0] <= m.dt <= RECORD_DT[1]:
+        raise CaseError(source, key, f"{path.name}: sample interval DT = {m.dt:g} s is outside the valid range "
+                        f"[{RECORD_DT[0]:g}, {RECORD_DT[1]:g}] s")
+
+
 def load_motion(case: dict, source: str):
     """The base record in m/s²: read, cut to ``duration``, baseline-corrected, scaled to
     ``pga_g`` with the sign ``polarity``; None if ``pga_g = 0``. Every problem is a CaseError naming the file and key."""
@@ -569,6 +614,7 @@ def load_motion(case: dict, source: str):
         raise CaseError(source, key, str(exc)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise CaseError(source, key, f"{path}: cannot be read ({exc})") from None
+    _check_sampling(m, path, source, key)
     if g["duration"] > 0.0:
         keep = m.time <= g["duration"] + 1e-12
         if int(keep.sum()) < 2:

@@ -23,7 +23,7 @@ from tqdm import tqdm
 from ..runners.common import sigterm_as_interrupt
 from .results import ResultsTable, figure_at, figure_stats
 
-__all__ = ["run_member", "run_members", "run_ensemble", "cluster_client"]
+__all__ = ["run_member", "run_members", "run_ensemble", "cluster_client", "ensemble_out_dir", "check_workers"]
 
 
 def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> dict:
@@ -207,43 +207,95 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
     return [rows[i] for i in sorted(rows)], record
 
 
+def ensemble_out_dir(spec) -> Path:
+    """``twofluid-out/<[ensemble] name>``, the name made a plain folder name (as a run's)."""
+    from ..io.folders import safe_name
+
+    return Path("twofluid-out") / safe_name(spec.name)
+
+
+def check_workers(workers, what: str = "workers") -> int | None:
+    """``workers`` as the number of worker processes (None: the CPU count); CaseError outside [1, 1024]."""
+    from ..casefile.schema import CaseError
+
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 1024:
+        raise CaseError("<api>" if what == "workers" else "command line", what,
+                        f"{workers!r} is not valid; valid: an integer in [1, 1024], or None for the CPU count")
+    return workers
+
+
+def _members_table_check(path: Path) -> str | None:
+    """Why ``members.csv`` of an earlier ensemble cannot be continued (None: it can)."""
+    from .results import FIXED
+
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            head = fh.readline().strip().split(",")
+    except (OSError, UnicodeDecodeError) as exc:
+        return f"cannot be read ({exc})"
+    if head[: len(FIXED)] != FIXED:
+        return (f"is not a members table of twofluid (its header starts {','.join(head[:3])!r}, not "
+                f"{','.join(FIXED[:3])!r}): move it away, or give another folder")
+    return None
+
+
 def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, scheduler: str | None = None,
                  progress: bool = False, plots: bool = True, client=None) -> list[dict]:
     """Run an ensemble (an :class:`~twofluid.ensemble.EnsembleSpec` or the path of its file).
 
     Writes ``members.csv``, ``ensemble.json`` and the plots to ``out_dir`` (default
-    ``twofluid-out/<ensemble name>``) and returns the results table: one dict per member
-    with ``member``, ``hash``, ``status``, ``reason``, ``wall_time_s``, the varied
-    parameters and the collected figures. ``workers`` processes on this machine, or the
-    cluster at ``scheduler`` (or an open ``distributed.Client``).
+    ``twofluid-out/<ensemble name>``, the name made a plain folder name) and returns the results
+    table: one dict per member with ``member``, ``hash``, ``status``, ``reason``, ``wall_time_s``,
+    the varied parameters and the collected figures. ``workers`` processes on this machine (an
+    integer in [1, 1024]; None: the CPU count), or the cluster at ``scheduler`` (or an open
+    ``distributed.Client``). The folder is checked and locked as a run's is (a second ensemble into
+    it is refused; a rerun continues its ``members.csv``). Bad input is a :class:`~twofluid.CaseError`.
+
+    >>> run_ensemble(42)
+    Traceback (most recent call last):
+    ...
+    twofluid.casefile.schema.CaseError: <api>: ensemble: must be an EnsembleSpec or the path of an ensemble file, got int
     """
     from . import plots as ens_plots
     from .members import members as make_members
-    from .spec import load_ensemble
+    from .spec import EnsembleSpec, load_ensemble
+    from ..casefile.schema import CaseError
+    from ..io.folders import OutputFolder, check_out_dir
     from ..io.results import write_json
 
-    spec = spec_or_path if hasattr(spec_or_path, "collect") else load_ensemble(spec_or_path)
-    out = Path(out_dir or f"twofluid-out/{spec.name}")
+    if isinstance(spec_or_path, EnsembleSpec):
+        spec = spec_or_path
+    elif isinstance(spec_or_path, (str, os.PathLike)) and str(os.fspath(spec_or_path)).strip():
+        spec = load_ensemble(spec_or_path)
+    else:
+        raise CaseError("<api>", "ensemble", "must be an EnsembleSpec or the path of an ensemble file, got "
+                        f"{type(spec_or_path).__name__}")
+    workers = check_workers(workers)
+    out = check_out_dir(ensemble_out_dir(spec) if out_dir is None else out_dir, "ensemble output folder")
     ms = make_members(spec)
     summary = {"ensemble": spec.name, "description": spec.description, "file": spec.source,
                "base_case": spec.base.get("_source", ""), "varied": spec.varied(), "collect": spec.collect,
                "scheduler": scheduler or "LocalCluster"}
-    try:
-        rows, record = run_members(ms, spec.collect, out, keep_runs=spec.keep_runs, workers=workers,
-                                   scheduler=scheduler, progress=progress, client=client)
-    except KeyboardInterrupt:
-        write_json(out / "ensemble.json", {**summary, "status": "interrupted",
-                                           "note": "members.csv holds every member that finished; run the "
-                                                   "same ensemble again to run the rest"})
-        raise
-    summary.update(record)
-    summary["completed"] = sum(r["status"] == "completed" for r in rows)
-    summary["failed"] = [{"member": r["member"], "reason": r["reason"]} for r in rows if r["status"] != "completed"]
-    summary["figures"] = figure_stats(rows, spec.collect)
-    if spec.fragility:
-        summary["fragility"] = ens_plots.fragility_fits(rows, spec.fragility)
-    write_json(out / "ensemble.json", summary)
-    if plots:
-        summary["plots"] = [p.name for p in ens_plots.ensemble_plots(rows, spec, out, summary.get("fragility"))]
+    with OutputFolder(out, keep=("members.csv", "members.previous.csv", "runs"), keep_check=_members_table_check):
+        try:
+            rows, record = run_members(ms, spec.collect, out, keep_runs=spec.keep_runs, workers=workers,
+                                       scheduler=scheduler, progress=progress, client=client)
+        except KeyboardInterrupt:
+            write_json(out / "ensemble.json", {**summary, "status": "interrupted",
+                                               "note": "members.csv holds every member that finished; run the "
+                                                       "same ensemble again to run the rest"})
+            raise
+        summary.update(record)
+        summary["completed"] = sum(r["status"] == "completed" for r in rows)
+        summary["failed"] = [{"member": r["member"], "reason": r["reason"]} for r in rows
+                             if r["status"] != "completed"]
+        summary["figures"] = figure_stats(rows, spec.collect)
+        if spec.fragility:
+            summary["fragility"] = ens_plots.fragility_fits(rows, spec.fragility)
         write_json(out / "ensemble.json", summary)
+        if plots:
+            summary["plots"] = [p.name for p in ens_plots.ensemble_plots(rows, spec, out, summary.get("fragility"))]
+            write_json(out / "ensemble.json", summary)
     return rows

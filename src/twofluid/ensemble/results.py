@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.folders import create, write_all, write_atomic
 from ..io.results import plain
 
 __all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "encode", "decode", "FIXED"]
@@ -78,13 +79,18 @@ def figure_at(summary: dict, profiles: dict, path: str):
 
 
 def encode(v) -> str:
-    """A cell: "" for None, numbers and strings as they are, lists and tables as JSON."""
+    """A cell: "" for None and non-finite numbers, numbers and strings as they are, lists and
+    tables as JSON (non-finite entries null).
+
+    >>> encode(float("nan")), encode([1.0, float("inf")]), encode(0.5)
+    ('', '[1.0,null]', '0.5')
+    """
     if v is None:
         return ""
     if isinstance(v, (list, dict)):
-        return json.dumps(v, separators=(",", ":"))
-    if isinstance(v, float):
-        return repr(v)
+        return json.dumps(plain(v), separators=(",", ":"), allow_nan=False)
+    if isinstance(v, (float, np.floating)):
+        return repr(float(v)) if np.isfinite(v) else ""  # NaN, inf: an empty cell, as every output
     return str(v)
 
 
@@ -117,6 +123,11 @@ class ResultsTable:
         if self.path.is_file():
             with open(self.path, newline="", encoding="utf-8") as fh:
                 reader = csv.DictReader(fh)
+                if not set(FIXED) <= set(reader.fieldnames or []):
+                    from ..casefile.schema import CaseError
+
+                    raise CaseError(str(self.path), "members table", "is not a members table of twofluid "
+                                    f"(columns {', '.join(FIXED)} missing): move it away, or give another folder")
                 has_all = set(figures) <= set(reader.fieldnames or [])
                 for raw in reader:
                     if has_all and raw["status"] == "completed" and raw["hash"] in hashes:
@@ -126,17 +137,18 @@ class ResultsTable:
                     else:
                         dropped.append(raw)
             if dropped:
-                with open(self.path.with_name("members.previous.csv"), "w", newline="", encoding="utf-8") as fh:
-                    w = csv.DictWriter(fh, list(dropped[0]))
-                    w.writeheader()
-                    w.writerows(dropped)
-        tmp = self.path.with_suffix(".csv.tmp")
-        with open(tmp, "w", newline="", encoding="utf-8") as fh:
-            w = csv.DictWriter(fh, self.columns, extrasaction="ignore")
-            w.writeheader()
-            w.writerows(self.kept.values())
-        os.replace(tmp, self.path)  # the kept rows first, atomically
-        self._fh = open(self.path, "a", newline="", encoding="utf-8")
+                fh = io.StringIO()
+                w = csv.DictWriter(fh, list(dropped[0]))
+                w.writeheader()
+                w.writerows(dropped)
+                write_atomic(self.path.with_name("members.previous.csv"), fh.getvalue())
+        fh = io.StringIO()
+        w = csv.DictWriter(fh, self.columns, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(self.kept.values())
+        write_atomic(self.path, fh.getvalue())  # the kept rows first, atomically
+        self._fd = create(self.path, append=True)
+        self._end = os.fstat(self._fd).st_size
         self._buf = io.StringIO()
         self._w = csv.DictWriter(self._buf, self.columns, extrasaction="ignore")
 
@@ -146,16 +158,27 @@ class ResultsTable:
         return {k: (raw[k] if k in ("hash", "status", "reason") else decode(raw.get(k, ""))) for k in self.columns}
 
     def write(self, row: dict) -> None:
-        """Append one row and flush it: one write of the whole line (a Ctrl-C or SIGTERM, raised
-        between Python operations, cannot leave half a row)."""
+        """Append one row: one unbuffered write of the whole line (a Ctrl-C or SIGTERM, raised
+        between Python operations, cannot leave half a row; on a full disk the file is cut back to
+        its last whole row and the error, naming the file, raised)."""
         self._buf.seek(0)
         self._buf.truncate()
         self._w.writerow({k: encode(row.get(k)) for k in self.columns})
-        self._fh.write(self._buf.getvalue())
-        self._fh.flush()
+        data = self._buf.getvalue().encode("utf-8")
+        try:
+            write_all(self._fd, data, self.path)
+        except OSError:
+            try:
+                os.ftruncate(self._fd, self._end)
+            except OSError:
+                pass
+            raise
+        self._end += len(data)
 
     def close(self) -> None:
-        self._fh.close()
+        if self._fd is not None:
+            fd, self._fd = self._fd, None
+            os.close(fd)
 
 
 def figure_stats(rows: list[dict], figures: list[str]) -> dict:

@@ -131,8 +131,8 @@ def _sample(source: str, table: dict, base: dict) -> dict:
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise CaseError(source, "[sample] seed", f"must be an integer >= 0 (the same seed gives the same "
                         f"samples), got {seed!r}")
-    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 1_000_000:
-        raise CaseError(source, "[sample] count", f"must be an integer in [1, 1000000], got {count!r}")
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= MAX_MEMBERS:
+        raise CaseError(source, "[sample] count", f"must be an integer in [1, {MAX_MEMBERS}], got {count!r}")
     dists = _flat({k: v for k, v in table.items() if k not in ("seed", "count")},
                   leaf=lambda v: not isinstance(v, dict) or "distribution" in v)
     if not dists:
@@ -231,6 +231,39 @@ def _check_set(spec: EnsembleSpec) -> None:
         raise CaseError(spec.source, "[set]", f"makes the base case invalid: {exc}") from None
 
 
+#: the most members an ensemble may have (counted before any member is made: each holds its case)
+MAX_MEMBERS = 100_000
+
+
+def member_count(spec: EnsembleSpec) -> int:
+    """The number of members: the product of the blocks' sizes, computed without expanding them.
+
+    >>> member_count(EnsembleSpec("e", {}, "e.toml", ["x"], grid={"a": [1, 2, 3], "b": [1, 2]}))
+    6
+    """
+    n = math.prod(len(v) for v in spec.grid.values())
+    if spec.zip:
+        n *= len(next(iter(spec.zip.values())))
+    if spec.sample:
+        n *= spec.sample["count"]
+    if spec.motions:
+        n *= len(spec.motions["files"]) * (len(spec.motions["pga_g"]) if spec.motions["pga_g"] else 1)
+    return n
+
+
+def _check_count(spec: EnsembleSpec) -> None:
+    n = member_count(spec)
+    if n > MAX_MEMBERS:
+        sizes = [f"[grid] {' × '.join(str(len(v)) for v in spec.grid.values())}" if spec.grid else "",
+                 f"[zip] {len(next(iter(spec.zip.values())))}" if spec.zip else "",
+                 f"[sample] {spec.sample['count']}" if spec.sample else "",
+                 f"[ground_motions] {len(spec.motions['files'])} records × {len(spec.motions['pga_g'] or [0])} "
+                 "PGAs" if spec.motions else ""]
+        raise CaseError(spec.source, "[grid]" if spec.grid else "[ensemble]",
+                        f"gives {n:.3g} members ({' × '.join(x for x in sizes if x)}), more than the "
+                        f"{MAX_MEMBERS} an ensemble may have; split it into several ensembles")
+
+
 def parse_ensemble(doc: dict, source: str = "<ensemble>", folder: Path | None = None) -> EnsembleSpec:
     """Check an ensemble document (the parsed TOML); return the :class:`EnsembleSpec`.
 
@@ -289,6 +322,7 @@ def parse_ensemble(doc: dict, source: str = "<ensemble>", folder: Path | None = 
                         "[ground_motions]; give each key once")
     if not keys:
         raise CaseError(source, "[grid]", "nothing varies: give [grid], [zip], [sample] or [ground_motions]")
+    _check_count(spec)
     if "fragility" in doc:
         spec.fragility = _fragility(source, doc["fragility"], spec)
     return spec

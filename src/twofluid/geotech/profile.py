@@ -20,7 +20,8 @@ import numpy as np
 from ..casefile.schema import CaseError
 from . import settlement, simplified as sp
 
-__all__ = ["SimplifiedResult", "simplified_procedure", "MAGNITUDE_RANGE", "A_MAX_RANGE_G"]
+__all__ = ["SimplifiedResult", "simplified_procedure", "check_relative_density", "MAGNITUDE_RANGE",
+           "A_MAX_RANGE_G"]
 
 MAGNITUDE_RANGE = (5.0, 9.0)  # the case histories behind r_d, MSF and CRR span M 5.5-9.0
 A_MAX_RANGE_G = (0.0, 3.0)
@@ -60,7 +61,7 @@ class SimplifiedResult:
 
     COLUMNS = (("depth_mid_m", "z_mid [m]", "{:.2f}"), ("thickness_m", "h [m]", "{:.2f}"),
                ("sigma_v_Pa", "sigma_v [kPa]", None), ("sigma_v_eff_Pa", "sigma'_v [kPa]", None),
-               ("relative_density", "Dr [-]", "{:.2f}"), ("N1_60cs", "(N1)60cs [-]", "{:.1f}"),
+               ("relative_density", "Dr [%]", "{:.0f}"), ("N1_60cs", "(N1)60cs [-]", "{:.1f}"),
                ("r_d", "r_d [-]", "{:.3f}"), ("CSR", "CSR [-]", "{:.3f}"),
                ("CRR_75", "CRR_7.5 [-]", "{:.3f}"), ("MSF", "MSF [-]", "{:.3f}"),
                ("K_sigma", "K_sigma [-]", "{:.3f}"), ("FS", "FS [-]", "{:.2f}"),
@@ -120,6 +121,25 @@ def _scalar(name, value, lo, hi):
     return v
 
 
+def check_relative_density(dr_percent, source: str, key: str) -> None:
+    """Dr in per cent, in (1, 100]; a value ≤ 1 (a fraction given for per cent) is refused with the
+    value it probably meant.
+
+    >>> check_relative_density([45.0], "c.toml", "relative_density")
+    >>> check_relative_density([0.45], "c.toml", "relative_density")
+    Traceback (most recent call last):
+    ...
+    twofluid.casefile.schema.CaseError: c.toml: relative_density: 0.45 is <= 1: Dr is in per cent, valid (1, 100] %; did you mean 45 (×100)?
+    """
+    dr = np.asarray(dr_percent, dtype=float).ravel()
+    low = dr[dr <= 1.0]
+    if low.size:
+        raise CaseError(source, key, f"{low[0]:g} is <= 1: Dr is in per cent, valid (1, 100] %; did you mean "
+                        f"{low[0] * 100.0:g} (×100)?")
+    if np.any(dr > 100.0):
+        raise CaseError(source, key, f"{dr.max():g} is outside the valid range (1, 100] %")
+
+
 def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relative_density,
                          liquefiable, a_max_g, magnitude, *, msf_form: str = "ib2014"
                          ) -> SimplifiedResult:
@@ -134,7 +154,8 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
         σ′_v ≤ 20 atm (K_σ is calibrated to about 10 atm).
         σ′_v ≥ σ_v marks an unsaturated row (above the water table): it cannot liquefy.
     relative_density : array (n,) or scalar
-        Dr [-] in [0, 1]; (N1)60cs = 46 Dr² (clean sand).
+        Dr [%] in (1, 100] (per cent, as in a case file; a value ≤ 1, a fraction given for per
+        cent, is refused); (N1)60cs = 46 (Dr/100)² (clean sand).
     liquefiable : array (n,) of bool or scalar
         False for rows that cannot liquefy (crust, clay, rock).
     a_max_g : float
@@ -159,7 +180,7 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
     A dry crust over one saturated loose row (the crust cannot liquefy: FS = inf):
 
     >>> r = simplified_procedure([0.0, 2.0], [2.0, 4.0], [19e3, 56e3], [19e3, 46.19e3],
-    ...                          [0.5, 0.5], [False, True], 0.3, 7.5)
+    ...                          [50.0, 50.0], [False, True], 0.3, 7.5)
     >>> float(r.FS[0]), round(float(r.FS[1]), 3), round(r.total_settlement_m, 4)
     (inf, 0.597, 0.0688)
     """
@@ -183,9 +204,9 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
         # K_sigma is calibrated to ~10 atm and turns negative near 28 atm (C_sigma = 0.3)
         _fail("sigma_v_eff_Pa", f"must be <= {SIGMA_EFF_MAX_PA:g} Pa (20 atm) for the K_sigma correlation, "
               f"got {s_e.max():g} Pa")
-    dr = _rows("relative_density", relative_density, n)
-    if np.any((dr < 0.0) | (dr > 1.0)):
-        _fail("relative_density", f"must be a fraction in [0, 1], got {dr.min():g}..{dr.max():g}")
+    dr_percent = _rows("relative_density", relative_density, n)
+    check_relative_density(dr_percent, SOURCE, "relative_density")
+    dr = dr_percent / 100.0  # the correlations take the fraction
     liq = np.asarray(liquefiable)
     if liq.dtype != bool:
         _fail("liquefiable", f"must be bool (one per row or one for all), got dtype {liq.dtype}")
@@ -207,5 +228,5 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
     fs = np.where(can, sp.factor_of_safety(crr, msf, ks, csr), np.inf)
     eps = np.where(can, settlement.volumetric_strain(fs, dr), 0.0)
     dz = eps * h
-    return SimplifiedResult(z_top, z_bot, z_mid, h, s_v, s_e, dr, n160, can, rd, csr, crr, msf, ks,
+    return SimplifiedResult(z_top, z_bot, z_mid, h, s_v, s_e, dr_percent, n160, can, rd, csr, crr, msf, ks,
                             fs, eps, dz, float(dz.sum()), a_max, mag, msf_form)

@@ -4,29 +4,60 @@
   existing file where a folder should be (or the reverse), a path under a file, a name
   too long for the file system, a folder that cannot be written, a non-empty folder not
   written by twofluid. Each is a one-line :class:`~twofluid.casefile.schema.CaseError`.
-- :class:`OutputFolder` claims a folder for one run: creates it, takes a lock file
-  (``.twofluid.lock`` with the process id: a second run into the same folder is refused;
+- :class:`OutputFolder` claims a folder for one run (or one ensemble): creates it, takes a lock
+  file (``.twofluid.lock`` with the process id: a second run into the same folder is refused;
   a lock left by a process that no longer exists is taken over), removes the files the
-  folder's previous run listed in ``.twofluid-run.json`` (so no PNG or CSV of an earlier
-  run survives) and, at the end, lists the files this run wrote there.
+  folder's previous run recorded in ``.twofluid-run.json`` — only those that are still as
+  that run left them (same size and modification time) — and then refuses, before anything
+  runs, a folder that still holds an entry with the name of a twofluid output (a file of the
+  user's, a folder, a symbolic link): nothing of the user's is overwritten or removed.
+- Files are written only through :func:`create` and :func:`write_atomic`: never through a
+  symbolic link (``O_NOFOLLOW``), recorded in the folder's manifest as they are made (a user's
+  file added to the folder during a run is never recorded, so never removed later), and an error
+  names the file.
 - :func:`default_out_dir`: ``twofluid-out/<name>`` with ``[case] name`` made a plain folder
   name (``../../x`` cannot write outside ``twofluid-out``).
 """
 from __future__ import annotations
 
+import errno
 import json
 import os
 import re
+import time
+import warnings
 from pathlib import Path
 
-from ..casefile.schema import CaseError
+from ..casefile.schema import CaseError, CaseWarning
 
-__all__ = ["LOCK", "MANIFEST", "OutputFolder", "check_out_dir", "check_out_file", "default_out_dir", "safe_name"]
+__all__ = ["LOCK", "MANIFEST", "OutputFolder", "OutputWarning", "check_out_dir", "check_out_file",
+           "create", "default_out_dir", "is_output_name", "record", "safe_name", "write_atomic"]
 
 LOCK = ".twofluid.lock"
 MANIFEST = ".twofluid-run.json"
-#: what runs of twofluid before the manifest wrote (a folder holding case.resolved.toml)
-_LEGACY = ("case.resolved.toml", "summary.json", "*.csv", "*.png", "fields_*.vtu", "fields.pvd")
+
+#: the names twofluid writes into a run or ensemble folder (besides the patterns below)
+OUTPUT_NAMES = frozenset({
+    "case.resolved.toml", "summary.json", "profiles.csv", "probes.csv", "steps.csv", "elements.csv",
+    "layers.csv", "ru_field.csv", "surface_motion.csv", "spectra.csv", "element_test.csv", "fields.pvd",
+    "members.csv", "members.previous.csv", "ensemble.json", "porosity.png", "pressure.png", "heights.png",
+    "bed_pressure_drop.png", "velocity.png", "profiles.png", "single_fluid.png", "profile.png", "ru_map.png",
+    "spectra.png", "ru_histories.png", "settlement.png", "element_test.png", "fragility.png", "runs",
+    LOCK, MANIFEST})
+_OUTPUT_PATTERNS = re.compile(r"(fields_\d{4,}\.vtu|(figure|histogram)_.*\.png|.*\.tmp|\.twofluid.*)")
+
+
+class OutputWarning(CaseWarning):
+    """An output folder's record could not be written (disk full): the message names the file."""
+
+
+def is_output_name(name: str) -> bool:
+    """Whether ``name`` is a name twofluid writes into an output folder.
+
+    >>> is_output_name("summary.json"), is_output_name("fields_0003.vtu"), is_output_name("my.csv")
+    (True, True, False)
+    """
+    return name in OUTPUT_NAMES or _OUTPUT_PATTERNS.fullmatch(name) is not None
 
 
 def safe_name(name: str) -> str:
@@ -48,8 +79,10 @@ def default_out_dir(case: dict) -> Path:
 def _as_path(path, what: str) -> Path:
     if not isinstance(path, (str, os.PathLike)):
         raise CaseError("<api>", what, f"must be a path (str or os.PathLike), got {type(path).__name__}")
+    if not str(os.fspath(path)).strip():
+        raise CaseError(repr(str(os.fspath(path))), what, "is empty: give a folder name")
     p = Path(path)
-    if "\x00" in str(p) or not str(p):
+    if "\x00" in str(p):
         raise CaseError(repr(str(path)), what, "is not a valid path")
     return p
 
@@ -83,8 +116,8 @@ def _check_parent(p: Path, what: str) -> None:
 
 
 def owned(p: Path) -> bool:
-    """True if folder ``p`` holds a twofluid run (its manifest or lock, or a resolved case)."""
-    return any((p / f).is_file() for f in (MANIFEST, LOCK, "case.resolved.toml"))
+    """True if folder ``p`` holds a twofluid run or ensemble (its manifest or lock file)."""
+    return any((p / f).is_file() and not (p / f).is_symlink() for f in (MANIFEST, LOCK))
 
 
 def check_out_dir(path, what: str = "output folder", own: bool = True) -> Path:
@@ -102,11 +135,12 @@ def check_out_dir(path, what: str = "output folder", own: bool = True) -> Path:
     p = _as_path(path, what)
     _check_names(p, what)
     if p.exists() and not p.is_dir():
-        raise CaseError(str(p), what, "is an existing file, not a folder")
+        kind = "an existing file" if p.is_file() else "not a folder (a device or other special file)"
+        raise CaseError(str(p), what, f"is {kind}; give a folder")
     _check_parent(p, what)
     if own and p.is_dir() and any(p.iterdir()) and not owned(p):
         raise CaseError(str(p), what, "is not empty and holds no earlier twofluid run: give a new or empty "
-                        "folder (a run removes the files of the folder's previous run, and only those)")
+                        "folder (a run removes the files its folder's previous run wrote, and only those)")
     return p
 
 
@@ -116,12 +150,94 @@ def check_out_file(path, what: str = "output file") -> Path:
     _check_names(p, what)
     if p.is_dir():
         raise CaseError(str(p), what, "is a folder, not a file")
+    if p.is_symlink():
+        raise CaseError(str(p), what, "is a symbolic link; twofluid does not write through links")
     _check_parent(p, what)
     if p.exists() and not os.access(p, os.W_OK):
         raise CaseError(str(p), what, "cannot be written: no write permission")
     return p
 
 
+# ---------------------------------------------------------------- writing files
+#: the folders claimed by this process: absolute path -> OutputFolder (for :func:`record`)
+_CLAIMED: dict[str, "OutputFolder"] = {}
+
+
+def record(path) -> None:
+    """Note that twofluid wrote ``path``: if it lies in a claimed folder, the folder's manifest lists it."""
+    folder = _CLAIMED.get(os.path.dirname(os.path.abspath(path)))
+    if folder is not None:
+        folder.add(os.path.basename(path))
+
+
+def _named(exc: OSError, path) -> OSError:
+    """``exc`` with the file's name in it (``[Errno 28] No space left on device: '…/summary.json'``)."""
+    if exc.errno == errno.ELOOP:
+        return OSError(errno.ELOOP, "is a symbolic link; twofluid does not write through links", str(path))
+    if exc.filename is None:
+        return OSError(exc.errno, exc.strerror or str(exc), str(path))
+    return exc
+
+
+def create(path, append: bool = False) -> int:
+    """Open ``path`` for writing (truncated, or appended to) and return the file descriptor; never
+    through a symbolic link. The file is recorded in its claimed folder's manifest.
+
+    >>> import tempfile
+    >>> d = Path(tempfile.mkdtemp())
+    >>> os.symlink(d / "elsewhere", d / "link.csv")
+    >>> create(d / "link.csv")
+    Traceback (most recent call last):
+    ...
+    OSError: [Errno 40] is a symbolic link; twofluid does not write through links: '...link.csv'
+    """
+    flags = os.O_WRONLY | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+    flags |= os.O_APPEND if append else os.O_TRUNC
+    try:
+        fd = os.open(path, flags, 0o644)
+    except OSError as exc:
+        raise _named(exc, path) from None
+    record(path)
+    return fd
+
+
+def write_all(fd: int, data: bytes, path) -> None:
+    """Write every byte of ``data`` to ``fd`` (a short write is continued); OSError naming ``path``."""
+    view = memoryview(data)
+    try:
+        while view:
+            view = view[os.write(fd, view):]
+    except OSError as exc:
+        raise _named(exc, path) from None
+
+
+def write_atomic(path, data: bytes | str) -> None:
+    """``path`` written whole or not at all: a temporary file next to it (never through a link) is
+    written and renamed over it, so an older version is replaced only by a complete one and a full
+    disk never leaves an empty or cut file. OSError naming ``path``."""
+    path = Path(path)
+    if isinstance(data, str):
+        data = data.encode("utf-8")
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        if tmp.is_symlink():
+            raise OSError(errno.ELOOP, "is a symbolic link; twofluid does not write through links", str(tmp))
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0), 0o644)
+        try:
+            write_all(fd, data, path)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    except OSError as exc:
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            pass
+        raise _named(exc, path) from None
+    record(path)
+
+
+# ---------------------------------------------------------------- claiming a folder
 def _alive(pid: int) -> bool:
     try:
         os.kill(pid, 0)
@@ -132,13 +248,32 @@ def _alive(pid: int) -> bool:
     return True
 
 
-class OutputFolder:
-    """A run's claim on its output folder (see the module doc); a context manager."""
+def _stat(p: Path):
+    """[size, mtime_ns] of a plain file (None for a link, a folder or nothing)."""
+    try:
+        st = p.lstat()
+    except OSError:
+        return None
+    if not os.path.isfile(p) or p.is_symlink():
+        return None
+    return [st.st_size, st.st_mtime_ns]
 
-    def __init__(self, path: Path):
+
+class OutputFolder:
+    """A run's claim on its output folder (see the module doc); a context manager.
+
+    ``keep``: recorded names the claim leaves in place (an ensemble's ``members.csv``, which a rerun
+    continues); ``keep_check(path)`` returns why such a file cannot be continued (or None).
+    """
+
+    def __init__(self, path: Path, keep=(), keep_check=None):
         self.path = Path(path)
         self.created = False
-        self._keep: set[str] = set()
+        self.keep, self.keep_check = frozenset(keep), keep_check
+        self._written: dict[str, object] = {}
+        self._abandoned = False
+        self._key = os.path.abspath(self.path)
+        self._started = 0
 
     def __enter__(self) -> "OutputFolder":
         p = self.path
@@ -148,66 +283,178 @@ class OutputFolder:
         except OSError as exc:
             raise CaseError(str(p), "output folder", f"cannot be created ({exc.strerror or exc})") from None
         self._lock()
-        self._clear()
-        self._keep = {e.name for e in p.iterdir()} - {LOCK, MANIFEST}  # the user's own files
+        try:
+            self._refuse_leftovers()  # before anything is removed: a refused folder stays as it was
+            self._clear()
+            self._started = time.time_ns()
+            self._written = {n: None for n in self.keep if (p / n).is_file()}
+            _CLAIMED[self._key] = self
+            self._save()
+        except BaseException:
+            self.abandon()
+            self.__exit__(None, None, None)
+            raise
         return self
 
     def _lock(self) -> None:
         lock = self.path / LOCK
         for _ in range(2):
             try:
-                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY | getattr(os, "O_NOFOLLOW", 0), 0o644)
             except FileExistsError:
                 try:
-                    pid = int(lock.read_text().split()[0])
+                    pid = int(lock.read_text().split()[0]) if not lock.is_symlink() else -1
                 except (OSError, ValueError, IndexError):
                     pid = -1
                 if pid > 0 and _alive(pid):
                     raise CaseError(str(self.path), "output folder", f"is in use by another run (process {pid}; "
                                     f"lock file {LOCK}): give another folder, or wait") from None
+                if lock.is_dir() and not lock.is_symlink():
+                    raise CaseError(str(self.path), "output folder", f"holds a folder named {LOCK}; remove it")
                 lock.unlink(missing_ok=True)  # left by a process that has gone
                 continue
             except OSError as exc:
                 raise CaseError(str(self.path), "output folder", f"cannot be written ({exc.strerror or exc})") \
                     from None
-            with os.fdopen(fd, "w") as f:
-                f.write(f"{os.getpid()}\n")
+            try:
+                write_all(fd, f"{os.getpid()}\n".encode(), lock)
+            except OSError as exc:
+                os.close(fd)
+                lock.unlink(missing_ok=True)
+                raise CaseError(str(lock), "output folder", f"cannot be written ({exc.strerror})") from None
+            os.close(fd)
             return
         raise CaseError(str(self.path), "output folder", f"lock file {LOCK} cannot be taken")
 
-    def _clear(self) -> None:
+    def _recorded(self) -> tuple[dict, int]:
+        """{name: [size, mtime_ns] or None} of the previous run's manifest, and when that run began [ns]."""
+        m = self.path / MANIFEST
+        if not m.is_file() or m.is_symlink():
+            return {}, 0
+        try:
+            doc = json.loads(m.read_text(encoding="utf-8"))
+            files, started = doc["files"], int(doc.get("started_ns", 0))
+        except (OSError, ValueError, KeyError, TypeError, AttributeError):
+            return {}, 0
+        if isinstance(files, list):  # the manifest of twofluid before 0.x: names only, written at the end
+            when = m.stat().st_mtime_ns
+            return {str(n): ["<=", when] for n in files}, 0
+        return ({str(n): s for n, s in files.items()} if isinstance(files, dict) else {}), started
+
+    def _clearable(self) -> list[str]:
+        """The files the folder's previous run wrote and that are still as it left them."""
         p = self.path
-        names: list[str] = []
-        if (p / MANIFEST).is_file():
-            try:
-                names = [str(n) for n in json.loads((p / MANIFEST).read_text(encoding="utf-8"))["files"]]
-            except (OSError, ValueError, KeyError, TypeError):
-                names = []
-        elif (p / "case.resolved.toml").is_file():
-            names = sorted({f.name for pat in _LEGACY for f in p.glob(pat)})
-        for n in names:
-            f = p / n
-            if "/" in n or "\\" in n or n in ("", ".", "..", LOCK) or not f.is_file():
-                continue  # only plain files of this folder
-            f.unlink(missing_ok=True)
-        (p / MANIFEST).unlink(missing_ok=True)
+        files, started = self._recorded()
+        out = []
+        for n, was in files.items():
+            if "/" in n or "\\" in n or n in ("", ".", "..", LOCK, MANIFEST) or n in self.keep:
+                continue
+            now = _stat(p / n)  # None: a link, a folder or nothing: never removed
+            if now is None or not is_output_name(n):
+                continue
+            if isinstance(was, list) and len(was) == 2 and was[0] == "<=":
+                same = now[1] <= was[1]  # older manifest: unchanged since the run ended
+            elif isinstance(was, list):
+                same = now == was
+            else:  # recorded while the run went (it was stopped): written since that run began
+                same = started > 0 and now[1] >= started
+            if same:
+                out.append(n)
+        return out
+
+    def _clear(self) -> None:
+        """Remove the files the folder's previous run wrote and that are still as it left them."""
+        for n in self._clearable():
+            (self.path / n).unlink(missing_ok=True)
+
+    def _refuse_leftovers(self) -> None:
+        """Before anything runs: no entry left with a name twofluid writes (it would be overwritten)."""
+        recorded = set(self._recorded()[0])
+        clearable = set(self._clearable())
+        for e in sorted(self.path.iterdir(), key=lambda e: e.name):
+            n = e.name
+            if n in (LOCK, MANIFEST) or n in clearable or not is_output_name(n):
+                if e.is_symlink() and n in (MANIFEST,):
+                    raise CaseError(str(e), "output folder", "is a symbolic link; remove it")
+                continue
+            if n in self.keep and n in recorded and e.is_file() and not e.is_symlink():
+                why = self.keep_check(e) if self.keep_check else None
+                if why is None:
+                    continue
+                raise CaseError(str(e), "output folder", why)
+            if n == "runs" and n in recorded and e.is_dir() and not e.is_symlink():
+                continue
+            kind = ("a symbolic link" if e.is_symlink() else "a folder" if e.is_dir() else
+                    "a file this folder's earlier run did not write, or one changed since")
+            raise CaseError(str(e), "output folder", f"is {kind}, and a run writes a file of that name here: "
+                            "move it away, or give another folder")
+
+    def add(self, name: str) -> None:
+        """Record ``name`` as written by this run (the manifest on disk lists it from now on)."""
+        if name in self._written or name in (LOCK, MANIFEST) or name.endswith(".tmp"):
+            return
+        self._written[name] = None
+        try:
+            self._save()
+        except OSError:
+            pass  # written again at the end; a full disk there is reported
+
+    def _save(self, final: bool = False) -> None:
+        if final:  # files made by libraries (matplotlib's PNGs): output names written since the claim
+            for e in self.path.iterdir():
+                st = _stat(e)
+                if (st is not None and st[1] >= self._started and is_output_name(e.name)
+                        and not e.name.endswith(".tmp") and e.name not in (LOCK, MANIFEST)):
+                    self._written.setdefault(e.name, None)
+        files = {}
+        for n in sorted(self._written):
+            files[n] = _stat(self.path / n) if final else None
+        doc = {"files": files, "started_ns": self._started}
+        _write_manifest(self.path / MANIFEST, (json.dumps(doc, indent=1) + "\n").encode())
+
+    def refresh(self) -> None:
+        """Record the files again as they are now (after a file was rewritten once the folder was closed)."""
+        try:
+            self._save(final=True)
+        except OSError as e:
+            warnings.warn(OutputWarning(f"{self.path / MANIFEST}: cannot be written ({e.strerror or e})"),
+                          stacklevel=2)
 
     def abandon(self) -> None:
         """The run did not start (bad input found late): leave the folder as it was found, if new."""
-        self._keep = None
+        self._abandoned = True
 
     def __exit__(self, *exc) -> None:
         p = self.path
+        _CLAIMED.pop(self._key, None)
         try:
-            if self._keep is None:
-                (p / LOCK).unlink(missing_ok=True)
-                if self.created and not any(p.iterdir()):
-                    p.rmdir()
+            if self._abandoned:
+                if self.created:
+                    (p / MANIFEST).unlink(missing_ok=True)
+                    (p / LOCK).unlink(missing_ok=True)
+                    if not any(p.iterdir()):
+                        p.rmdir()
                 return
-            files = sorted(e.name for e in p.iterdir() if e.is_file() and e.name not in self._keep
-                           and e.name not in (LOCK, MANIFEST))
-            (p / MANIFEST).write_text(json.dumps({"files": files}, indent=1) + "\n", encoding="utf-8")
+            try:
+                self._save(final=True)
+            except OSError as e:
+                warnings.warn(OutputWarning(f"{p / MANIFEST}: cannot be written ({e.strerror or e}); the record "
+                                            "of this run's files is the one written while it ran"), stacklevel=2)
         except OSError:
             pass
         finally:
             (p / LOCK).unlink(missing_ok=True)
+
+
+def _write_manifest(path: Path, data: bytes) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0), 0o644)
+    try:
+        try:
+            write_all(fd, data, path)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    except OSError:
+        tmp.unlink(missing_ok=True)
+        raise

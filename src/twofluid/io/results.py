@@ -23,6 +23,7 @@ import csv
 import io
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -121,12 +122,19 @@ def _line(r) -> str | None:
 
 class CsvStream:
     """A CSV file written whole rows at a time (see the module doc), re-opened for appending if
-    written after :meth:`close` (the runner's last state after an interruption)."""
+    written after :meth:`close` (the runner's last state after an interruption).
+
+    The file is written unbuffered through its descriptor (:func:`~twofluid.io.folders.create`: never
+    through a symbolic link): every row is flushed anyway, and with no buffer of its own a write
+    that fails (disk full, file-size limit) leaves nothing pending that a later close or flush could
+    add after the file has been cut back to its last complete row."""
 
     def __init__(self, path: Path, header: list[str]):
+        from .folders import create
+
         self.path = Path(path)
-        self._f = open(self.path, "w", newline="", encoding="utf-8")
-        self._end = 0  # bytes in the file: the end of its last complete row (``tell`` costs a system call)
+        self._fd = create(self.path)
+        self._end = 0  # bytes in the file: the end of its last complete row
         self.rows([[str(h) for h in header]])
 
     def rows(self, rows) -> None:
@@ -157,24 +165,28 @@ class CsvStream:
         self._write("".join(out))
 
     def _write(self, text: str) -> None:
-        if self._f.closed:
-            self._f = open(self.path, "a", newline="", encoding="utf-8")
-            self._end = self._f.tell()
+        from .folders import create, write_all
+
+        if self._fd is None:
+            self._fd = create(self.path, append=True)
+            self._end = os.fstat(self._fd).st_size
+        data = text.encode("utf-8")
         good = self._end
         try:
-            self._f.write(text)
-            self._f.flush()
+            write_all(self._fd, data, self.path)
         except OSError:  # disk full: cut back to the last complete row, then report it
             try:
-                self._f.truncate(good)
-                self._f.close()
+                os.ftruncate(self._fd, good)
             except OSError:
                 pass
+            self.close()
             raise
-        self._end = good + (len(text) if text.isascii() else len(text.encode("utf-8")))
+        self._end = good + len(data)
 
     def close(self) -> None:
-        self._f.close()
+        if self._fd is not None:
+            fd, self._fd = self._fd, None
+            os.close(fd)
 
 
 def write_resolved_case(path: Path, case: dict) -> None:
@@ -190,8 +202,11 @@ def write_resolved_case(path: Path, case: dict) -> None:
         for p in parts[:-1]:
             node = node.setdefault(p, {})
         node[parts[-1]] = table
-    header = f"# Resolved case: every key with its value used in this run.\n# Source: {case.get('_source', '?')}\n"
-    path.write_text(header + tomli_w.dumps(doc), encoding="utf-8")
+    from .folders import write_atomic
+
+    source = " ".join(str(case.get("_source", "?")).split())  # one comment line, whatever the source
+    header = f"# Resolved case: every key with its value used in this run.\n# Source: {source}\n"
+    write_atomic(path, header + tomli_w.dumps(doc))
 
 
 def plain(v):
@@ -214,15 +229,12 @@ def plain(v):
 
 
 def write_json(path: Path, data: dict) -> None:
-    """``data`` as JSON; non-finite numbers become null ("not computed"). Written to a temporary
-    file first and renamed, so an older summary is replaced only by a complete one."""
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        tmp.write_text(json.dumps(plain(data), indent=2) + "\n", encoding="utf-8")
-        tmp.replace(path)
-    finally:
-        tmp.unlink(missing_ok=True)
+    """``data`` as JSON; non-finite numbers become null ("not computed"). Written whole or not at all
+    (:func:`~twofluid.io.folders.write_atomic`), so an older summary is replaced only by a complete
+    one; an error (disk full) names the file."""
+    from .folders import write_atomic
+
+    write_atomic(path, json.dumps(plain(data), indent=2, allow_nan=False) + "\n")
 
 
 def read_table(path: Path) -> dict[str, np.ndarray]:

@@ -10,12 +10,16 @@ Gmsh often keeps) are dropped, and clockwise cells are reordered.
 
 from __future__ import annotations
 
+import contextlib
+import io
+import warnings
 from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
+from twofluid.casefile.schema import WORKING_MAX
 from twofluid.mesh.quad import QuadMesh
 
 __all__ = ["MeshError", "read_quad_mesh"]
@@ -95,11 +99,15 @@ def read_quad_mesh(
         mesh, path = path, Path("<meshio.Mesh>")
     else:
         path = Path(path)
+        said = io.StringIO()  # meshio prints its own errors ("Error: Couldn't read file …"): kept for ours
         try:
-            mesh = meshio.read(path)
+            with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said), warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                mesh = meshio.read(path)
         except (Exception, SystemExit) as exc:  # meshio raises many types, and calls sys.exit(1) on a
             # file it cannot identify: report them uniformly (a SystemExit would end the caller)
-            raise MeshError(f"{path}: cannot read mesh ({exc or type(exc).__name__})") from None
+            text = " ".join(said.getvalue().split()) or str(exc) or type(exc).__name__
+            raise MeshError(f"{path}: cannot read mesh (meshio: {text[:300]})") from None
     other = sorted({b.type for b in mesh.cells} - _DOMAIN - set(_BOUNDARY))
     if other:
         raise MeshError(f"{path}: unsupported cell types {other}; only 4-node 'quad' "
@@ -109,6 +117,21 @@ def read_quad_mesh(
         raise MeshError(f"{path}: no quadrilateral cells")
     cells = np.concatenate(quads)
     pts = np.asarray(mesh.points, dtype=float)
+    if pts.ndim != 2 or pts.shape[1] < 2 or not pts.size:
+        raise MeshError(f"{path}: no node coordinates")
+    bad = ~np.isfinite(pts) | (np.abs(pts) > WORKING_MAX)
+    if bad.any():
+        i = int(np.flatnonzero(bad.any(axis=1))[0])
+        raise MeshError(f"{path}: node {i} has the coordinate {float(pts[i][bad[i]][0])!r}; valid: finite, at most "
+                        f"{WORKING_MAX:g} m in magnitude")
+    if cells.min() < 0 or cells.max() >= pts.shape[0]:
+        raise MeshError(f"{path}: a quadrilateral names a node that does not exist")
+    same = np.unique(np.sort(cells, axis=1), axis=0, return_index=True, return_counts=True)
+    if (same[2] > 1).any():
+        row = same[0][np.flatnonzero(same[2] > 1)[0]]
+        first = np.flatnonzero((np.sort(cells, axis=1) == row).all(axis=1))
+        raise MeshError(f"{path}: quadrilaterals {int(first[0])} and {int(first[1])} have the same four nodes "
+                        "(a duplicated element); each element must appear once")
     if pts.shape[1] > 2 and np.any(np.abs(pts[:, 2]) > 1e-12 * max(np.ptp(pts[:, :2]), 1.0)):
         raise MeshError(f"{path}: mesh is not in the z = 0 plane")
 

@@ -233,7 +233,7 @@ OPTION_RANGES = {
     "--csr": (0.0, 1.0, True, False, "-"),
     "--gamma": (0.0, 0.1, True, False, "-"),
     "--sigma-v0": (1e-3, 1e5, True, False, "kPa"),  # above p_ref = 1 Pa, up to 100 MPa
-    "--dr": (0.0, 100.0, True, False, "%"),
+    "--dr": (1.0, 100.0, True, False, "%"),
     "--porosity": (0.2, 0.7, False, False, "-"),
     "--A": (0.0, 1.0, True, False, "-"),
     "--k2max": (0.0, 200.0, True, False, "-"),
@@ -263,7 +263,9 @@ def check_options(values: dict, source: str = "element-test") -> None:
         ok = (lo < value if lo_open else lo <= value) and (value < hi if hi_open else value <= hi)
         if not ok:  # also NaN
             rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
-            raise CaseError(source, opt, f"{value:g} is outside the valid range {rng} [{unit}]")
+            hint = (f"; the unit is per cent: did you mean {value * 100:g} (×100)?"
+                    if unit == "%" and 0.0 < value <= 1.0 else "")
+            raise CaseError(source, opt, f"{value:g} is outside the valid range {rng} [{unit}]{hint}")
     # the initial state must exist: n̄0 = 1 − (1 − n)(1 − A ln(σ′_v0/p_ref)) < 1 (> 0 holds, as
     # σ′_v0 > p_ref)
     sig = values.get("--sigma-v0")

@@ -28,7 +28,7 @@ from ..io.results import NonFiniteOutput, read_table, reset_nonfinite, write_jso
 from ..timestepping.backward_euler import StepFailure
 from ..io.folders import OutputFolder, check_out_dir, default_out_dir
 
-__all__ = ["RunResult", "RunGuard", "Terminated", "run_case", "run_guard", "validated_case", "RUNNERS"]
+__all__ = ["RunResult", "RunGuard", "LineProgress", "Terminated", "run_case", "run_guard", "validated_case", "RUNNERS"]
 
 
 @dataclass
@@ -64,9 +64,59 @@ class _NoBar:
         pass
 
 
-def _bar(t_end: float, progress: bool):
+class LineProgress:
+    """Progress as plain lines on stderr, for output that is not a terminal (a batch job's log, a
+    notebook): one line at least every 10 % of the simulated time and at least every 30 s of wall time
+    (never more often than every 10 % or 30 s), from 5 s into the run on (a short run prints none).
+    The progress bar's interface (``update``, ``reset``, ``close``, ``n``, ``bar_format``)."""
+
+    STEP, EVERY_S, QUIET_S = 0.1, 30.0, 5.0
+
+    def __init__(self, total: float | None, stream=None, clock=time.monotonic):
+        import sys
+
+        self.stream = stream if stream is not None else sys.stderr
+        self.clock = clock
+        self.bar_format = ""
+        self.n = 0.0
+        self._t0 = clock()
+        self.reset(total)
+
+    def reset(self, total=None) -> None:
+        self.total, self.n = total, 0.0
+        self._last_at, self._last_n = self.clock(), 0.0
+
+    def update(self, dn: float) -> None:
+        self.n += dn
+        now = self.clock()
+        if now - self._t0 < self.QUIET_S:
+            return
+        frac = (self.n / self.total) if self.total else None
+        due = now - self._last_at >= self.EVERY_S
+        if frac is not None and int(frac / self.STEP + 1e-9) > int(self._last_n / self.total / self.STEP + 1e-9):
+            due = True
+        if due:
+            self._say(now, frac)
+
+    def _say(self, now: float, frac) -> None:
+        wall = now - self._t0
+        what = (f"t = {self.n:.4g} of {self.total:.4g} s simulated ({100 * frac:.0f} %)" if frac is not None
+                else f"step {self.n:.0f}")
+        try:
+            print(f"twofluid: {what}, {wall:.0f} s elapsed", file=self.stream, flush=True)
+        except (OSError, ValueError):
+            pass
+        self._last_at, self._last_n = now, self.n
+
+    def close(self) -> None:
+        pass
+
+
+def _bar(t_end: float, progress):
     if not progress:
         return _NoBar()
+    if progress == "lines":
+        return LineProgress(t_end)
     from tqdm import tqdm
 
     return tqdm(total=t_end, unit="s", leave=False,
@@ -163,20 +213,50 @@ def validated_case(case) -> dict:
 
 @contextmanager
 def sigterm_as_interrupt():
-    """SIGTERM raises :class:`Terminated` while a run is going (main thread only: signal
-    handlers cannot be set elsewhere, e.g. in a worker thread of an ensemble)."""
+    """SIGTERM raises :class:`Terminated` (and SIGINT ``KeyboardInterrupt``, where Python's own
+    handler is in place) while a run is going; main thread only: signal handlers cannot be set
+    elsewhere, e.g. in a worker thread of an ensemble (None is yielded there).
+
+    Yields a dict: ``got`` is the first signal received (or None). Once the caller sets
+    ``finishing`` (the run has ended and is writing its last record), a signal is only noted, not
+    raised, so that the caller can say in the summary that the run was interrupted as it ended."""
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield None
         return
+    state = {"got": None, "finishing": False}
 
     def handler(signum, frame):
-        raise Terminated()
+        if state["got"] is None:
+            state["got"] = signum
+        if state["finishing"]:
+            return
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
 
     old = signal.signal(signal.SIGTERM, handler)
+    old_int = signal.getsignal(signal.SIGINT)
+    own_int = old_int is signal.default_int_handler or getattr(old_int, "twofluid_handler", False)
+    if own_int:
+        signal.signal(signal.SIGINT, handler)
     try:
-        yield
+        yield state
     finally:
         signal.signal(signal.SIGTERM, old)
+        if own_int:
+            signal.signal(signal.SIGINT, old_int)
+
+
+def _interrupted_as_it_ended(res: RunResult, out: Path, signum: int) -> RunResult:
+    """A signal that came as the run was ending: the summary says so (status interrupted), whatever
+    the run had written; the files of the run are complete."""
+    reason = "terminated (SIGTERM)" if signum == signal.SIGTERM else "interrupted by the user (Ctrl-C)"
+    summary = dict(res.summary)
+    before = f"{summary.get('status', res.status)}" + (f", {summary['reason']}" if summary.get("reason") else "")
+    summary["status"] = "interrupted"
+    summary["reason"] = f"{reason} as the run ended; its outputs are complete ({before})"
+    if (out / "summary.json").is_file():
+        write_json(out / "summary.json", summary)
+    res.status, res.summary = "interrupted", summary
+    return res
 
 
 def _outside_loop(case: dict, out: Path, status: str, reason: str, wall: float) -> dict:
@@ -197,6 +277,30 @@ def _outside_loop(case: dict, out: Path, status: str, reason: str, wall: float) 
                    "end_time_s": case["time"]["end"], "wall_time_s": wall, "steps": 0}
     write_json(path, summary)
     return summary
+
+
+def _run_claimed(runner, case: dict, out: Path, progress: bool, folder, sig, wall0: float) -> RunResult:
+    """The runner in its claimed folder: an interruption or failure outside its time loop is a
+    summary that says so; from its end on, a signal is only noted (``sig``)."""
+    token = _PHASE.set("set-up")
+    try:
+        return runner(case, out, progress=progress)
+    except KeyboardInterrupt as exc:
+        summary = _outside_loop(case, out, "interrupted", _interrupt_reason(exc), time.perf_counter() - wall0)
+        return RunResult("interrupted", out, summary)
+    except CaseError:
+        folder.abandon()
+        raise
+    except (StepFailure, *_NUMERICAL_ERRORS) as exc:
+        if isinstance(exc, _PROGRAM_ERRORS):
+            raise
+        text = str(exc) if isinstance(exc, (NonFiniteOutput, StepFailure)) else f"{type(exc).__name__}: {exc}"
+        summary = _outside_loop(case, out, "failed", text, time.perf_counter() - wall0)
+        return RunResult("failed", out, summary)
+    finally:
+        _PHASE.reset(token)
+        if sig is not None:
+            sig["finishing"] = True  # from here a signal is noted, not raised
 
 
 def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = None) -> RunResult:
@@ -235,25 +339,14 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
     runner = getattr(importlib.import_module(mod), func)
     wall0 = time.perf_counter()
     try:
-        with OutputFolder(out) as folder, sigterm_as_interrupt():
-            token = _PHASE.set("set-up")
-            try:
-                res = runner(case, out, progress=progress)
-            except KeyboardInterrupt as exc:
-                summary = _outside_loop(case, out, "interrupted", _interrupt_reason(exc),
-                                        time.perf_counter() - wall0)
-                res = RunResult("interrupted", out, summary)
-            except CaseError:
-                folder.abandon()
-                raise
-            except (StepFailure, *_NUMERICAL_ERRORS) as exc:
-                if isinstance(exc, _PROGRAM_ERRORS):
-                    raise
-                text = str(exc) if isinstance(exc, (NonFiniteOutput, StepFailure)) else f"{type(exc).__name__}: {exc}"
-                summary = _outside_loop(case, out, "failed", text, time.perf_counter() - wall0)
-                res = RunResult("failed", out, summary)
-            finally:
-                _PHASE.reset(token)
+        with sigterm_as_interrupt() as sig:
+            with OutputFolder(out) as folder:
+                res = _run_claimed(runner, case, out, progress, folder, sig, wall0)
+                if sig is not None and sig["got"] is not None and res.status != "interrupted":
+                    res = _interrupted_as_it_ended(res, out, sig["got"])
+            if sig is not None and sig["got"] is not None and res.status != "interrupted":
+                res = _interrupted_as_it_ended(res, out, sig["got"])  # it came as the folder was closed
+                folder.refresh()
         if memory:
             res.tables = {p.name: read_table(p) for p in sorted(out.glob("*.csv"))}
             res.out_dir = None

@@ -292,7 +292,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     col, state = b.column, b.state
     H = col.ground_surface
     rep = case["report"]
-    depths = sorted(set(rep["depths"]) | {H - y for y in case["output"]["probes"]})  # y above the base
+    depths = sorted(set(schema_liquefaction.report_depths(case)) | {H - y for y in case["output"]["probes"]})  # y above the base
     rec = _Recorder(col, depths, rep["ru_liquefied"])
     ru0 = rec.record(state, True)
     writer = ResultWriter(out, PROFILE_COLUMNS, rec.probe_names())

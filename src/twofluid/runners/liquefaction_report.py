@@ -11,6 +11,7 @@ Depths are from the ground surface throughout.
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -100,7 +101,7 @@ def spectra(motion, surface_t, surface_a, periods=None, damping: float = 0.05) -
 
 
 def profile_stresses(col, site, case: dict) -> dict:
-    """Depth ranges, total and effective vertical stress at rest [Pa], Dr [-] and whether each
+    """Depth ranges, total and effective vertical stress at rest [Pa], Dr [%] and whether each
     element of the whole column (saturated, bottom first, then the crust) can liquefy."""
     ys = col.y_all
     H = col.ground_surface
@@ -115,7 +116,7 @@ def profile_stresses(col, site, case: dict) -> dict:
         c = col.crust
         load = c.rho * col.v.mat.g * c.h
         sig_eff[ns:] = case["site"]["surcharge"] + np.cumsum(load[::-1])[::-1] - 0.5 * load
-    dr = np.array([layers[i]["relative_density"] / 100.0 for i in owner])
+    dr = np.array([layers[i]["relative_density"] for i in owner])
     liq = np.array([layers[i]["liquefiable"] for i in owner], dtype=bool)
     liq[ns:] = False
     return {"z_top_m": z_top, "z_bottom_m": z_bot, "sigma_v_Pa": sig_eff + u_hydro,
@@ -138,15 +139,25 @@ def simplified_rows(col, site, case: dict, a_max_g: float, top_first: bool = Fal
 ELEMENT_COLUMNS = ["depth_top_m", "depth_bottom_m", "depth_m", "layer", "saturated", "peak_r_u",
                    "time_first_liquefied_s", "peak_shear_strain", "max_settlement_contribution_m",
                    "settlement_contribution_end_m", "FS_simplified_run", "FS_simplified_input",
-                   "eps_v_simplified_run"]
+                   "eps_v_simplified_run", "FS_note"]
+#: the ``FS_note`` of a row whose FS is empty: the simplified procedure finds it cannot liquefy (not
+#: liquefiable, above the water table, or no cyclic stress)
+NOT_LIQUEFIABLE = "NL"
+
+
+def _fs_note(*fs) -> str:
+    """"NL" where a factor of safety is inf (the row cannot liquefy; written as an empty cell)."""
+    return NOT_LIQUEFIABLE if any(x is not None and np.isinf(x) for x in fs) else ""
 
 
 def _write_csv(path, header, rows):
     """A report table; None is an empty cell. A NaN is refused (NonFiniteOutput naming the file,
-    the column and the row), never written; inf is kept where it has a meaning (FS of a row that
-    cannot liquefy, docs/simplified.md)."""
+    the column and the row), never written; an inf (FS of a row that cannot liquefy,
+    docs/simplified.md) is an empty cell, its reason in the row's ``FS_note`` column."""
     import csv
+    import io
 
+    from ..io.folders import create
     from ..io.results import NonFiniteOutput
 
     rows = [list(r) for r in rows]
@@ -155,11 +166,14 @@ def _write_csv(path, header, rows):
             if isinstance(x, float) and x != x:
                 raise NonFiniteOutput(f"NaN in {Path(path).name}, column {name}, row {i + 1}: "
                                       "the report is not written with it")
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        for r in rows:
-            w.writerow(["" if x is None else (f"{x:.8g}" if isinstance(x, float) else x) for x in r])
+    f = io.StringIO()
+    w = csv.writer(f)
+    w.writerow(header)
+    for r in rows:
+        w.writerow(["" if x is None or (isinstance(x, float) and np.isinf(x)) else
+                    (f"{x:.8g}" if isinstance(x, float) else x) for x in r])
+    with os.fdopen(create(path), "w", newline="", encoding="utf-8") as fh:
+        fh.write(f.getvalue())
 
 
 def _write_numbers(path, header, table) -> None:
@@ -168,19 +182,20 @@ def _write_numbers(path, header, table) -> None:
     table = np.column_stack([np.asarray(c, dtype=float) for c in table])
     if np.isnan(table).any():
         return _write_csv(path, header, table.tolist())
-    import csv
+    if np.isinf(table).any():
+        return _write_csv(path, header, table.tolist())
+    from ..io.folders import create
 
     fmt = ",".join(["%.8g"] * len(header)) + "\r\n"  # csv.writer's line end
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        csv.writer(f).writerow(header)
-        f.write("".join(fmt % tuple(r) for r in table.tolist()))
+    with os.fdopen(create(path), "w", newline="", encoding="utf-8") as f:
+        f.write(",".join(header) + "\r\n" + "".join(fmt % tuple(r) for r in table.tolist()))
 
 
 LAYER_COLUMNS = ["layer", "depth_top_m", "depth_bottom_m", "saturated", "liquefiable",
                  "hydraulic_conductivity_m_s", "peak_r_u", "time_first_liquefied_s", "liquefied_top_m",
                  "liquefied_bottom_m", "liquefied_thickness_m", "peak_shear_strain", "settlement_end_m",
                  "max_settlement_contribution_m", "FS_min_simplified_input", "FS_min_simplified_run",
-                 "settlement_simplified_input_m", "settlement_simplified_run_m"]
+                 "settlement_simplified_input_m", "settlement_simplified_run_m", "FS_note"]
 
 
 def write_tables(out, summary: dict, extra: dict, rec) -> None:
@@ -196,7 +211,8 @@ def write_tables(out, summary: dict, extra: dict, rec) -> None:
                      la.get("liquefied_thickness_m"), la["peak_shear_strain"], la.get("settlement_end_m", 0.0),
                      la.get("max_settlement_contribution_m", 0.0), la["simplified_min_FS_input"],
                      la["simplified_min_FS_run"], la["simplified_settlement_input_m"],
-                     la["simplified_settlement_run_m"]])
+                     la["simplified_settlement_run_m"],
+                     _fs_note(la["simplified_min_FS_input"], la["simplified_min_FS_run"])])
     _write_csv(out / "layers.csv", LAYER_COLUMNS, rows)
     run, inp = extra["simplified_run"], extra["simplified_input"]
     col = rec.col
@@ -211,7 +227,8 @@ def write_tables(out, summary: dict, extra: dict, rec) -> None:
                      float(rec.peak[e]) if wet else None, float(f) if np.isfinite(f) else None,
                      float(rec.peak_strain[e]), float(rec.max_contribution[e]) if wet else 0.0,
                      float(rec.last_contribution[e]) if wet else 0.0,
-                     float(run.FS[e]), float(inp.FS[e]), float(run.eps_v[e])])
+                     float(run.FS[e]), float(inp.FS[e]), float(run.eps_v[e]),
+                     _fs_note(float(run.FS[e]), float(inp.FS[e]))])
     _write_csv(out / "elements.csv", ELEMENT_COLUMNS, rows)
     if rec.surface_t:
         _write_numbers(out / "surface_motion.csv", ["time_s", "surface_acceleration_m_s2"],
