@@ -37,6 +37,7 @@ def _cmd_run(args) -> int:
                 "peak_r_u_top_element", "settlement_end_of_shaking_m", "settlement_end_m"):
         if s.get(key) is not None:
             print(f"  {key} = {s[key]:.6g}")
+    _print_bed(s.get("bed"))
     if "first_liquefaction" in s:
         first = s["first_liquefaction"]
         print(f"  first liquefaction (r_u > 0.95) at t = {first['time_s']:.3g} s, depth {first['depth_m']:.3g} m"
@@ -58,6 +59,22 @@ def _cmd_run(args) -> int:
     print(f"  solids volume balance error = {balance:.3g}" if balance is not None
           else "  solids volume balance error: not computed")
     return 0
+
+
+def _print_bed(bed) -> None:
+    """The bed figures of a 1D run's summary (summary.json "bed"), if it has them."""
+    if not bed:
+        return
+    print(f"  bed at t = 0: porosity {bed['initial_porosity']:.4g}, height {bed['initial_height_m']:.4g} m")
+    if "U_mf_m_s" in bed:
+        print(f"  U_mf = {bed['U_mf_m_s']:.4g} m/s (at n_mf = {bed['packed_porosity_n_mf']:.3g}; Wen & Yu "
+              f"{bed['U_mf_wen_yu_m_s']:.4g} m/s), U_t = {bed['U_t_m_s']:.4g} m/s")
+    exp = bed.get("expanded")
+    if exp:
+        for name, label in (("model", "model equilibrium"), ("richardson_zaki", "Richardson-Zaki")):
+            e = exp[name]
+            h = "carried away" if e["height_m"] is None else f"height {e['height_m']:.4g} m"
+            print(f"  bed at {exp['inlet_velocity_m_s']:.4g} m/s, {label}: porosity {e['porosity']:.4g}, {h}")
 
 
 def _cmd_simplified(args) -> int:
