@@ -143,7 +143,7 @@ def bed_figures(mesh, case: dict, clo, mat, u0: float, u_end: float | None) -> d
             "hold the initial solids volume")})
     if u_end is not None and u_end > 0.0:
         exp = {"inlet_velocity_m_s": u_end}
-        n_rz = n_mf if u_end <= u_mf else min((u_end / u_t) ** (1.0 / k), 1.0)
+        n_rz = min(max((u_end / u_t) ** (1.0 / k), n_mf), 1.0)  # packed below U_t n_mf^k
         try:
             n_model = _bed_state(clo, mat, u_end, n_mf)
         except CaseError:  # carried away (above U_t)
