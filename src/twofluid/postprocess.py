@@ -75,16 +75,13 @@ def interface_height(faces: np.ndarray, n: np.ndarray, threshold: float) -> floa
     >>> interface_height(faces, np.array([1.0, 1.0, 1.0]), 0.8)
     0.0
     """
-    faces, n = np.asarray(faces, dtype=float), np.asarray(n, dtype=float)
-    below = np.nonzero(n < threshold)[0]
+    below = np.flatnonzero(n < threshold)  # (called every step: no copies, one pass per array)
     if below.size == 0:
         return 0.0
     k = int(below[-1])
     r = k - 1 if k > 0 else 0  # the element whose porosity the solids above are laid at
-    dy = np.diff(faces)
-    solids = float(((1.0 - np.minimum(n[k:], 1.0)) * dy[k:]).sum())
-    base = faces[k] if k > 0 else faces[0]
-    return float(base + solids / (1.0 - n[r]) - faces[0])
+    solids = float(np.dot(1.0 - np.minimum(n[k:], 1.0), faces[k + 1:] - faces[k:-1]))
+    return float(faces[k] + solids / (1.0 - n[r]) - faces[0])
 
 
 def sediment_height(y: np.ndarray, n: np.ndarray, n0: float, top: float, drop: float = 0.01,
