@@ -153,7 +153,7 @@ def gate_rows(table: list[dict]) -> list[dict]:
     worst = float(np.min(err)) if finished else float("nan")
     name = "Slis et al. (1959) t1, 12 rows"
     return [
-        {"check": name, "quantity": "mean |t1 error| against the experiment", "unit": "-", "reference": 0.0,
+        {"check": name, "quantity": "mean absolute t1 error against the experiment", "unit": "-", "reference": 0.0,
          "computed": mean_abs, "error": mean_abs, "tolerance": GATE_MEAN_ABS, "error_kind": "absolute",
          "pass": bool(mean_abs <= GATE_MEAN_ABS)},
         {"check": name, "quantity": "signed mean t1 error", "unit": "-", "reference": 0.0, "computed": signed,
