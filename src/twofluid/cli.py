@@ -37,6 +37,7 @@ def _cmd_run(args) -> int:
                 "peak_r_u_top_element", "settlement_end_of_shaking_m", "settlement_end_m"):
         if s.get(key) is not None:
             print(f"  {key} = {s[key]:.6g}")
+    _print_bed(s.get("bed"))
     if "first_liquefaction" in s:
         first = s["first_liquefaction"]
         print(f"  first liquefaction (r_u > 0.95) at t = {first['time_s']:.3g} s, depth {first['depth_m']:.3g} m"
@@ -57,6 +58,46 @@ def _cmd_run(args) -> int:
     balance = s.get("solids_volume_balance_error")
     print(f"  solids volume balance error = {balance:.3g}" if balance is not None
           else "  solids volume balance error: not computed")
+    return 0
+
+
+def _print_bed(bed) -> None:
+    """The bed figures of a 1D run's summary (summary.json "bed"), if it has them."""
+    if not bed:
+        return
+    print(f"  bed at t = 0: porosity {bed['initial_porosity']:.4g}, height {bed['initial_height_m']:.4g} m")
+    if "U_mf_m_s" in bed:
+        print(f"  U_mf = {bed['U_mf_m_s']:.4g} m/s (at n_mf = {bed['packed_porosity_n_mf']:.3g}; Wen & Yu "
+              f"{bed['U_mf_wen_yu_m_s']:.4g} m/s), U_t = {bed['U_t_m_s']:.4g} m/s")
+    exp = bed.get("expanded")
+    if exp:
+        for name, label in (("model", "model equilibrium"), ("richardson_zaki", "Richardson-Zaki")):
+            e = exp[name]
+            h = "carried away" if e["height_m"] is None else f"height {e['height_m']:.4g} m"
+            print(f"  bed at {exp['inlet_velocity_m_s']:.4g} m/s, {label}: porosity {e['porosity']:.4g}, {h}")
+
+
+def _cmd_fluidization_curve(args) -> int:
+    from .casefile.loader import load_case
+    from .fluidization_curve import fluidization_curve, write_curve
+
+    case = load_case(args.case)  # every error of the case before anything is written
+    out = args.out or f"twofluid-out/{case['case']['name']}-fluidization-curve"
+    from .io.folders import check_out_dir
+
+    check_out_dir(out, "fluidization-curve --out", own=False)
+    curve = fluidization_curve(case, points=args.points)
+    paths = write_curve(curve, out, plot=not args.no_plots)
+    f = curve["figures"]
+    print(f"{curve['case']}: fluidization curve ({f['method']}): U_mf = {f['U_mf_m_s']:.4g} m/s at n_mf = "
+          f"{f['packed_porosity_n_mf']:.3g}, U_t = {f['U_t_m_s']:.4g} m/s, buoyant weight per area "
+          f"{f['buoyant_weight_per_area_Pa']:.4g} Pa")
+    print("  U [mm/s]  state      porosity  height [m]  dP [Pa]   RZ porosity")
+    rows = curve["rows"]
+    for r in rows[:: max(1, len(rows) // 12)]:
+        print(f"  {1e3 * r['U_m_s']:8.4g}  {r['state']:<9}  {r['porosity']:.4f}    {r['bed_height_m']:.4f}     "
+              f"{r['bed_pressure_drop_Pa']:<8.5g}  {r['porosity_richardson_zaki']:.4f}")
+    print(f"written: {', '.join(str(p) for p in paths)}")
     return 0
 
 
@@ -297,6 +338,14 @@ def parser():
     sp.add_argument("--a-max", type=float, help="peak ground-surface acceleration [g] of the CSR "
                     "(default: the case's [ground_motion] pga_g)")
     sp.set_defaults(func=_cmd_simplified)
+    fc = sub.add_parser("fluidization-curve", help="steady bed pressure drop, porosity and height against the "
+                        "superficial velocity of a 1D bed (uniform equilibria of its drag law; defluidization branch)")
+    fc.add_argument("case", help="bundled case name or TOML file (a 1D column with a bottom inlet)")
+    fc.add_argument("--out", help="folder for fluidization_curve.csv and .png "
+                    "(default: twofluid-out/<case name>-fluidization-curve)")
+    fc.add_argument("--points", type=int, default=60, help="velocities on the curve (default 60)")
+    fc.add_argument("--no-plots", action="store_true", help="write the CSV only")
+    fc.set_defaults(func=_cmd_fluidization_curve)
     c = sub.add_parser("cases", help="list the bundled cases")
     c.set_defaults(func=_cmd_cases)
     s = sub.add_parser("show", help="print a case's TOML (copy it to edit: `twofluid show NAME > my.toml` "

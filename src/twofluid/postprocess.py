@@ -1,10 +1,19 @@
 """Key figures of a run, with their written definitions.
 
-Bed surface height H(t): scanning down from the top, the height where the
-element-centre porosity first falls below a threshold (linear interpolation
-between the two centres around the crossing). The default threshold is midway
-between clear liquid and the bed porosity, which places a sharp surface at the
-element face and a smeared one at its middle.
+Bed surface height H(t) of a run (:func:`interface_height`, the runner's figures and plots):
+scanning down from the top, k is the first element whose porosity falls below a threshold
+(midway between clear liquid and the bed porosity); the solids of element k and of every
+element above it are laid on the top face of the element below k, at that element's
+porosity. In words: the interface lies inside the element where the porosity crosses the
+threshold, at the height that element's solids fill at the bed's porosity. A uniform bed
+with a partly filled top element (the state :func:`twofluid.casefile.bed.bed_porosity`
+builds) has its surface exactly where it was built, and the height moves continuously and
+in proportion to the solids as the front crosses an element, without the staircase a
+whole-element position gives.
+
+:func:`surface_height` is the earlier definition, kept unchanged for the Slis table and the
+Kynch checks (frozen, issue 24): the height where the element-centre porosity first falls
+below the threshold, by linear interpolation between the two centres around the crossing.
 
 t1 of a step change: the first time after which the bed surface stays within
 ``band`` (default 2 %) of the total change |H_end − H_0| of its final height.
@@ -18,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["median", "surface_height", "t1_from_history", "sediment_height"]
+__all__ = ["median", "surface_height", "interface_height", "t1_from_history", "sediment_height"]
 
 
 def median(values) -> float:
@@ -50,6 +59,29 @@ def surface_height(y: np.ndarray, n: np.ndarray, threshold: float, bottom: float
         return float(y[-1] + 0.5 * (y[-1] - y[-2]) - bottom) if len(y) > 1 else float(y[-1] - bottom)
     f = (threshold - n[j]) / (n[j + 1] - n[j])
     return float(y[j] + f * (y[j + 1] - y[j]) - bottom)
+
+
+def interface_height(faces: np.ndarray, n: np.ndarray, threshold: float) -> float:
+    """Height [m] above ``faces[0]`` of the bed surface interpolated within its element (module docstring).
+
+    ``faces``: the element faces [m] (``n.size + 1`` of them, increasing); ``n``: element porosities.
+    0 when no element is below ``threshold``.
+
+    >>> faces = np.array([0.0, 1.0, 2.0, 3.0])
+    >>> interface_height(faces, np.array([0.6, 0.6, 0.9]), 0.8)   # the top element a quarter full
+    2.25
+    >>> interface_height(faces, np.array([0.6, 0.7, 1.0]), 0.8)   # element 1 three quarters full
+    1.75
+    >>> interface_height(faces, np.array([1.0, 1.0, 1.0]), 0.8)
+    0.0
+    """
+    below = np.flatnonzero(n < threshold)  # (called every step: no copies, one pass per array)
+    if below.size == 0:
+        return 0.0
+    k = int(below[-1])
+    r = k - 1 if k > 0 else 0  # the element whose porosity the solids above are laid at
+    solids = float(np.dot(1.0 - np.minimum(n[k:], 1.0), faces[k + 1:] - faces[k:-1]))
+    return float(faces[k] + solids / (1.0 - n[r]) - faces[0])
 
 
 def sediment_height(y: np.ndarray, n: np.ndarray, n0: float, top: float, drop: float = 0.01,

@@ -14,8 +14,19 @@ from twofluid.mesh.line import uniform_line
 from twofluid.runners.common import run_case
 
 
-def bed(**initial):
+def classic_fluidized_bed():
+    """fluidized-bed-step as it was before issue 24: the bed by porosity (0.65) and height (0.7 m), the
+    inlet by porosities (0.65 -> 0.716), Gidaspow's drag (the case now gives velocities, a settled
+    height and the ergun_richardson_zaki law)."""
     c = load_case("fluidized-bed-step")
+    c["closures.drag"].update(law="gidaspow", blend_width=0.02)
+    c["initial"].update(state="uniform", porosity=0.65, bed_height=0.7, settled_height=-1.0)
+    c["boundary.bottom"].update(porosities=[0.65, 0.716], velocities=[])
+    return c
+
+
+def bed(**initial):
+    c = classic_fluidized_bed()
     c["initial"].update(initial)
     return c
 
@@ -104,7 +115,7 @@ def test_galerkin_solids_flux_with_a_free_surface_is_refused_at_load_time():
 
 
 def test_step_change_reports_t1_from_the_step_and_the_bed_pressure_drop(tmp_path):
-    c = load_case("fluidized-bed-step")
+    c = classic_fluidized_bed()
     c["case"]["model"] = "reduced_1d"
     c["mesh"]["elements"] = 50
     c["initial"]["bed_height"] = 0.3

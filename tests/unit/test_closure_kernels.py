@@ -47,8 +47,11 @@ def _materials(ne):
 @requires_numba
 @pytest.mark.parametrize("law, params", [(drag.ergun, {}), (drag.wen_yu, {}),
                                          (drag.gidaspow, {"n_switch": 0.6, "blend_width": 0.0}),
-                                         (drag.gidaspow, {"n_switch": 0.6, "blend_width": 0.02})],
-                         ids=["ergun", "wen_yu", "gidaspow", "gidaspow-blend"])
+                                         (drag.gidaspow, {"n_switch": 0.6, "blend_width": 0.02}),
+                                         (drag.richardson_zaki, {"exponent": 2.7}),
+                                         (drag.ergun_richardson_zaki, {"exponent": 3.4})],
+                         ids=["ergun", "wen_yu", "gidaspow", "gidaspow-blend", "richardson_zaki",
+                              "ergun_richardson_zaki"])
 @pytest.mark.parametrize("stokes", [False, True])
 @pytest.mark.parametrize("slip_max", [np.inf, 0.05])
 def test_drag_per_solids_is_the_registry_law(law, params, stokes, slip_max):

@@ -34,6 +34,8 @@ def _refused(case, match):
 # ---------------------------------------------------------------- together impossible
 def test_a_fluidized_inlet_needs_particles_denser_than_the_liquid():
     case = load_case("fluidized-bed-step")
+    case["initial"].update(state="uniform", porosity=0.65, bed_height=0.7, settled_height=-1.0)
+    case["boundary.bottom"].update(porosities=[0.65, 0.716], velocities=[])  # an inlet given by porosities
     case["materials"]["particle_density"] = 0.9 * case["materials"]["liquid_density"]
     _refused(case, r"\[boundary.bottom\] porosities: .*denser than the liquid")
 

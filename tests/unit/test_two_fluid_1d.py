@@ -97,7 +97,7 @@ def rz_case(n_bed, n_flow, elements=40, end=1.0, dt=0.05):
     c["closures.drag"].update(law="wen_yu", stokes=True)  # exactly U = U_t n^4.65
     c["closures.solids_pressure"]["fluidized"] = "none"  # the drag law's identity alone, P_s negligible
     c["mesh"].update(elements=elements)
-    c["initial"].update(porosity=n_bed, bed_height=0.5)
+    c["initial"].update(state="uniform", porosity=n_bed, bed_height=0.5, settled_height=-1.0)
     c["boundary.bottom"].update(times=[0.0], porosities=[], velocities=[_rz_velocity(c, n_flow)])
     c["time"].update(end=end, step=dt)
     return c

@@ -18,7 +18,8 @@ from ..scipy_kernels import brentq  # scipy.optimize's, without importing scipy.
 
 from .schema import CaseError, CaseWarning
 
-__all__ = ["volume_below", "height_of_volume", "bed_porosity", "fluidized_porosity", "initial_bed"]
+__all__ = ["volume_below", "height_of_volume", "bed_porosity", "fluidized_porosity", "initial_bed",
+           "packed_porosity", "bed_figures", "equilibrium_warning"]
 
 
 def volume_below(mesh, h: float) -> float:
@@ -85,13 +86,116 @@ def fluidized_porosity(clo, mat, u: float, source: str = "<case>") -> float:
     return float(brentq(lambda n: U(n) - u, lo, hi, xtol=1e-14, rtol=1e-13))
 
 
-def initial_bed(mesh, case: dict, clo, mat, u0: float) -> tuple[float, float, np.ndarray]:
+def packed_porosity(case: dict) -> float:
+    """Porosity n_mf [-] of the case's packed bed: ``[initial] settled_porosity`` (0.4 unless given).
+
+    The bed of a fluidization curve below minimum fluidization, and the porosity at which the
+    minimum fluidization velocity U_mf is taken (:func:`bed_figures`).
+    """
+    return float(case["initial"].get("settled_porosity", 0.4))
+
+
+def _bed_state(clo, mat, u: float, n_mf: float) -> float:
+    """Porosity [-] of a uniform bed in the superficial velocity ``u`` [m/s]: packed at ``n_mf`` below
+    the fluidization velocity there, else the porosity the drag law fluidizes at ``u``."""
+    if u <= clo.fluidization_velocity(n_mf, mat):
+        return n_mf
+    return fluidized_porosity(clo, mat, u)
+
+
+def bed_figures(mesh, case: dict, clo, mat, u0: float, u_end: float | None) -> dict:
+    """What a process engineer checks first about a 1D bed, with definitions (summary.json "bed").
+
+    U_mf: the superficial velocity at which the case's drag law at the packed porosity n_mf
+    (:func:`packed_porosity`) carries the bed's buoyant weight (beside Wen & Yu's (1966)
+    correlation); U_t: the terminal velocity of one particle with the same law (without the model's slip saturation); the initial
+    porosity and height (:func:`initial_bed`); and, for the last inlet velocity ``u_end``
+    [m/s], the uniform bed's porosity and height by Richardson & Zaki (U = U_t n^k, k of Khan &
+    Richardson, U_t as above) and by the model's own equilibrium (the drag law).
+    Heights [m] hold the initial solids volume over the column's cross-section.
+    """
+    from ..closures import drag as drag_laws
+
+    n0, h0, n_el = initial_bed(mesh, case, clo, mat, u0, warn=False)
+    solids = float(((1.0 - n_el) * mesh.volumes).sum())
+    n_mf = packed_porosity(case)
+    out = {"initial_porosity": n0, "initial_height_m": h0, "packed_porosity_n_mf": n_mf}
+    if not mat.rho_s > mat.rho_f:
+        return out
+    ar = float(drag_laws.archimedes_number(mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g))
+    k = float(drag_laws.khan_richardson_exponent(ar))
+    try:
+        u_mf = clo.fluidization_velocity(n_mf, mat)
+        u_t = drag_laws.terminal_velocity(clo.drag, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
+                                          **clo.drag_params)
+    except ValueError:
+        return out
+    out.update({
+        "U_mf_m_s": u_mf, "U_mf_wen_yu_m_s": drag_laws.wen_yu_minimum_fluidization_velocity(
+            mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g),
+        "U_t_m_s": u_t, "archimedes_number": ar, "richardson_zaki_exponent_khan_richardson": k,
+        "definitions": (
+            "U_mf: superficial velocity at which the case's drag law at the packed porosity n_mf "
+            "([initial] settled_porosity) carries the buoyant weight of the bed; U_mf_wen_yu: Wen & Yu "
+            "(1966); U_t: terminal velocity of one particle with the case's drag law; expanded bed at "
+            "the last inlet velocity U: Richardson-Zaki n = (U/U_t)^(1/k), k of Khan & Richardson (1989), "
+            "and the model's own uniform equilibrium (the drag law); packed at n_mf below U_mf; heights "
+            "hold the initial solids volume")})
+    if u_end is not None and u_end > 0.0:
+        exp = {"inlet_velocity_m_s": u_end}
+        n_rz = min(max((u_end / u_t) ** (1.0 / k), n_mf), 1.0)  # packed below U_t n_mf^k
+        try:
+            n_model = _bed_state(clo, mat, u_end, n_mf)
+        except CaseError:  # carried away (above U_t)
+            n_model = 1.0
+        for name, n in (("richardson_zaki", n_rz), ("model", n_model)):
+            exp[name] = {"porosity": n, "height_m": height_of_volume(mesh, solids / (1.0 - n)) if n < 1.0
+                         else None}
+        out["expanded"] = exp
+    return out
+
+
+def equilibrium_warning(case: dict, clo, mat, n: float, u0: float) -> str | None:
+    """A warning line when a bed given by its porosity ``n`` starts out of equilibrium with the
+    inlet velocity ``u0`` [m/s] at t = 0 (it then expands or contracts as the run starts), else None.
+
+    A fluidized bed (n above the packed porosity) is in equilibrium where the drag law holds it at
+    ``u0`` to 1 %; a packed bed (n ≤ n_mf + 0.01) where ``u0`` does not lift it.
+    """
+    if not (mat.rho_s > mat.rho_f and u0 > 0.0 and 0.0 < n < 1.0):
+        return None
+    try:
+        u_n = clo.fluidization_velocity(n, mat)
+    except ValueError:
+        return None
+    packed = n <= packed_porosity(case) + 0.01
+    if (packed and u0 <= u_n * 1.01) or abs(u0 - u_n) <= 0.01 * u_n:
+        return None
+    src = case.get("_source", "<case>")
+    what = "expands" if u0 > u_n else "contracts"
+    return (f"{src}: [initial] porosity: the bed starts at porosity {n:.4g}, which the inlet velocity at t = 0 "
+            f"({u0:.4g} m/s) does not hold (the drag law holds it at {u_n:.4g} m/s), so the bed {what} as the "
+            "run starts; state = \"fluidized\" starts it in equilibrium with the inlet")
+
+
+def initial_bed(mesh, case: dict, clo, mat, u0: float, warn: bool = True) -> tuple[float, float, np.ndarray]:
     """(bed porosity, bed height [m], element porosities) of the case's ``[initial]`` section.
 
-    ``u0`` [m/s]: the inlet velocity into the column at t = 0 (for ``state = "fluidized"``).
+    ``u0`` [m/s]: the inlet velocity into the column at t = 0. With ``state = "fluidized"`` the
+    bed is the uniform bed that velocity holds: fluidized at the drag law's porosity above the
+    minimum fluidization velocity, packed at ``settled_porosity`` below it. A bed given by its
+    porosity that ``u0`` does not hold gets a warning (:func:`equilibrium_warning`) if ``warn``.
     """
     init, src = case["initial"], case.get("_source", "<case>")
-    n = fluidized_porosity(clo, mat, u0, src) if init["state"] == "fluidized" else init["porosity"]
+    if init["state"] == "fluidized":
+        n_mf = packed_porosity(case)
+        packed = u0 > 0.0 and mat.rho_s > mat.rho_f and u0 <= clo.fluidization_velocity(n_mf, mat)
+        n = n_mf if packed else fluidized_porosity(clo, mat, u0, src)
+    else:
+        n = init["porosity"]
+        line = equilibrium_warning(case, clo, mat, n, u0) if warn else None
+        if line is not None:
+            warnings.warn(CaseWarning(line), stacklevel=3)
     length = float(mesh.y[-1] - mesh.y[0])
     if init["solids_mass"] > 0.0 or init["settled_height"] > 0.0:
         if init["solids_mass"] > 0.0:

@@ -66,6 +66,10 @@ def closures(case: dict, mat: Materials, pressure_section: str = "closures.solid
     ``pressure_section`` is the section holding ``compressibility`` and ``p_ref`` of P_s.
     """
     clo = _closures(case, pressure_section)
+    if "exponent" in clo.drag_params and clo.drag_params["exponent"] == 0.0:  # Khan & Richardson's k
+        ar = drag_laws.archimedes_number(mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g)
+        clo = replace(clo, drag_params={**clo.drag_params,
+                                        "exponent": float(drag_laws.khan_richardson_exponent(max(float(ar), 0.0)))})
     return replace(clo, slip_max=drag_laws.slip_limit(
         clo.drag, case["closures.drag"]["slip_saturation"], mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
         **clo.drag_params))
@@ -85,6 +89,8 @@ def _closures(case: dict, pressure_section: str) -> Closures:
     params = {"stokes": d["stokes"]}
     if d["law"] == "gidaspow":
         params.update(n_switch=d["n_switch"], blend_width=d["blend_width"])
+    if d["law"] in ("richardson_zaki", "ergun_richardson_zaki"):
+        params["exponent"] = d["exponent"]  # 0: Khan & Richardson's, set by closures()
     sp = case[pressure_section]
     fluidized, fparams = None, {}
     if sp.get("fluidized", "none") != "none":

@@ -111,7 +111,12 @@ SCHEMA: dict[str, list[Key]] = {
         K("gravity", float, 9.81, "m/s²", "|g|", lo=0.0, lo_open=True),
     ],
     "closures.drag": [
-        K("law", str, "gidaspow", "-", "drag law (docs/model.md, Drag)", choices=("gidaspow", "ergun", "wen_yu")),
+        K("law", str, "gidaspow", "-", "drag law (docs/model.md, Drag); ergun_richardson_zaki: Ergun in packed "
+          "beds, Richardson–Zaki in fluidized ones (the bundled fluidized-bed cases)",
+          choices=("gidaspow", "ergun", "wen_yu", "richardson_zaki", "ergun_richardson_zaki")),
+        K("exponent", float, 0.0, "-", "richardson_zaki, ergun_richardson_zaki: the Richardson–Zaki exponent k "
+          "(0: Khan & Richardson's, from the Archimedes number of the particles)", lo=0.0, hi=10.0,
+          used_when=("law", ("richardson_zaki", "ergun_richardson_zaki"))),
         K("stokes", bool, False, "-", "drop the inertial part of the drag (Stokes limits)"),
         K("n_switch", float, 0.6, "-", "gidaspow: Ergun below, Wen–Yu above", lo=0.0, hi=1.0,
           used_when=("law", ("gidaspow",))),

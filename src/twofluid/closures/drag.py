@@ -19,8 +19,9 @@ import numpy as np
 
 from .registry import register
 
-__all__ = ["ergun", "wen_yu", "gidaspow", "schiller_naumann_cd", "hydraulic_conductivity",
-           "steady_fluidization_velocity"]
+__all__ = ["ergun", "wen_yu", "gidaspow", "richardson_zaki", "ergun_richardson_zaki", "schiller_naumann_cd",
+           "dallavalle_cd", "archimedes_number", "khan_richardson_exponent", "hydraulic_conductivity",
+           "steady_fluidization_velocity", "wen_yu_minimum_fluidization_velocity"]
 
 G = 9.81
 
@@ -129,6 +130,141 @@ def gidaspow(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False,
         phi = (n >= n_switch).astype(float)
     k = (1.0 - phi) * ke + phi * kw
     return k if per_solids else (1.0 - n) * k
+
+
+def dallavalle_cd(re):
+    """Dallavalle's (1948) sphere drag coefficient as C_D·Re [-]: C_D = (0.63 + 4.8/√Re)².
+
+    The single-particle drag of Syamlal & O'Brien's law and of Di Felice (1994); C_D·Re tends
+    to 4.8² = 23.04 at Re = 0 (Stokes' 24 within 4 %) and C_D to 0.397 at large Re.
+
+    >>> float(dallavalle_cd(0.0))
+    23.04
+    >>> round(float(dallavalle_cd(100.0)) / 100.0, 4)   # (0.63 + 0.48)²
+    1.2321
+    """
+    re = np.asarray(re, dtype=float)
+    r = 0.63 * np.sqrt(re) + 4.8
+    return r * r
+
+
+def archimedes_number(d, rho_s, rho_f, mu_f, g=G):
+    """Archimedes (Galileo) number Ar = ρ_f (ρ_s − ρ_f) g d³/μ_f² [-] (d [m], densities [kg/m³], μ_f [Pa·s]).
+
+    >>> round(float(archimedes_number(1e-3, 2600.0, 1000.0, 1e-3)), 1)
+    15696.0
+    """
+    return rho_f * (rho_s - rho_f) * g * np.asarray(d, dtype=float) ** 3 / (mu_f * mu_f)
+
+
+def khan_richardson_exponent(ar):
+    """Richardson–Zaki exponent k [-] of Khan & Richardson (1989), without the wall term (d/D → 0).
+
+    (4.8 − k)/(k − 2.4) = 0.043 Ar^0.57, i.e. k = (4.8 + 2.4 b)/(1 + b), b = 0.043 Ar^0.57:
+    4.8 at Ar → 0 (Stokes), 2.4 at Ar → ∞ (Newton). Fitted for 1e-2 ≲ Re_t ≲ 1e4.
+
+    >>> float(khan_richardson_exponent(0.0))
+    4.8
+    >>> round(float(khan_richardson_exponent(15696.0)), 3)   # 1 mm sand in water
+    2.607
+
+    Reference: Khan, A. R., Richardson, J. F., Chem. Eng. Commun. 78 (1989) 111–130.
+    """
+    b = 0.043 * np.asarray(ar, dtype=float) ** 0.57
+    return (4.8 + 2.4 * b) / (1.0 + b)
+
+
+# The Richardson–Zaki law holds for uniform suspensions and fluidized beds from about minimum
+# fluidization (n ≈ 0.4) to a single particle, and Khan & Richardson's exponent for
+# 1e-2 ≲ Re_t ≲ 1e4 (their data); Dallavalle's C_D is a fit to the standard curve below Re ≈ 1e4.
+_RZ_RE = (0.0, 1e4)
+
+
+@register("drag", "richardson_zaki", params={"exponent": 4.8}, porosity_range=(0.4, 1.0),
+          reynolds_range=_RZ_RE, stokes_reynolds_range=_STOKES_RE,
+          reference="Syamlal & O'Brien (1987) form calibrated to Richardson & Zaki (1954), "
+                    "Khan & Richardson (1989) exponent; Dallavalle (1948) C_D")
+def richardson_zaki(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False, exponent=4.8):
+    """Richardson–Zaki drag: β = (3/4) C_D(Re_s/V_r) ρ_f n (1−n) |U_f−U_s| / (V_r² d), V_r = n^(k−1).
+
+    The form of Syamlal & O'Brien (1987) with its terminal-velocity ratio V_r set to the
+    Richardson–Zaki value n^(k−1), k = ``exponent``: a particle in a suspension of porosity n
+    feels the drag of an isolated one at the slip |s|/V_r, times n. C_D is Dallavalle's
+    (:func:`dallavalle_cd`) at Re_s/V_r, Re_s = ρ_f |U_f−U_s| d/μ_f. Written out,
+
+        β = (3/4) (C_D Re)(Re_s/V_r) μ_f (1 − n) n^(2−k) / d²        [N·s/m⁴],
+
+    so a uniform bed at rest is held by exactly the Richardson–Zaki velocity U = U_t n^k, U_t the
+    terminal velocity of a single particle with Dallavalle's C_D (docs/model.md, "Drag"). The
+    case file sets k by Khan & Richardson (:func:`khan_richardson_exponent`, from the Archimedes
+    number) unless ``[closures.drag] exponent`` is given. Holds for n ≥ 0.4 (a bed from
+    minimum fluidization up) and Re up to 1e4; ``stokes=True`` keeps C_D Re = 23.04.
+
+    >>> b = richardson_zaki(0.5, 0.0, 1e-3, 1000.0, 1e-3, stokes=True, exponent=4.8)
+    >>> round(float(b), 3)   # 0.75*23.04*1e-3*0.5*0.5**-2.8/1e-6
+    60172.455
+
+    References: Syamlal, M., O'Brien, T. J., AIChE Symp. Ser. 85 (1989) 22–31 (the form);
+    Richardson, J. F., Zaki, W. N., Trans. Inst. Chem. Eng. 32 (1954) 35–53; Khan & Richardson
+    (1989); Dallavalle, J. M., Micromeritics (1948).
+    """
+    n = np.asarray(n, dtype=float)
+    vr = n ** (exponent - 1.0)
+    if stokes:
+        cd_re = 23.04
+    else:
+        cd_re = dallavalle_cd(rho_f * np.abs(slip) * d / (mu_f * vr))
+    k = 0.75 * cd_re * mu_f / (d * d) * n / vr
+    return k if per_solids else (1.0 - n) * k
+
+
+@register("drag", "ergun_richardson_zaki", params={"exponent": 4.8, "n_packed": 0.45, "n_fluidized": 0.49},
+          porosity_range=(0.0, 1.0), reynolds_range=_RZ_RE, stokes_reynolds_range=_STOKES_RE,
+          reference="Ergun (1952) up to n_packed, Richardson–Zaki (richardson_zaki) from n_fluidized, "
+                    "C¹ blend between")
+def ergun_richardson_zaki(n, slip, d, rho_f, mu_f, *, stokes=False, per_solids=False, exponent=4.8,
+                          n_packed=0.45, n_fluidized=0.49):
+    """Ergun in packed beds, Richardson–Zaki in fluidized ones: the default of liquid–solid beds.
+
+    β = (1 − φ) β_Ergun + φ β_RZ with the C¹ smoothstep φ = 3x² − 2x³,
+    x = (n − n_packed)/(n_fluidized − n_packed) clipped to [0, 1]: Ergun (:func:`ergun`, the packed
+    bed's pressure drop) up to ``n_packed`` = 0.45, :func:`richardson_zaki` (the bed's
+    expansion) from ``n_fluidized`` = 0.49. Between them Ergun's drag is 1.05–1.8 times the
+    Richardson–Zaki law's (Re_t 0.1–1000), and the blend takes the bed from one to the other;
+    the velocity that holds a uniform bed still grows with n through it. Units: β [N·s/m⁴].
+    Why this default: docs/model.md, "Drag".
+
+    >>> import numpy as np
+    >>> args = (1e-3, 1000.0, 1e-3)
+    >>> b = ergun_richardson_zaki(np.array([0.4, 0.6]), 0.01, *args, exponent=2.6)
+    >>> bool(b[0] == ergun(0.4, 0.01, *args)), bool(b[1] == richardson_zaki(0.6, 0.01, *args, exponent=2.6))
+    (True, True)
+
+    References: Ergun (1952); Richardson & Zaki (1954); Khan & Richardson (1989).
+    """
+    n = np.asarray(n, dtype=float)
+    args = (n, slip, d, rho_f, mu_f)
+    ke = ergun(*args, stokes=stokes, per_solids=True)
+    kr = richardson_zaki(*args, stokes=stokes, per_solids=True, exponent=exponent)
+    x = np.clip((n - n_packed) / (n_fluidized - n_packed), 0.0, 1.0)
+    phi = x * x * (3.0 - 2.0 * x)
+    k = (1.0 - phi) * ke + phi * kr
+    return k if per_solids else (1.0 - n) * k
+
+
+def wen_yu_minimum_fluidization_velocity(d, rho_s, rho_f, mu_f, g=G) -> float:
+    """Minimum fluidization velocity U_mf [m/s] of Wen & Yu (1966): Re_mf = √(33.7² + 0.0408 Ar) − 33.7.
+
+    Re_mf = ρ_f U_mf d/μ_f; their correlation of 284 data points, ±34 % (one standard deviation).
+
+    >>> round(wen_yu_minimum_fluidization_velocity(1e-3, 2600.0, 1000.0, 1e-3) * 1e3, 3)   # mm/s
+    8.444
+
+    Reference: Wen, C. Y., Yu, Y. H., AIChE J. 12 (1966) 610–612.
+    """
+    ar = float(archimedes_number(d, rho_s, rho_f, mu_f, g))
+    re = math.sqrt(33.7 ** 2 + 0.0408 * ar) - 33.7
+    return re * mu_f / (rho_f * d)
 
 
 def hydraulic_conductivity(beta, n, rho_f, g=G):

@@ -12,7 +12,8 @@ exception: libm's scalar ``pow`` (~15 ns) would make the compiled law no faster 
 SIMD one on a fluidized bed's 600 points, so its loop is split around the two powers, which
 NumPy computes (:meth:`CompiledLaws.beta_per_solids`).
 
-Covered: the drag laws ``ergun``, ``wen_yu`` and ``gidaspow`` (with the |slip| saturation of
+Covered: the drag laws ``ergun``, ``wen_yu``, ``gidaspow``, ``richardson_zaki`` and
+``ergun_richardson_zaki`` (with its default transition 0.45–0.49; with the |slip| saturation of
 :func:`.drag.saturated_slip`), the exponential P_s with the Foscolo–Gibilaro term, and the
 solid-phase viscosity from ``mooney_pringle``. :func:`for_closures` returns None for a run that
 uses any other law (or per-element values where these take one value): its model then calls the
@@ -36,9 +37,13 @@ from .viscosity import K1, K2, _blend_coefficients
 
 __all__ = ["for_closures", "CompiledLaws"]
 
-ERGUN, WEN_YU, GIDASPOW = 0, 1, 2
-_DRAG_IDS = {drag_laws.ergun: ERGUN, drag_laws.wen_yu: WEN_YU, drag_laws.gidaspow: GIDASPOW}
-_DRAG_PARAMS = {ERGUN: {"stokes"}, WEN_YU: {"stokes"}, GIDASPOW: {"stokes", "n_switch", "blend_width"}}
+ERGUN, WEN_YU, GIDASPOW, RICHARDSON_ZAKI, ERGUN_RZ = 0, 1, 2, 3, 4
+_DRAG_IDS = {drag_laws.ergun: ERGUN, drag_laws.wen_yu: WEN_YU, drag_laws.gidaspow: GIDASPOW,
+             drag_laws.richardson_zaki: RICHARDSON_ZAKI, drag_laws.ergun_richardson_zaki: ERGUN_RZ}
+_DRAG_PARAMS = {ERGUN: {"stokes"}, WEN_YU: {"stokes"}, GIDASPOW: {"stokes", "n_switch", "blend_width"},
+                RICHARDSON_ZAKI: {"stokes", "exponent"}, ERGUN_RZ: {"stokes", "exponent"}}
+# ergun_richardson_zaki's transition, as the registry function's defaults (a case cannot change them)
+_RZ_PACKED, _RZ_FLUIDIZED = 0.45, 0.49
 _MAX_EXPONENT = 700.0  # as solids_pressure._MAX_EXPONENT
 
 
@@ -61,11 +66,34 @@ def _wen_yu(n, s, d, rho_f, mu_f, stokes):
 
 
 def _drag(law, n, s, d, rho_f, mu_f, stokes, n_switch, blend_width):
-    """β/(1 − n) of drag law ``law`` (ERGUN, WEN_YU, GIDASPOW) at one point."""
+    """β/(1 − n) of drag law ``law`` (ERGUN, WEN_YU, GIDASPOW, RICHARDSON_ZAKI, ERGUN_RZ) at one point.
+
+    ``n_switch`` carries the law's one parameter: Gidaspow's switch, or the Richardson–Zaki
+    exponent k of the two Richardson–Zaki laws."""
     if law == ERGUN:
         return _ergun(n, s, d, rho_f, mu_f, stokes)
     if law == WEN_YU:
         return _wen_yu(n, s, d, rho_f, mu_f, stokes)
+    if law == RICHARDSON_ZAKI or law == ERGUN_RZ:
+        # :func:`.drag.richardson_zaki` per solids (exponent k = n_switch, Dallavalle's C_D Re), written
+        # here rather than as a helper so the models' kernel groups need no new helper
+        phi = 1.0
+        if law == ERGUN_RZ:
+            x = (n - _RZ_PACKED) / (_RZ_FLUIDIZED - _RZ_PACKED)
+            x = 0.0 if x < 0.0 else (1.0 if x > 1.0 else x)  # np.clip (NaN stays NaN)
+            phi = x * x * (3.0 - 2.0 * x)
+            if phi == 0.0 and n > 0.0 and abs(s) < math.inf:
+                return _ergun(n, s, d, rho_f, mu_f, stokes)
+        vr = n ** (n_switch - 1.0)
+        if stokes:
+            cd_re = 23.04
+        else:
+            r = 0.63 * math.sqrt(rho_f * abs(s) * d / (mu_f * vr)) + 4.8
+            cd_re = r * r
+        kr = 0.75 * cd_re * mu_f / (d * d) * n / vr
+        if phi == 1.0 and (law == RICHARDSON_ZAKI or (n > 0.0 and abs(s) < math.inf)):
+            return kr
+        return (1.0 - phi) * _ergun(n, s, d, rho_f, mu_f, stokes) + phi * kr
     if blend_width > 0.0:
         x = (n - n_switch + blend_width) / (2.0 * blend_width)
         x = 0.0 if x < 0.0 else (1.0 if x > 1.0 else x)  # np.clip (NaN stays NaN)
@@ -297,7 +325,7 @@ def for_closures(clo, mat) -> CompiledLaws | None:
         return None
     if set(clo.viscosity_params) - {"k1", "k2", "eps_blend", "n_c"}:
         return None
-    scalars = [clo.drag_params.get("n_switch", 0.6), clo.drag_params.get("blend_width", 0.0), clo.slip_max,
+    scalars = [clo.drag_params.get("n_switch", 0.6), clo.drag_params.get("exponent", 4.8), clo.drag_params.get("blend_width", 0.0), clo.slip_max,
                mat.rho_f, mat.mu_f, mat.rho_s, mat.g, *clo.viscosity_params.values(),
                *clo.fluidized_params.values()]
     if any(np.ndim(v) != 0 for v in scalars) or np.ndim(clo.drag_params.get("stokes", False)) != 0:
@@ -316,7 +344,9 @@ def for_closures(clo, mat) -> CompiledLaws | None:
     k1, k2 = float(vp.get("k1", K1)), float(vp.get("k2", K2))
     eps_b, n_c = float(vp.get("eps_blend", 0.2)), float(vp.get("n_c", 0.5))
     b, c = _blend_coefficients(eps_b, k1, k2)
-    drag_args = (bool(clo.drag_params.get("stokes", False)), float(clo.drag_params.get("n_switch", 0.6)),
+    second = clo.drag_params.get("exponent", 4.8) if law in (RICHARDSON_ZAKI, ERGUN_RZ) \
+        else clo.drag_params.get("n_switch", 0.6)  # the parameter slot of _drag
+    drag_args = (bool(clo.drag_params.get("stokes", False)), float(second),
                  float(clo.drag_params.get("blend_width", 0.0)))
     return CompiledLaws(kernels, law, clo.drag.__name__, drag_args, float(clo.slip_max), d, float(mat.rho_f),
                         float(mat.mu_f), A, p_ref, modulus, (k1, k2, eps_b, n_c, float(b), float(c)))

@@ -13,6 +13,7 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
+from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from .agg import new_figure, write_png
 
@@ -20,6 +21,19 @@ __all__ = ["profile_plots", "history_plot"]
 
 #: resolution of the PNGs [dots per inch]
 DPI = 120
+
+
+def _grouped(x, _pos=None) -> str:
+    """A tick label with thin-space thousands groups (12 000), shortest form otherwise.
+
+    >>> _grouped(12000.0), _grouped(0.25), _grouped(-1500.0)
+    ('12\u2009000', '0.25', '\u22121\u2009500')
+    """
+    if x == int(x) and abs(x) >= 1000:
+        text = f"{abs(int(x)):,}".replace(",", "\u2009")
+    else:
+        text = f"{abs(x):g}"
+    return ("\u2212" if x < 0 else "") + text
 
 
 def _by_time(profiles: dict[float, dict]):
@@ -68,6 +82,9 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
         a2.plot(f["Ps_Pa"], f["y_m"], color=c)
     a1.set_xlabel("liquid pressure P [Pa]")
     a2.set_xlabel("granular pressure P_s [Pa]")
+    for a in (a1, a2):  # at most 5 ticks, grouped digits: "10000120001400" no longer runs together
+        a.xaxis.set_major_locator(MaxNLocator(nbins=5))
+        a.xaxis.set_major_formatter(FuncFormatter(_grouped))
     a1.set_ylabel("height y [m]")
     for a in (a1, a2):
         a.grid(alpha=0.3)
@@ -80,11 +97,14 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
 
 def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, title: str,
                  ylabel: str = "height [m]", marks: dict | None = None,
-                 levels: dict[str, float] | None = None) -> Path:
+                 levels: dict[str, float] | None = None, scale_after: float | None = None) -> Path:
     """Curves against time (e.g. bed height, interface heights) with optional marks.
 
     ``marks``: vertical lines, name -> time [s] or (time [s], label); ``levels``:
     horizontal dashed lines, label -> value (e.g. a theoretical final height).
+    ``scale_after`` [s]: the vertical scale is set by the samples after this time and the
+    levels, and spans at least 4 % of their magnitude (a start-up value off that scale is
+    named in the legend instead of setting it).
     """
     fig = new_figure((6.5, 4.5), DPI)
     ax = fig.subplots()
@@ -98,6 +118,8 @@ def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, t
         if np.isfinite(tm):
             ax.axvline(tm, ls="--", color="k", lw=0.8)
             ax.text(tm, ax.get_ylim()[1], f" {text}", va="top", fontsize=8)
+    if scale_after is not None:
+        _scale_after(ax, t, series, levels or {}, scale_after)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(ylabel)
     ax.set_title(title)
@@ -105,3 +127,25 @@ def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, t
     ax.legend(fontsize=8)
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)
     return write_png(fig, out_path)
+
+
+def _scale_after(ax, t, series, levels, t0) -> None:
+    """Vertical limits from the samples after ``t0`` and the levels; samples before it that fall
+    outside are listed in the legend (an invisible line carries the label)."""
+    t = np.asarray(t)
+    later = t > t0
+    vals = [np.asarray(y)[later] for y in series.values()] + [np.array([v]) for v in levels.values()]
+    vals = np.concatenate([v[np.isfinite(v)] for v in vals]) if vals else np.array([])
+    if vals.size == 0:
+        return
+    lo, hi = float(vals.min()), float(vals.max())
+    span = max(hi - lo, 0.04 * max(abs(lo), abs(hi)))  # at least ±2 % of the values: no ripple of 1e-4 blown up
+    mid = 0.5 * (lo + hi)
+    lo, hi = mid - 0.58 * span, mid + 0.58 * span
+    ax.set_ylim(lo, hi)
+    for name, y in series.items():
+        early = np.asarray(y)[~later]
+        off = early[(early < lo) | (early > hi)]
+        if off.size:
+            peak = off[np.argmax(np.abs(off - 0.5 * (lo + hi)))]
+            ax.plot([], [], " ", label=f"{name} up to t = {t0:.3g} s reaches {peak:.4g} (off the scale)")

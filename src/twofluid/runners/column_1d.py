@@ -57,7 +57,7 @@ def _initial_pressure(model, state, dt):
 class _Figures:
     """Tracks the case's key heights at every step (cheap: one scan of the porosity)."""
 
-    def __init__(self, case, model, state):
+    def __init__(self, case, model, state, n_final=None):
         self.study = case["case"]["study"]
         self.model, self.state0 = model, state
         self.y = model.mesh.centres
@@ -67,14 +67,16 @@ class _Figures:
         self.thr = 0.5 * (1.0 + self.n0)
         if self.study == "step_change" and case["boundary.bottom"]["porosities"]:
             self.thr = 0.5 * (1.0 + max(case["boundary.bottom"]["porosities"]))
+        elif self.study == "step_change" and n_final is not None and n_final < 1.0:
+            self.thr = 0.5 * (1.0 + max(self.n0, n_final))  # the bed after the step (its model equilibrium)
         self.t, self.rows, self.dp = [], [], []
 
     def heights(self, s) -> dict[str, float]:
-        top = pp.surface_height(self.y, s.n, self.thr, self.y0)
-        out = {"bed_height_m": top}
-        if self.study == "settling":
-            out["sediment_height_m"] = pp.sediment_height(self.y, s.n, self.n0, top, bottom=self.y0)
-        return out
+        if self.study == "settling":  # the settling interfaces keep their definitions (summary "interfaces")
+            top = pp.surface_height(self.y, s.n, self.thr, self.y0)
+            return {"bed_height_m": top,
+                    "sediment_height_m": pp.sediment_height(self.y, s.n, self.n0, top, bottom=self.y0)}
+        return {"bed_height_m": pp.interface_height(self.model.mesh.y, s.n, self.thr)}
 
     def record(self, s):
         self.t.append(s.t)
@@ -144,7 +146,9 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     out.mkdir(parents=True, exist_ok=True)
     write_resolved_case(out / "case.resolved.toml", case)
     model, state = b.model, _initial_pressure(b.model, b.state, b.dt)
-    fig = _Figures(case, model, state)
+    bed = _bed_figures(case, model, b)
+    n_final = bed.get("expanded", {}).get("model", {}).get("porosity")
+    fig = _Figures(case, model, state, n_final)
     probes = case["output"]["probes"]
     heights0 = fig.heights(state)
     probe_cols = list(_probe_values(model, state, probes, heights0))
@@ -182,14 +186,25 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     if status != "completed" and round(last.t, 12) not in profiles:
         save_profile(last)  # the state it stopped at, in profiles.csv too
     summary = _summary(case, b, model, fig, status, reason, last, n_steps, wall,
-                       solids0, outflow)
+                       solids0, outflow, bed)
     write_json(out / "summary.json", summary)
     if case["output"]["plots"]:
         _plots(case, fig, profiles, out, summary)
     return RunResult(status, out, summary, profiles, {"t": np.array(fig.t), **fig.series()})
 
 
-def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, outflow):
+def _bed_figures(case, model, b) -> dict:
+    """U_mf, U_t, the initial bed and the expanded bed at the last inlet velocity
+    (:func:`twofluid.casefile.bed.bed_figures`), for a column fed through its bottom; {} otherwise."""
+    from ..casefile.bed import bed_figures
+
+    if model.bottom.kind != "inlet":
+        return {}
+    u_end = b.inlet_velocities[-1] if b.inlet_velocities else None
+    return bed_figures(model.mesh, case, model.clo, model.mat, model.bottom.velocity(0.0), u_end)
+
+
+def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, outflow, bed=None):
     solids = model.solids_volume(last)
     balance = (solids - solids0 + outflow) / solids0 if solids0 > 0 else 0.0
     s = {
@@ -209,20 +224,24 @@ def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, 
         s["inlet_velocities_m_s"] = list(b.inlet_velocities)
         s["bed_height_initial_m"] = float(h[0])
         s["bed_height_final_m"] = float(h[-1])
-        theory = theoretical_final_height(case, model, solids0)
-        if theory is not None:
-            s["bed_height_theory_final_m"], s["bed_porosity_theory_final"] = theory
+        theory = (bed or {}).get("expanded", {}).get("model", {})
+        if theory.get("height_m") is not None:
+            s["bed_height_theory_final_m"], s["bed_porosity_theory_final"] = theory["height_m"], theory["porosity"]
         t_step = step_time(case)
         s["step_time_s"] = t_step
         s["t1_s"] = pp.t1_from_history(t, h) - t_step if status == "completed" else None
         s["t1_definition"] = ("time from the step (step_time_s: when the inlet schedule starts to change) "
                               "after which the bed surface height stays within 2 % of "
-                              "|H_final − H_initial| of its final height; the surface is where the "
-                              "porosity first falls below (1 + max(n_before, n_after))/2 scanning down from the top")
+                              "|H_final − H_initial| of its final height; the surface: scanning down from the "
+                              "top, the first element whose porosity falls below (1 + max(n_before, n_after))/2 "
+                              "holds it, at the height its solids and those above fill at the porosity of the "
+                              "element below (twofluid.postprocess.interface_height)")
         dp = np.asarray(fig.dp)
         if np.isfinite(dp).all():
             s["bed_pressure_drop_Pa"] = {"initial": float(dp[0]), "final": float(dp[-1]),
                                          "buoyant_weight_per_area": buoyant_weight_per_area(model, solids0)}
+    if bed:
+        s["bed"] = bed
     if fig.study == "settling":
         times = sorted(set(case["output"]["times"]) | {0.0, last.t})
         idx = [int(np.argmin(np.abs(t - tt))) for tt in times]
@@ -251,28 +270,6 @@ def buoyant_weight_per_area(model, solids_volume: float) -> float:
     return float((model.mat.rho_s - model.mat.rho_f) * -model.g_y * solids_volume / model.mesh.area[0])
 
 
-def theoretical_final_height(case, model, solids_volume: float):
-    """(height [m], porosity) of the uniform bed the final inlet velocity fluidizes, or None.
-
-    The porosity is the inlet schedule's last porosity, or the one its last velocity holds
-    (the case's drag law); the height holds the solids volume at that porosity.
-    """
-    from ..casefile.bed import fluidized_porosity, height_of_volume
-    from ..casefile.schema import CaseError
-
-    b = case["boundary.bottom"]
-    if b["kind"] != "inlet":
-        return None
-    if b["porosities"]:
-        n = b["porosities"][-1]
-    else:
-        try:
-            n = fluidized_porosity(model.clo, model.mat, b["velocities"][-1])
-        except CaseError:  # the last velocity does not fluidize a bed (packed, or carried away)
-            return None
-    return height_of_volume(model.mesh, solids_volume / (1.0 - n)), float(n)
-
-
 def _plots(case, fig, profiles, out, summary):
     from ..plots.profiles import history_plot, profile_plots
 
@@ -288,12 +285,16 @@ def _plots(case, fig, profiles, out, summary):
             marks = {"t1": (summary["step_time_s"] + summary["t1_s"], f"t1 = {summary['t1_s']:.3g} s after the step")}
         levels = {}
         if summary.get("bed_height_theory_final_m") is not None:
-            levels["uniform bed at the final inlet velocity (theory)"] = summary["bed_height_theory_final_m"]
+            levels["uniform bed at the final inlet velocity (model equilibrium)"] = summary["bed_height_theory_final_m"]
+        rz = summary.get("bed", {}).get("expanded", {}).get("richardson_zaki", {})
+        if fig.study == "step_change" and rz.get("height_m") is not None:
+            levels["the same by Richardson–Zaki (Khan–Richardson k)"] = rz["height_m"]
         history_plot(t, {labels[k]: v for k, v in ser.items()}, out / "heights.png", title,
                      ylabel="height above the bottom [m]", marks=marks, levels=levels)
     dp = np.asarray(fig.dp)
     if dp.size and np.isfinite(dp).all():
         history_plot(t, {"bed pressure drop ΔP": dp}, out / "bed_pressure_drop.png", title,
                      ylabel="bed pressure drop beyond hydrostatic ΔP [Pa]",
+                     scale_after=t[0] + 0.01 * (t[-1] - t[0]),  # the start-up impulse of a step: named, not scaled
                      levels={"buoyant weight of the solids per area": buoyant_weight_per_area(
                          fig.model, float(fig.model.solids_volume(fig.state0)))})

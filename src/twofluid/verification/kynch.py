@@ -70,7 +70,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "stokes_terminal_velocity", "richardson_zaki_n", "solids_flux", "wave_speed",
     "shock_speed", "StepChangeFronts", "step_change_fronts", "step_change_t1",
-    "bed_height", "step_change_profile", "batch_settling_speeds",
+    "bed_height", "step_change_profile", "batch_settling_speeds", "step_change_t1_law",
 ]
 
 Array = NDArray[np.float64]
@@ -287,3 +287,26 @@ def batch_settling_speeds(n0: ArrayLike, n_d: ArrayLike, U_t: float,
         raise ValueError("c(n0) exceeds the deposit-shock speed: Kynch rarefaction "
                          "above the deposit, not a single shock")
     return top, rise
+
+
+def step_change_t1_law(n0: float, n1: float, H0: float, u_eq: Callable[[float], float],
+                       dn: float = 1e-6) -> float:
+    """t1 [s] of a step change n0 → n1 with a general equilibrium law U = u_eq(n) [m/s] in place of
+    Richardson–Zaki: Kynch's theory with the flux F = (1 − n)(j − u_eq(n)).
+
+    Expansion: t1 = H1/c(n1), c(n1) = (1 − n1) u_eq'(n1) (central difference of step ``dn``);
+    contraction: t1 = (H0 − H1)/(u_eq(n0) − u_eq(n1)); H1 = H0 (1 − n0)/(1 − n1), H0 [m]. As for
+    :func:`step_change_t1`, the states are taken to lie where F is convex (a single fan or shock).
+    With u_eq = U_t n^k it is :func:`step_change_t1`:
+
+    >>> rz = lambda n: 1.0 * n**2.0
+    >>> round(step_change_t1_law(0.5, 0.6, 1.0, rz), 5), round(step_change_t1_law(0.6, 0.5, 1.0, rz), 5)
+    (2.60417, 1.81818)
+    """
+    H1 = H0 * (1.0 - n0) / (1.0 - n1)
+    if n1 > n0:
+        c = (1.0 - n1) * (u_eq(n1 + dn) - u_eq(n1 - dn)) / (2.0 * dn)
+        return H1 / c
+    if n1 == n0:
+        return 0.0
+    return (H0 - H1) / (u_eq(n0) - u_eq(n1))

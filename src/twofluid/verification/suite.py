@@ -21,7 +21,7 @@ from typing import Callable
 
 import numpy as np
 
-from . import kynch_check, order_check, properties_check, scott_check, slis_check, terzaghi_check
+from . import expansion_check, kynch_check, order_check, properties_check, scott_check, slis_check, terzaghi_check
 
 __all__ = ["CHECKS", "run_checks", "format_table", "machine", "report", "verify", "validation_summary"]
 
@@ -42,6 +42,9 @@ def _checks(quick: bool) -> list[tuple[str, Callable[[], list[dict]]]]:
         ("gauge", lambda: pc.gauge_rows("fluidized-bed-step", "two_fluid_1d", 5.0)
          + pc.gauge_rows("settling-illite", "reduced_1d", 30.0)),
     ]
+    out.append(("drag expansion", lambda: expansion_check.expansion_rows(
+        expansion_check.RE_T[::2] if quick else expansion_check.RE_T) + expansion_check.packed_rows()
+        + expansion_check.minimum_fluidization_rows()))
     out.append(("annulus 2d", lambda: _annulus_rows(quick)))
     if not quick:
         out += [
@@ -143,8 +146,15 @@ def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall:
     for title, mod in (("Kynch kinematic-wave theory", k), ("Terzaghi consolidation", t),
                        ("Scott (1986) solidification of a liquefied sand column", sc),
                        ("Conservation, hydrostatic consistency, gauge invariance, reduced vs full", p),
-                       ("Observed order of convergence", o), ("Slis et al. (1959) step changes", slis_check)):
+                       ("Observed order of convergence", o),
+                       ("Bed expansion, packed bed, minimum fluidization (drag laws)", expansion_check),
+                       ("Slis et al. (1959) step changes", slis_check)):
         parts += ["", f"### {title}", "", "```text", (mod.__doc__ or "").strip(), "```"]
+    parts += ["", "## Bed expansion of the drag laws against Richardson–Zaki", "",
+              "Porosity of each law's uniform bed at rest in the superficial velocity U that Richardson–Zaki "
+              "(Khan–Richardson k, U_t of `richardson_zaki`'s particle) gives the porosity n RZ; in brackets the "
+              "solids-fraction error against it (`twofluid.verification.expansion_check.expansion_table`).", "",
+              expansion_check.expansion_markdown(expansion_check.expansion_table())]
     if slis is not None:
         parts += ["", "## Validation: Slis, Willemse & Kramers (1959), thesis table 5.2", "",
                   "Column geometry and t1 definition: `src/twofluid/data/cases/slis-step-change/README.md`. "
@@ -184,6 +194,7 @@ def verify(out: str | Path | None = None, quick: bool = False, slis: bool = True
     tab = None
     if slis:
         tab = slis_check.slis_table(rows=[0, 3] if quick else None)
+        rows += slis_check.gate_rows(tab)  # all twelve rows only
         if log:
             log(f"  slis: {len(tab)} rows ({time.perf_counter() - t0:.1f} s so far)")
     ann = None
