@@ -39,7 +39,7 @@ _MAX_EXPONENT = 700.0
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
-              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, ps_out):
+              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, ps_out, nm_beta, nm_gamma):
     """Advance len(a_in) sub-steps in place; returns 0, 1 (Newton did not converge: halve the
     sub-step) or 2 (a non-finite value)."""
     ne = h.size
@@ -75,8 +75,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     dirn = np.empty(ne)
     g_prev = np.empty(ne)
     t_prev = np.empty(ne)
-    c0 = 1.0 / (0.25 * dt * dt)
-    cc1 = 0.5 / (0.25 * dt)
+    c0 = 1.0 / (nm_beta * dt * dt)
+    cc1 = nm_gamma / (nm_beta * dt)
+    ca = 0.5 / nm_beta - 1.0
     for i in range(m):
         t = t0 + (i + 1) * dt
         frac = (i + 1.0) / m
@@ -117,8 +118,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             if it == 25:
                 relax = 0.5  # still alternating: damped
             for j in range(nv):
-                acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + a[j])
-                vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
+                acc[j] = c0 * (un[j] - u[j]) - (v[j] / (nm_beta * dt) + ca * a[j])
+                vel[j] = v[j] + dt * ((1.0 - nm_gamma) * a[j] + nm_gamma * acc[j])
             for j in range(nv):
                 res[j] = md[j] * acc[j] + cd[j] * vel[j] + m1[j] * ag
             for e in range(ne):
@@ -171,8 +172,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         if not converged:
             return 1
         for j in range(nv):
-            acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + a[j])
-            vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
+            acc[j] = c0 * (un[j] - u[j]) - (v[j] / (nm_beta * dt) + ca * a[j])
+            vel[j] = v[j] + dt * ((1.0 - nm_gamma) * a[j] + nm_gamma * acc[j])
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
             te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
@@ -256,7 +257,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 #: argument types for the ahead-of-time build (C-contiguous float64 arrays, floats, integers)
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
-             "f8[::1], f8[::1], f8[::1])")
+             "f8[::1], f8[::1], f8[::1], f8, f8)")
 _HELPERS = (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
             _law.skeleton_stress, _law.tangent,
             _law.half_cycle_damage, _law.commit, _law.seed_booker, _law.generated_ratio)

@@ -265,7 +265,7 @@ class LiquefactionColumn:
                  free_vibration: float = 5.0, settings: PicardSettings = PicardSettings(),
                  base_impedance: float | None = None, crust: Crust | None = None,
                  fast_shear: bool = True, base_acceleration_at: Callable | None = None,
-                 hysteretic: np.ndarray | None = None):
+                 hysteretic: np.ndarray | None = None, numerical_damping: float = 0.0):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand, self.crust = vertical, sand, crust
@@ -310,6 +310,8 @@ class LiquefactionColumn:
         if self.hysteretic is not None and self.hysteretic.shape[0] != nt:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
+        gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
+        self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
         self.floor_applied = False
 
     # ------------------------------------------------------------ state
@@ -476,7 +478,7 @@ class LiquefactionColumn:
                 u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
                 wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
                 0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
-                self.shaking_end, surface, tau, ps)
+                self.shaking_end, surface, tau, ps, self.newmark[0], self.newmark[1])
             if code != 1:
                 break
             m *= 2

@@ -120,7 +120,8 @@ def build_column(case: dict, reference: bool = False) -> Built:
                                 crust=crust, fast_shear=not reference,
                                 base_acceleration_at=accel_at,
                                 hysteretic=hysteretic_parameters(case, site, sigma_v0, crust,
-                                                                 np.broadcast_to(sand.k2max, sigma_v0.shape)))
+                                                                 np.broadcast_to(sand.k2max, sigma_v0.shape)),
+                                numerical_damping=sw["numerical_damping"])
     state = column.initial_state(site.porosity, st["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
