@@ -21,7 +21,7 @@ Fortran executable): ``Nonlinear_Simulation`` accepts ``MKZ_Param_Multi_Layer`` 
 kernel reads nine HH parameters per material, so MKZ parameters end in
 ``forrtl: severe (24): end-of-file during read ... HH_G.dat`` and an empty-array error.
 The workaround here: HH parameters that *are* the MKZ curve — transition strain
-γ_t = 1 and a = 10 put the HH weight w(γ) at 1 − 1e-14 for γ ≤ 10 %, so the FKZ part
+γ_t = 1 and a = 10 put the HH weight w(γ) above 1 − 2e-14 for γ ≤ 10 %, so the FKZ part
 never acts (checked against PySeismoSoil's own MKZ curves, ``check_hh_equals_mkz``).
 
 Compared quantities:
@@ -34,8 +34,8 @@ Compared quantities:
   sublayers of at most V_s/225 m and reports one strain per sublayer; twofluid's mesh is
   those sublayers, each split into two elements, and its sublayer value is the larger of
   its two elements' peaks. (In the linear range, 0.001 g, PySeismoSoil's values equal
-  twofluid's *lower* element of each sublayer to 0.2 % in the top three layers, and its
-  upper element's are 10–67 % smaller near the surface: the kernel reports its lower
+  twofluid's *lower* element of each sublayer to 0.2 % in the top three layers, while the
+  upper elements' are 2–67 % smaller, most near the surface: the kernel reports its lower
   internal element.) Difference = max over the sublayers of |γ_twofluid/γ_PySeismoSoil − 1|.
   Criterion: 30 % at 0.3 g.
 - 0.001 g (no criterion in the issue) checks the setup: in the linear range the two

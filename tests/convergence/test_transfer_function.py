@@ -116,7 +116,7 @@ def test_compliant_base_transfer_function_meets_the_criteria(compliant):
     _check_criteria(compliant)
 
 
-def test_compliant_base_lowers_and_shifts_the_peaks(compliant, rigid):
+def test_compliant_base_lowers_the_first_peak(compliant, rigid):
     """The dashpot radiates energy: the first peak is lower than on a rigid base (physics check)."""
     _, a_rigid = peaks(_exact(rigid[-1]), F_LO, F_HI)
     _, a_soft = peaks(_exact(compliant), F_LO, F_HI)
