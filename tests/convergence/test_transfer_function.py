@@ -116,7 +116,7 @@ def test_compliant_base_transfer_function_meets_the_criteria(compliant):
     _check_criteria(compliant)
 
 
-def test_compliant_base_lowers_and_shifts_the_peaks(compliant, rigid):
+def test_compliant_base_lowers_the_first_peak(compliant, rigid):
     """The dashpot radiates energy: the first peak is lower than on a rigid base (physics check)."""
     _, a_rigid = peaks(_exact(rigid[-1]), F_LO, F_HI)
     _, a_soft = peaks(_exact(compliant), F_LO, F_HI)
@@ -135,8 +135,8 @@ def test_transfer_function_converges_at_second_order(rigid):
     err_peaks = np.array(err_peaks)
     order = observed_order(h, err_6hz)
     assert order.rate >= 1.8 and np.all(order.pairwise >= 1.7), order
-    assert err_6hz[-1] < 2e-3  # measured 1.0e-3
+    assert err_6hz[-1] < 2e-3  # measured 9.2e-4
     for k in range(2):
         order = observed_order(h, err_peaks[:, k])
         assert order.rate >= 1.9 and np.all(order.pairwise >= 1.9), (k, order)
-    assert np.all(err_peaks[-1] < 1e-3)  # measured 5.5e-5 and 5.0e-4
+    assert np.all(err_peaks[-1] < 1e-3)  # measured 5.7e-5 and 5.1e-4
