@@ -203,6 +203,21 @@ def _cmd_element_test(args) -> int:
     return 0
 
 
+def _cmd_build_kernels(args) -> int:
+    import time
+
+    from . import compiled
+
+    t0 = time.perf_counter()
+    failed = compiled.build_all(args.workers)
+    folder = compiled.cache_dir()
+    print(f"twofluid: kernels in {folder} ({time.perf_counter() - t0:.0f} s)")
+    if failed:
+        print("twofluid: warning: not built ahead of time (numba's JIT is used, ~0.7 s per run): "
+              + ", ".join(failed), file=sys.stderr)
+    return 0
+
+
 def _cluster_options(p) -> None:
     p.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the CPU count)")
     p.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://head:8786 "
@@ -283,6 +298,10 @@ def parser() -> argparse.ArgumentParser:
                     "(default 100)")
     et.add_argument("--out", help="folder for element_test.csv, summary.json and element_test.png")
     et.set_defaults(func=_cmd_element_test)
+    bk = sub.add_parser("build-kernels", help="compile the numerical kernels once for this installation "
+                        "(otherwise the first runs do it; ~1 min of CPU)")
+    bk.add_argument("--workers", type=int, help="build processes at a time (default: the CPU count)")
+    bk.set_defaults(func=_cmd_build_kernels)
     return p
 
 
