@@ -22,12 +22,14 @@ converged steps (:class:`~twofluid.models.extrapolation.Extrapolator`, V, W and 
 and each iterate is one band LU solve for the increment from the iterate
 (:mod:`twofluid.fem.banded`; without it, a slowly settling column with 300
 elements stalled at the solve's round-off, 2e-7 of the velocity scale, above the
-Picard tolerance, and hit the iteration limit again and again). Where numba is
-installed the iterate of the ``1VW/0P/0n`` element with ``"newton"`` — its terms written
-straight into band storage, the residual, the band LU — runs as compiled loops around the
-same closure calls (:mod:`~twofluid.models.full_kernel`, the same numbers to round-off),
-a quarter to a half of the NumPy path's CPU time per step; ``compiled = False`` keeps the
-NumPy path, the reference the kernels are tested against.
+Picard tolerance, and hit the iteration limit again and again). The iterate of the
+``1VW/0P/0n`` element with ``"newton"`` — its terms written straight into band storage, the
+residual, the band LU — runs as compiled kernels around the same closure calls
+(:mod:`~twofluid.models.full_kernel`), a quarter to a half of the CPU time per step of the
+general weak-form assembly (:mod:`twofluid.fem.terms_1d` into a
+:class:`~twofluid.fem.assembly.BlockSystem`). That assembly is the only one of the quadratic
+element and of ``"picard"``; ``compiled = False`` puts the linear element on it too, which is
+how the tests check the kernels against an independent derivation of the same equations.
 
 Pressure gradients (P constant per element): the mixture term is integrated by
 parts, −∫ ∇·δV (P + P_s), plus the traction of the prescribed pressure on an
@@ -96,12 +98,11 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
 
     ``compiled`` (class attribute, may be set per instance): None (default) or True assembles
     and solves each iterate of the ``1VW/0P/0n`` element with the Newton linearisation by the
-    compiled kernels of :mod:`~twofluid.models.full_kernel` where numba is installed (built
-    ahead of time: a run imports them without numba), and the other elements' band systems
-    with the compiled band LU of :mod:`twofluid.fem.banded`; False always takes the NumPy
-    path and LAPACK's ``dgbsv`` (the reference path: the same band matrix and right-hand side
-    to round-off, the same algorithm). A subclass that overrides a method of the equations
-    (e.g. to add a load term to the assembled system) keeps the NumPy path. The compiled
+    kernels of :mod:`~twofluid.models.full_kernel`, and the other elements' band systems
+    with the compiled band LU of :mod:`twofluid.fem.banded`; False always takes the general
+    weak-form assembly and LAPACK's ``dgbsv`` (the tests' independent second path: the same
+    band matrix and right-hand side to round-off). A subclass that overrides a method of the
+    equations (e.g. to add a load term to the assembled system) takes the general assembly. The
     iterates also call the run's drag, P_s and μ_s laws compiled, and so does
     :meth:`solids_pressure` everywhere (:meth:`compiled_laws`; a few ulp from the registry's
     functions), unless ``compiled`` or ``compiled_closures`` is False.
@@ -264,8 +265,8 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
 
     # -------------------------------------------------------------- assembly
     def _full_kernels(self) -> dict | None:
-        """The compiled kernels of the iterate (:mod:`~twofluid.models.full_kernel`), or None for the
-        NumPy path (``compiled`` False, numba missing, or an element or subclass they do not cover)."""
+        """The kernels of the iterate (:mod:`~twofluid.models.full_kernel`), or None for the general
+        assembly (``compiled`` False, or an element, linearisation or subclass they do not cover)."""
         if self.compiled is False or not self._fk_ok:
             self._extrap.compiled = False
             return None
