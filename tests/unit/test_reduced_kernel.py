@@ -164,27 +164,36 @@ def test_the_block_solve_is_accurate_or_hands_over_to_the_band_lu(N):
             assert info1 == info2 and np.array_equal(a1, a2) and np.array_equal(x1, x2, equal_nan=True)
 
 
-def test_compiled_extrapolation_is_the_numpy_extrapolation():
+def test_the_extrapolation_is_exact_for_polynomials_in_time_entry_by_entry():
+    """The extrapolated first iterate (models/extrapolation.py, its kernels) against exact values:
+    an entry that is a polynomial of degree d ≤ 4 in time has ∇^{d+1}x = 0, so it takes the order
+    d and its prediction is the polynomial's value at the next step. Integer coefficients at
+    integer times keep every difference exact in floating point, so the comparison is exact; a
+    NaN entry stays NaN and leaves the others alone; after a change of step the prediction is the
+    linear one (at most twice the step ahead)."""
     from twofluid.models.extrapolation import Extrapolator
 
-    rng = np.random.default_rng(3)
-    ref, fast = Extrapolator(), Extrapolator()
-    fast.compiled = True
-    x = rng.standard_normal(40)
-    for t in range(9):
-        x = x + 0.1 * (t % 3) * rng.standard_normal(40)  # steps of changing smoothness: each order wins somewhere
-        if t == 5:
-            x[7] = np.nan  # NaN propagates the same way
-        fields = [x.copy(), 2.0 * x]
-        ref.push(float(t), fields, None)
-        fast.push(float(t), fields, None)
-        for a, b in zip(ref.D, fast.D):
-            np.testing.assert_array_equal(a, b)
-        p, q = ref.predict(t + 1.0), fast.predict(t + 1.0)
-        if p is not None:
-            for a, b in zip(p, q):
-                np.testing.assert_array_equal(a, b)  # the same comparisons and sums: identical
-    assert ref.order == 6
+    coeffs = np.array([[3, 0, 0, 0, 0], [1, -2, 0, 0, 0], [2, 1, -1, 0, 0], [1, 0, 2, 1, 0], [5, -1, 0, 3, -1]], float)
+
+    def x(t):
+        return coeffs @ (float(t) ** np.arange(5))
+
+    e = Extrapolator()
+    for t in range(7):
+        v = x(t)
+        v[0] = np.nan if t == 6 else v[0]
+        e.push(float(t), [v, 2.0 * v], None)
+    assert e.order == 6
+    W, n = e.predict(7.0)
+    exact = x(7)
+    assert np.isnan(W[0]) and np.isnan(n[0])
+    np.testing.assert_array_equal(W[1:], exact[1:])
+    np.testing.assert_array_equal(n[1:], 2.0 * exact[1:])
+    x6 = x(6)  # as pushed at t = 6, but for its NaN entry
+    e.push(7.5, [x(7.5), x(7.5)], None)  # a new step size (1.5): the table restarts from t = 6 and 7.5
+    W, _ = e.predict(8.0)
+    assert e.order == 2
+    np.testing.assert_allclose(W[1:], (x(7.5) + (x(7.5) - x6) / 3.0)[1:], rtol=1e-15)
 
 
 @pytest.mark.parametrize("model", ["reduced_1d", "two_fluid_1d"])

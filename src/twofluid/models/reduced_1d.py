@@ -185,7 +185,6 @@ class Reduced1D(TwoFluid1D):
             return st
         ker = self._kernels()
         mat, area = self.mat, self.vert_area
-        self._extrap.compiled = True  # its predictions entry by entry too
         # the step's constants by the kernel, packed as band_system takes them
         ne = old.n.size
         V = self._mixture_velocity(t_new)
@@ -244,7 +243,7 @@ class Reduced1D(TwoFluid1D):
         n kept in (0, 1], and V from c(t)/A.
         """
         ex = self._extrap
-        if ex.order >= 3 and k.t > ex.t and ex.compiled and abs((k.t - ex.t) - ex.h) <= 1e-9 * ex.h:
+        if ex.order >= 3 and k.t > ex.t and abs((k.t - ex.t) - ex.h) <= 1e-9 * ex.h:
             args = self._whole_args(k)  # the same tests and prediction in one compiled call
             if args is not None:
                 if args[0][4](*ex.D, ex.order, k.W, k.n):

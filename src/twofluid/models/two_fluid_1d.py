@@ -268,7 +268,6 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         """The kernels of the iterate (:mod:`~twofluid.models.full_kernel`), or None for the general
         assembly (``compiled`` False, or an element, linearisation or subclass they do not cover)."""
         if self.compiled is False or not self._fk_ok:
-            self._extrap.compiled = False
             return None
         ker = self._fk
         if ker is None:
@@ -276,7 +275,6 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
             if ker:
                 self._fk_constants = full_kernel.constants(self)
             self._fk = ker
-        self._extrap.compiled = bool(ker)  # its predictions entry by entry too (the same numbers)
         return ker or None
 
     def assemble(self, k: State, old: State, dt: float, t_new: float):
