@@ -140,7 +140,7 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
     _announce(folder)
     work = Path(tempfile.mkdtemp(prefix="twofluid-aot-"))
     try:
-        cc = CC(module)
+        cc = _cc_class(CC, folder)(module)
         cc.output_dir = str(work)
         cc.verbose = False
         for name, (func, signature) in exports.items():
@@ -157,6 +157,56 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         return None
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+#: C flags of numba's C helper code linked into every module (its boxing of arguments and its
+#: runtime's allocator: not the kernels, which LLVM compiles): -O1 without debug information
+#: halves its compile time against Python's own -O3 -g.
+_MIXIN_CFLAGS = ["-O1", "-g0"]
+
+
+def _cc_class(CC, folder: Path):
+    """``numba.pycc.CC`` whose C helper code is compiled with :data:`_MIXIN_CFLAGS`, and whose
+    helper sources that do not depend on the module's name are compiled once per numba version
+    and interpreter into ``folder/.pycc-objects`` and reused by later builds."""
+
+    class _CC(CC):
+        def _get_extra_cflags(self):
+            return list(super()._get_extra_cflags()) + _MIXIN_CFLAGS
+
+        def _compile_mixins(self, build_dir):
+            import numba
+
+            sources = self._get_mixin_sources()
+            macros = self._get_mixin_defines()
+            include_dirs = self._toolchain.get_python_include_dirs()
+            flags = self._get_extra_cflags()
+            named = [src for src in sources if os.path.basename(src) == "modulemixin.c"]
+            shared = [src for src in sources if src not in named]
+            objects = self._toolchain.compile_objects(named, build_dir, include_dirs=include_dirs,
+                                                      macros=macros, extra_cflags=flags)
+            key = hashlib.sha256("\n".join([numba.__version__, sys.implementation.cache_tag, sys.platform,
+                                             repr(macros[1:]), repr(flags), *shared]).encode()).hexdigest()[:16]
+            store = folder / ".pycc-objects"
+            for src in shared:
+                cached = store / f"{key}-{os.path.basename(src)}.o"
+                if not cached.is_file():
+                    built = self._toolchain.compile_objects([src], build_dir, include_dirs=include_dirs,
+                                                            macros=macros, extra_cflags=flags)[0]
+                    try:
+                        store.mkdir(exist_ok=True)
+                        tmp = store / f".{cached.name}.{os.getpid()}.tmp"
+                        import shutil
+
+                        shutil.copyfile(built, tmp)
+                        os.replace(tmp, cached)  # atomic, as the modules
+                    except OSError:
+                        objects.append(built)
+                        continue
+                objects.append(str(cached))
+            return objects
+
+    return _CC
 
 
 @contextlib.contextmanager
