@@ -180,3 +180,26 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
                 setattr(m, k, v)
         compiled._LOADED.clear()
     assert not jitted, f"not built ahead of time: {jitted}"
+
+
+def test_build_kernels_builds_every_group_ahead_of_time(tmp_path, monkeypatch, capsys):
+    """``twofluid build-kernels`` (:func:`compiled.build_all`) leaves no group to the JIT where a toy
+    kernel builds ahead of time; run again it finds them all (the suite's own cache folder: the
+    groups the other tests need are built once either way)."""
+    pytest.importorskip("numba")
+    (tmp_path / "kmod_bk.py").write_text(KERNEL)
+    with monkeypatch.context() as m:
+        m.syspath_prepend(str(tmp_path))
+        m.setenv("TWOFLUID_CACHE_DIR", str(tmp_path / "cache"))
+        import kmod_bk
+
+        compiled.kernel("scaled_sum_bk", kmod_bk.scaled_sum, SIGNATURE, jit=False)
+        compiled._LOADED.clear()
+    if not list((tmp_path / "cache").glob("_twofluid_scaled_sum_bk_*")):
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    from twofluid.cli import main
+
+    assert main(["build-kernels"]) == 0
+    out = capsys.readouterr()
+    assert "kernels in" in out.out and "not built ahead of time" not in out.err
+    assert compiled.build_all() == []
