@@ -87,7 +87,7 @@ __all__ = ["Materials", "Closures", "Boundary", "State", "TwoFluid1D", "ELEMENTS
 
 ELEMENTS = {"1VW/0P/0n": (LINE1, 0), "2VW/1P/0n": (LINE2, 1)}
 # the methods whose equations the compiled iterate (full_kernel) reproduces: a subclass overriding
-# one of them keeps the NumPy path
+# one of them takes the general weak-form assembly
 _KERNEL_METHODS = ("assemble", "solve", "_step_terms", "_drag", "_liquid_pressure", "_solids_flux",
                    "_upwind_ratio", "_newton_in_n", "psi_mass", "psi_source", "_force_shift_at", "force_shift",
                    "vertex_porosity", "pack", "unpack")
@@ -156,7 +156,7 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
                            np.concatenate((e[1:], e, e[:-1])), np.concatenate((e[:-1], e, e[1:])))  # n_{e−1}, n_e, n_{e+1}
         self._band = BandSolver(np.concatenate([node, node, pos_p, ecentre]))
         # the compiled iterate (full_kernel): the element, the Newton linearisation, scalar densities
-        # and viscosity, and the equations of this class (a subclass that adds terms keeps the NumPy path)
+        # and viscosity, and the equations of this class (a subclass that adds terms takes the general assembly)
         self._fk_ok = (element == "1VW/0P/0n" and linearisation == "newton" and self.BN is not None
                        and all(np.ndim(getattr(materials, f)) == 0 for f in ("rho_f", "rho_s", "mu_f", "g"))
                        and all(getattr(type(self), f) is getattr(TwoFluid1D, f) for f in _KERNEL_METHODS))
@@ -238,7 +238,7 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
 
     def solids_pressure(self, n, n_bar, derivative=False):
         """P_s(n, n̄) [Pa] (and ∂P_s/∂n) of the run's law: compiled (:meth:`compiled_laws`) for
-        element arrays where it is, else the registry's (the NumPy path always)."""
+        element arrays where it is, else the registry's (the general assembly always)."""
         laws = self.compiled_laws()
         if laws is not None and type(n) is np.ndarray and n.ndim == 1 and np.shape(n_bar) == n.shape:
             ps, dps = laws.solids_pressure(n, n_bar)
@@ -370,7 +370,7 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
     def compiled_laws(self):
         """The run's drag, P_s and μ_s laws compiled (:func:`twofluid.closures.kernels.for_closures`),
         which the compiled iterates call in place of the registry functions; None where there are
-        none (no numba, another law), and on the NumPy path (``compiled = False``). Kept while
+        none (another law), and on the general assembly (``compiled = False``). Kept while
         ``clo`` and ``mat`` are the same objects."""
         if self.compiled is False or not self.compiled_closures:
             return None
