@@ -1,8 +1,8 @@
 """CPU time of one Newton iterate and of one time step of the 1D models, in process, best of rounds.
 
 For each case (the two OpenFOAM peers' twofluid cases and the bundled 1D cases) and model
-(``two_fluid_1d`` and ``reduced_1d``, each on its NumPy path and, where numba is installed, on
-its compiled path), the case is run for ``--warm`` seconds of simulated time, then:
+(``two_fluid_1d`` on its kernels and on its general weak-form assembly, ``reduced_1d`` on its
+kernels, the one path it has), the case is run for ``--warm`` seconds of simulated time, then:
 
 - *iterate*: ``assemble`` + ``solve`` of the first iterate of the next step (the captured
   iterate, assembled again and again; the step's constants are cached as in a run);
@@ -30,7 +30,7 @@ CASES = {"openfoam-fluidized-bed": HERE / "peers" / "openfoam-fluidized-bed.toml
          "openfoam-sedimentation": HERE / "peers" / "openfoam-sedimentation.toml",
          "fluidized-bed-step": "fluidized-bed-step", "settling-illite": "settling-illite",
          "slis-step-change": "slis-step-change"}
-CONFIGS = (("two_fluid_1d", False), ("two_fluid_1d", None), ("reduced_1d", False), ("reduced_1d", None))
+CONFIGS = (("two_fluid_1d", False), ("two_fluid_1d", None), ("reduced_1d", None))
 
 
 def _best(f, number: int, rounds: int) -> float:
@@ -53,7 +53,7 @@ def measure(case_ref, model: str, compiled, warm: float, span: float, rounds: in
     case["case"]["model"] = model
     b = build(case)
     m = b.model
-    m.compiled = compiled  # reduced_1d: False = the NumPy path, None = compiled where numba is installed
+    m.compiled = compiled  # two_fluid_1d: False = the general weak-form assembly, None = the kernels
     s = b.state
     for step in integrate(m, s, warm, b.dt, settings=b.settings):
         s = step.state
@@ -86,7 +86,7 @@ def measure(case_ref, model: str, compiled, warm: float, span: float, rounds: in
         for step in integrate(m, s, s.t + span, b.dt, settings=b.settings):
             n_steps, n_its = n_steps + 1, n_its + step.iterations
         best_span = min(best_span, (time.process_time() - t0) / max(n_steps, 1))
-    label = f"{model} ({'NumPy' if compiled is False else 'compiled'})"
+    label = f"{model} ({'weak-form assembly' if compiled is False else 'kernels'})"
     return {"case": Path(str(case_ref)).stem if str(case_ref).endswith(".toml") else str(case_ref),
             "model": label, "elements": m.mesh.n_elements, "iterate_us": 1e6 * per_iterate,
             "step_us": 1e6 * per_step, "step_its": its, "steps_us": 1e6 * best_span,

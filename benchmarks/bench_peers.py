@@ -87,9 +87,10 @@ def _case_file(text: str, path: Path, edits: dict) -> Path:
     return path
 
 
-def column_case(path: Path, elements: int, shaking: float, end: float) -> Path:
+def column_case(path: Path, elements: int, shaking: float, end: float, plots: bool = False) -> Path:
     """The bundled liquefaction-elcentro (one layer) with ``elements``, ``shaking`` seconds of the
-    record and run to ``end`` [s] whatever the pore pressures (no dissipation stop), no plots."""
+    record and run to ``end`` [s] whatever the pore pressures (no dissipation stop), no plots
+    unless ``plots``."""
     import tomli_w
     from twofluid.casefile.loader import case_text
 
@@ -103,16 +104,21 @@ def column_case(path: Path, elements: int, shaking: float, end: float) -> Path:
     if "dissipated_r_u" in case.get("reconsolidation", {}):
         case["reconsolidation"]["dissipated_r_u"] = 0.0
     case["output"]["times"] = [t for t in case["output"].get("times", []) if t < end]
-    case["output"]["plots"] = False
+    case["output"]["plots"] = plots
     path.write_text(tomli_w.dumps(case))
     return path
+
+
+def installed_cmd(case_path: Path, out: Path) -> list[str]:
+    """``twofluid run`` as a user types it: the console script of this environment (``pip install .``)."""
+    return [str(Path(sys.executable).parent / "twofluid"), "run", str(case_path), "--out", str(out), "--quiet"]
 
 
 def twofluid_cmd(case_path: Path, out: Path) -> list[str]:
     return [sys.executable, "-m", "twofluid.cli", "run", str(case_path), "--out", str(out), "--quiet"]
 
 
-def works(tmp: Path, coarse: bool = True) -> dict:
+def works(tmp: Path, coarse: bool = True, as_installed: bool = False) -> dict:
     """{work: (peer description, peer command, peer cwd, {config: twofluid command}) or a reason to skip}."""
     out = {}
     foam = shutil.which("twoPhaseEulerFoam")
@@ -149,8 +155,13 @@ def works(tmp: Path, coarse: bool = True) -> dict:
         path = column_case(peer_dir / "column-20.toml", elements=20, shaking=30.0, end=180.0)
         peer = [sys.executable, "column.py", "--perm", "1e-4", "--quiet", "--out", "out", "--motion", str(MOTION)]
         label = "twofluid liquefaction_1d, 20 elements, 30 s shaking, to 180 s"
-        out[name] = ("OpenSeesPy PDMY02 u-p column (`column.py --perm 1e-4`)", peer, peer_dir,
-                     {label: twofluid_cmd(path, peer_dir / "out-tf")})
+        cfg = {label: twofluid_cmd(path, peer_dir / "out-tf")}
+        if as_installed:  # the console script with the default plots, as a user runs it
+            plotted = column_case(peer_dir / "column-20-plots.toml", elements=20, shaking=30.0, end=180.0,
+                                  plots=True)
+            cfg[label + ", as installed (`twofluid run`, default plots)"] = installed_cmd(plotted,
+                                                                                       peer_dir / "out-inst")
+        out[name] = ("OpenSeesPy PDMY02 u-p column (`column.py --perm 1e-4`)", peer, peer_dir, cfg)
     return out
 
 
@@ -161,6 +172,9 @@ def main(argv=None) -> int:
     p.add_argument("--src", help="run twofluid from this source folder (e.g. an export of an older "
                    "commit, for a before/after table) instead of the installed package; only the case "
                    "files' own step then")
+    p.add_argument("--as-installed", action="store_true", help="also time the column as a user runs it: "
+                   "this environment's `twofluid` console script with the default plots (install with "
+                   "`pip install .` and run `twofluid build-kernels` first)")
     a = p.parse_args(argv)
     env = None
     if a.src:
@@ -174,7 +188,7 @@ def main(argv=None) -> int:
              "| speed-up: peer / twofluid, median (min–max) | rounds |", "|---|---|---|---|---|---|---|"]
     notes = []
     with tempfile.TemporaryDirectory(prefix="twofluid-peers-") as td:
-        for name, w in works(Path(td), coarse=not a.src).items():
+        for name, w in works(Path(td), coarse=not a.src, as_installed=a.as_installed).items():
             if a.only and name not in a.only:
                 continue
             if isinstance(w, str):

@@ -306,6 +306,20 @@ def _element_test_hysteretic(args) -> int:
     else:
         print(f"undrained cyclic simple shear, hysteretic model, {load}, sigma'_v0 = {args.sigma_v0:g} kPa: "
               f"not liquefied in {args.max_cycles:g} cycles (final r_u = {float(r.r_u[-1]):.3f})")
+
+
+def _cmd_build_kernels(args) -> int:
+    import time
+
+    from . import compiled
+
+    t0 = time.perf_counter()
+    failed = compiled.build_all(args.workers)
+    folder = compiled.cache_dir()
+    print(f"twofluid: kernels in {folder} ({time.perf_counter() - t0:.0f} s)")
+    if failed:
+        print("twofluid: warning: not built ahead of time (numba's JIT is used, ~0.7 s per run): "
+              + ", ".join(failed), file=sys.stderr)
     return 0
 
 
@@ -409,6 +423,10 @@ def parser():
                     "(default 100)")
     et.add_argument("--out", help="folder for element_test.csv, summary.json and element_test.png")
     et.set_defaults(func=_cmd_element_test)
+    bk = sub.add_parser("build-kernels", help="compile the numerical kernels once for this installation "
+                        "(otherwise the first runs do it; ~1 min of CPU)")
+    bk.add_argument("--workers", type=int, help="build processes at a time (default: the CPU count)")
+    bk.set_defaults(func=_cmd_build_kernels)
     return p
 
 

@@ -77,10 +77,60 @@ def test_where_no_module_can_be_built_the_jit_is_used(kernel_module, monkeypatch
     assert compiled.kernel("scaled_sum_nojit", kernel_module.scaled_sum, SIGNATURE, jit=False) is None
 
 
-def test_without_numba_there_is_no_kernel(kernel_module, monkeypatch):
+def test_without_numba_a_kernel_not_built_is_an_import_error(kernel_module, monkeypatch):
+    """numba is a core dependency: without it (and no module built) the kernel cannot be had; the
+    message names the package and the debugging switch."""
     monkeypatch.setitem(sys.modules, "numba", None)  # import numba now raises ImportError
     monkeypatch.setitem(sys.modules, "numba.pycc", None)
-    assert compiled.kernel("scaled_sum_none", kernel_module.scaled_sum, SIGNATURE) is None
+    with pytest.raises(ImportError, match="needs numba"):
+        compiled.kernel("scaled_sum_none", kernel_module.scaled_sum, SIGNATURE)
+    assert compiled.kernel("scaled_sum_none2", kernel_module.scaled_sum, SIGNATURE, jit=False) is None
+
+
+def test_with_the_jit_disabled_a_kernel_is_its_plain_python_function(kernel_module, monkeypatch):
+    for var in ("TWOFLUID_DISABLE_JIT", "NUMBA_DISABLE_JIT"):
+        with monkeypatch.context() as m:
+            m.setenv(var, "1")
+            assert compiled.jit_disabled()
+            assert compiled.kernel(f"scaled_sum_{var}", kernel_module.scaled_sum, SIGNATURE) \
+                is kernel_module.scaled_sum
+    monkeypatch.setenv("TWOFLUID_DISABLE_JIT", "0")
+    monkeypatch.delenv("NUMBA_DISABLE_JIT", raising=False)
+    assert not compiled.jit_disabled()
+
+
+def test_a_build_is_announced_in_one_line_on_stderr(kernel_module, tmp_path):
+    """The one-off build says so (one line, naming the cache folder and the command that does it
+    ahead); a second process that finds the module says nothing."""
+    pytest.importorskip("numba")
+    code = textwrap.dedent(f'''
+        import sys
+        sys.path.insert(0, {str(tmp_path)!r})
+        import kmod
+        from twofluid import compiled
+        compiled.kernel("scaled_sum_announce", kmod.scaled_sum, {SIGNATURE!r})
+        compiled.kernel("scaled_sum_announce2", kmod.scaled_sum, {SIGNATURE!r})
+    ''')
+    env = {"TWOFLUID_CACHE_DIR": str(tmp_path / "cache"), "PATH": "/usr/bin:/bin"}
+    first = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    if not list((tmp_path / "cache").glob("_twofluid_scaled_sum_announce_*")):
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    lines = first.stderr.splitlines()
+    assert len(lines) == 1 and "compiling the numerical kernels once" in lines[0] and "build-kernels" in lines[0]
+    again = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    assert again.stderr == ""
+
+
+def test_every_group_is_listed_for_build_kernels():
+    """``twofluid build-kernels`` builds :data:`compiled.GROUPS`: each getter exists and names its group."""
+    import importlib
+
+    names = [name for name, _ in compiled.GROUPS]
+    assert len(set(names)) == len(names)
+    for name, spec in compiled.GROUPS:
+        module, getter = spec.split(":")
+        assert callable(getattr(importlib.import_module(module), getter)), spec
+        assert f'"{name}"' in open(importlib.import_module(module).__file__).read(), name
 
 
 def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatch):
@@ -130,3 +180,26 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
                 setattr(m, k, v)
         compiled._LOADED.clear()
     assert not jitted, f"not built ahead of time: {jitted}"
+
+
+def test_build_kernels_builds_every_group_ahead_of_time(tmp_path, monkeypatch, capsys):
+    """``twofluid build-kernels`` (:func:`compiled.build_all`) leaves no group to the JIT where a toy
+    kernel builds ahead of time; run again it finds them all (the suite's own cache folder: the
+    groups the other tests need are built once either way)."""
+    pytest.importorskip("numba")
+    (tmp_path / "kmod_bk.py").write_text(KERNEL)
+    with monkeypatch.context() as m:
+        m.syspath_prepend(str(tmp_path))
+        m.setenv("TWOFLUID_CACHE_DIR", str(tmp_path / "cache"))
+        import kmod_bk
+
+        compiled.kernel("scaled_sum_bk", kmod_bk.scaled_sum, SIGNATURE, jit=False)
+        compiled._LOADED.clear()
+    if not list((tmp_path / "cache").glob("_twofluid_scaled_sum_bk_*")):
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    from twofluid.cli import main
+
+    assert main(["build-kernels"]) == 0
+    out = capsys.readouterr()
+    assert "kernels in" in out.out and "not built ahead of time" not in out.err
+    assert compiled.build_all() == []

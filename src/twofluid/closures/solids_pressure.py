@@ -13,7 +13,7 @@ _MAX_EXPONENT = 700.0  # exp(700) ~ 1e304: beyond it the state is meaningless an
 @register("solids_pressure", "exponential", params={"A": 0.015, "p_ref": 1.0},
           porosity_range=(0.0, 1.0), reference="Pringle (2001) eq. 3.54; linearised as eqs. 4.31-4.32")
 def exponential(n, n_bar, A, p_ref=1.0, derivative=False):
-    """P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))] [Pa], and ∂P_s/∂n if asked.
+    """P_s = p_ref exp[(1/A)(1 − (1 − n̄)/(1 − n))], in Pa, and ∂P_s/∂n if asked.
 
     ``A`` is the compressibility [-] (thesis: 0.015 sand, 0.1075 illite),
     ``n_bar`` the reference porosity (state variable), ``p_ref`` = 1 Pa.

@@ -17,7 +17,7 @@ column (velocities ~1e-6 m/s beside pressures ~1e3 Pa, condition number ~1e11)
 solving for the unknowns themselves left a change of ~2e-7 of the velocity scale
 between iterates, above the Picard tolerance, while the increment form gives ~1e-12.
 
-Where numba is installed, :func:`band_lu` is LAPACK's band LU (dgbtf2/dgbtrs) compiled: the
+:func:`band_lu` is LAPACK's band LU (dgbtf2/dgbtrs) as a kernel (:mod:`twofluid.compiled`): the
 same operations without f2py's and the per-column BLAS calls' overhead (``BandSolver.solve``
 takes it with ``compiled=True``; the models choose, see ``TwoFluid1D.compiled``).
 """
@@ -278,7 +278,7 @@ def _bt22(ab, b):
 
 
 def band_lu():
-    """:func:`_gbsv` compiled by numba (``lu(ab, b, kl, ku) -> info``, in place), or None without numba.
+    """:func:`_gbsv` compiled (``lu(ab, b, kl, ku) -> info``, in place; :mod:`twofluid.compiled`).
 
     >>> lu = band_lu()
     >>> ab = np.array([[0.0, 0.0, 0.0], [0.0, 1.0, 1.0], [2.0, 2.0, 2.0], [1.0, 1.0, 0.0]], order="F")

@@ -14,8 +14,9 @@ _HISTORY = 6  # backward differences kept (orders up to 4)
 
 
 def _predict_entries(D, order, pred):
-    """:meth:`Extrapolator.predict` of one field entry by entry (same operations): ``pred`` =
-    Σ_{j≤p} ∇ʲx with, per entry, the order p whose next term |∇^{p+1}x| is smallest."""
+    """:meth:`Extrapolator.predict` of one field, entry by entry (a kernel): ``pred`` =
+    Σ_{j≤p} ∇ʲx with, per entry, the order p whose next term |∇^{p+1}x| is smallest (a NaN
+    next term makes the orders above it lose)."""
     for i in range(D.shape[1]):
         acc = D[0, i] + D[1, i]
         p = acc
@@ -42,15 +43,15 @@ _KERNELS = None
 
 
 def _kernels():
-    """(predict, push) compiled by numba, or None without it."""
+    """(predict, push) compiled (:mod:`twofluid.compiled`)."""
     global _KERNELS
     if _KERNELS is None:
         from ..compiled import group
 
         ker = group("extrapolation", {"predict": (_predict_entries, "void(f8[:,:], i8, f8[:])"),
                                       "push": (_push_entries, "void(f8[:], f8[:,:], f8[:,:])")})
-        _KERNELS = () if ker is None else (ker["predict"], ker["push"])
-    return _KERNELS or None
+        _KERNELS = (ker["predict"], ker["push"])
+    return _KERNELS
 
 
 class Extrapolator:
@@ -70,8 +71,6 @@ class Extrapolator:
     >>> float(e.predict(6.0)[0][0]), e.order  # a cubic in time is extrapolated exactly
     (217.0, 6)
     """
-
-    compiled = False  # the models that run compiled kernels set it: predict and push entry by entry
 
     def __init__(self):
         self.t = self.h = None
@@ -93,16 +92,10 @@ class Extrapolator:
         else:
             m = min(self.order + 1, _HISTORY)
             D = []
-            ker = _kernels() if self.compiled else None
-            for x, Do in zip(fields, self.D):
+            push = _kernels()[1]
+            for x, Do in zip(fields, self.D):  # ∇ʲx_new = ∇ʲ⁻¹x_new − ∇ʲ⁻¹x_old
                 Dn = np.empty((m, x.size))
-                if ker is not None:
-                    ker[1](np.ascontiguousarray(x, dtype=float), Do, Dn)
-                    D.append(Dn)
-                    continue
-                Dn[0] = x
-                for j in range(1, m):
-                    np.subtract(Dn[j - 1], Do[j - 1], out=Dn[j])  # ∇ʲx_new = ∇ʲ⁻¹x_new − ∇ʲ⁻¹x_old
+                push(np.ascontiguousarray(x, dtype=float), Do, Dn)
                 D.append(Dn)
             self.D, self.order = D, m
         self.t, self.state = t, state
@@ -114,22 +107,10 @@ class Extrapolator:
         h_new = t - self.t
         if self.order >= 3 and abs(h_new - self.h) <= 1e-9 * self.h:
             out = []
-            ker = _kernels() if self.compiled else None
-            if ker is not None:
-                for D in self.D:
-                    pred = np.empty(D.shape[1])
-                    ker[0](D, self.order, pred)
-                    out.append(pred)
-                return out
+            predict = _kernels()[0]
             for D in self.D:
-                acc = D[0] + D[1]  # order 1
-                pred, err = acc.copy(), np.abs(D[2])
-                for j in range(2, self.order - 1):  # order j, its next term ∇^{j+1}x
-                    acc += D[j]
-                    e = np.abs(D[j + 1])
-                    better = e < err
-                    np.copyto(pred, acc, where=better)
-                    np.minimum(err, e, out=err)
+                pred = np.empty(D.shape[1])
+                predict(D, self.order, pred)
                 out.append(pred)
             return out
         f = min(h_new / self.h, 2.0)

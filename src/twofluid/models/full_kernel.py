@@ -1,9 +1,10 @@
 """The full 1D model's Newton iterate (element ``1VW/0P/0n``) as compiled loops around the closure calls.
 
-Same arithmetic as the NumPy path of :meth:`TwoFluid1D.assemble
-<twofluid.models.two_fluid_1d.TwoFluid1D.assemble>` and :meth:`BandSolver.solve
-<twofluid.fem.banded.BandSolver.solve>` (the reference path), term by term, so the band
-matrix and right-hand side of an iterate agree to round-off (``tests/unit/test_full_kernel.py``):
+The same equations as the general weak-form assembly of :meth:`TwoFluid1D.assemble
+<twofluid.models.two_fluid_1d.TwoFluid1D.assemble>` (``fem/terms_1d`` into a BlockSystem, the
+quadratic element's and the Picard linearisation's only path) with :meth:`BandSolver.solve
+<twofluid.fem.banded.BandSolver.solve>`, derived independently: the tests compare the band
+matrix and right-hand side of an iterate to round-off (``tests/unit/test_full_kernel.py``):
 
 - :func:`_closure_points` — from the iterate (n, V, W) the porosities and slips at which the
   drag law is called, (n, |s|), (n, |s| + δs), (n + δn, |s(n + δn)|), whose last two thirds
@@ -22,12 +23,11 @@ matrix and right-hand side of an iterate agree to round-off (``tests/unit/test_f
   :func:`twofluid.fem.banded.band_lu` (LAPACK's algorithm) solves it and :func:`_unpack`
   adds the increment to the iterate.
 
-What the NumPy path spends on ~150 array operations of a few hundred entries and a sparse
-scatter is here a few loops over the elements. Built ahead of time through
-:func:`twofluid.compiled.group` where numba is installed (later processes import the module
-without numba); without numba :func:`kernels` is None and the model keeps the NumPy path.
+What the general assembly spends on ~150 array operations of a few hundred entries and a
+sparse scatter is here a few loops over the elements. Built ahead of time through
+:func:`twofluid.compiled.group` (later processes import the module without numba).
 
->>> ok = available()  # numba installed (or the module built)?
+>>> ok = available()
 >>> isinstance(ok, bool)
 True
 """
@@ -433,7 +433,7 @@ def available() -> bool:
 
 
 def kernels() -> dict | None:
-    """{closure_points, band_system, residual, unpack, band_lu} compiled, or None without numba."""
+    """{closure_points, band_system, residual, unpack, band_lu} compiled (:mod:`twofluid.compiled`)."""
     return _compile()
 
 

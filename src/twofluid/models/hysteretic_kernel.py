@@ -26,7 +26,6 @@ True
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 
@@ -273,11 +272,12 @@ def compiled():
     it cannot be compiled or ``TWOFLUID_DISABLE_JIT`` is set (then :func:`substeps` runs the
     plain Python)."""
     global _COMPILED, _TRIED
-    if os.environ.get("TWOFLUID_DISABLE_JIT"):
+    from ..compiled import group, jit_disabled
+
+    if jit_disabled():
         return None
     if not _TRIED:
         _TRIED = True
-        from ..compiled import group
 
         _COMPILED = group("hysteretic", {"substeps": (_substeps, SIGNATURE),
                                          "element_cycles": (_element_cycles, ELEMENT_SIGNATURE)},

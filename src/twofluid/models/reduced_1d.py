@@ -20,9 +20,9 @@ The buoyant weight and the drag carry the full model's upwind test functions
 ψ = N ∓ αB of the step (:meth:`TwoFluid1D.force_shift`, taken at the old state).
 
 In the interleaved ordering both row kinds reach two unknowns either side of the
-diagonal: a band of half-width 2, solved by LAPACK ``dgbsv`` (by the compiled kernels as the
-block-tridiagonal system of the (W_v, n_v) pairs it also is, with LAPACK's band LU where the
-block solve's backward error is not at round-off: :func:`twofluid.fem.banded._bt22`). The system is
+diagonal: a band of half-width 2, solved as the block-tridiagonal system of the (W_v, n_v) pairs
+it also is, with the band LU where the block solve's backward error is not at round-off
+(:func:`twofluid.fem.banded._bt22`). The system is
 written for the increment from iterate k (right-hand side = minus the residual).
 
 The linearisation about iterate k is Newton's method on the full model's residuals:
@@ -36,21 +36,25 @@ agree to the Picard tolerance. P is recovered after each step from the liquid ro
 (linearised about the last iterate, with the full model's frozen 1/n), marching
 from the outlet: [[P]]_i = −L_i/A_i.
 
-Speed (the reason for the model): each iterate costs one fused drag-law call (the
-law at the iterate and its two finite-difference neighbours in one call), one
-viscosity call (at n and n + δn) and one P_s call, about a hundred vectorised
-operations on element arrays (element index last, so the local rows are
-contiguous) and one banded LU solve; what does not change inside the Picard loop
-(the mixture velocity and its element products, the old state's terms, Δt
-factors) is computed once per step, or once per V or Δt. Where numba is installed the
-iterate, the step's constants, the bed-force shift and the pressure recovery run as compiled
-loops around the same closure calls (:mod:`~twofluid.models.reduced_kernel`, the same
-numbers), which halves the CPU time of a step; ``compiled = False`` keeps the NumPy path,
-the reference the kernels are tested against. The first iterate of a
+Speed (the reason for the model): what does not change inside the Newton loop (the mixture
+velocity and its element products, the old state's terms, Δt factors) is computed once per step;
+an iterate is one pass of compiled loops that finds the closure points, one call of each closure
+law (the drag law at the iterate and its two finite-difference neighbours, μ_s at n and n + δn,
+P_s; compiled where :mod:`~twofluid.closures.kernels` has the law, the registry's function
+otherwise), one pass that writes the band system and one band solve. These loops — the iterate,
+the step's constants, the bed-force shift, the extrapolated first iterate and the pressure
+recovery — are written once, in :mod:`~twofluid.models.reduced_kernel`, and compiled by
+:mod:`twofluid.compiled` (with ``TWOFLUID_DISABLE_JIT=1`` they run as plain Python, for
+debugging). The first iterate of a
 step starts from the extrapolation of the last converged steps, of order up to 4
 chosen entry by entry (W and n; V is known exactly; :class:`~twofluid.models.extrapolation.Extrapolator`): on the
 settling column nearly every step then converges at the first iterate, on the
 fluidized bed (100 elements) three in four.
+
+Checked by: the banded matrix against the finite-difference Jacobian of the residual, the
+converged steps against the full model's (:class:`~twofluid.models.two_fluid_1d.TwoFluid1D`,
+whose general weak-form assembly is the independent second path), the exact solutions
+(Kynch, Terzaghi) and the golden outputs of the bundled cases (``tests/golden``).
 
 ``surcharge`` [Pa] is a solids pressure applied on the top face (a load carried by
 the skeleton only, drained liquid), used by the Terzaghi check.
@@ -58,7 +62,6 @@ the skeleton only, drained liquid), used by the Terzaghi check.
 from __future__ import annotations
 
 import numpy as np
-from ..scipy_kernels import dgbsv  # scipy.linalg.lapack's, without importing scipy.linalg
 
 from ..closures.viscosity import solid_viscosity
 from ..closures import kernels as closure_kernels
@@ -73,22 +76,13 @@ _UNDECIDED = object()  # a step's way of iterating not yet decided (Reduced1D.it
 
 
 class _LastRows:
-    """The last iterate assembled by the compiled kernels, for the pressure of the step: its W and
-    n, the per-element rows of ``reduced_kernel.LAST_ROWS``, whether μ_s acted, the step's constants;
-    as a sequence, the NumPy path's (W, n, W̄, h, m_l, Mq, k0, kom, gain, J_dn, step)."""
+    """The last iterate assembled by the kernels, for the pressure of the step: its W and n, the
+    per-element rows of ``reduced_kernel.LAST_ROWS``, whether μ_s acted, the step's constants."""
 
     __slots__ = ("W", "n", "rows", "viscous", "st")
 
     def __init__(self, W, n, rows, viscous, st):
         self.W, self.n, self.rows, self.viscous, self.st = W, n, rows, viscous, st
-
-    def __iter__(self):
-        r = self.rows
-        return iter((self.W, self.n, r[0], r[1], r[2] if self.viscous else None, r[3:5], r[5], r[6], r[7],
-                     r[8:10], self.st))
-
-    def __getitem__(self, i):
-        return tuple(self)[i]
 
 
 class Reduced1D(TwoFluid1D):
@@ -98,10 +92,7 @@ class Reduced1D(TwoFluid1D):
     one end must be an inlet or a wall (it fixes c = A V), and ``surcharge`` [Pa]
     is an optional solids load on the top face.
 
-    ``compiled`` (class attribute, may be set per instance): None (default) assembles and
-    solves each iterate with the compiled kernels of :mod:`~twofluid.models.reduced_kernel`
-    where numba is installed and with the NumPy path and LAPACK otherwise; False always takes
-    the NumPy path (the reference path: the same band matrix and right-hand side to round-off).
+    Densities, the liquid viscosity and gravity must be scalars (ValueError otherwise).
     """
 
     # the iterates are Newton's: the stepper may accept one on its predicted error (timestepping.newton)
@@ -150,11 +141,13 @@ class Reduced1D(TwoFluid1D):
         self._dir = [(_DIAG - d, 2 * v + d, 1.0 if d == 0 else 0.0)
                      for v in self._fixed for d in range(-_KL, _KL + 1) if 0 <= 2 * v + d < N]
         self._V_of_t = (None, None, None)  # (t, c, nodal V) cache
-        self._dt_c = self._V_c = self._step = None  # caches of what is fixed per Δt, per V, per step
+        self._step = None  # cache of what is fixed per step
         self._belf = self._belf_of = None  # upwind side as 0/1 floats, and the boolean array it came from
         self._last_iterate = None  # pieces of the last assembled iterate, for the pressure of the step
         # the kernel takes scalar densities and liquid viscosity (per-element particle sizes are the closures')
-        self._kernel_ok = all(np.ndim(getattr(mat, f)) == 0 for f in ("rho_f", "rho_s", "mu_f", "g"))
+        if not all(np.ndim(getattr(mat, f)) == 0 for f in ("rho_f", "rho_s", "mu_f", "g")):
+            raise ValueError("the reduced_1d model takes scalar densities, liquid viscosity and gravity "
+                             "(per-element particle sizes are the closures')")
         self._h = mesh.lengths
         # the model's element constants of the compiled kernel (reduced_kernel._band_system's ``mc``)
         self._mc = np.ascontiguousarray(np.vstack([self._M0, self._M1, self._wt, self._BNt, self._psA,
@@ -188,64 +181,27 @@ class Reduced1D(TwoFluid1D):
     def _prepare_step(self, old: State, dt: float, t_new: float) -> dict:
         """What does not change inside the Picard loop of a step (cached on ``old``, Δt, t_new)."""
         st = self._step
+        if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new:
+            return st
         ker = self._kernels()
-        if st is not None and st["old"] is old and st["dt"] == dt and st["t"] == t_new \
-                and ("sc" in st) == (ker is not None):  # (and of the same path)
-            return st
-        mat, M0, M1, area = self.mat, self._M0, self._M1, self.vert_area
-        self._extrap.compiled = ker is not None  # its predictions entry by entry too (the same numbers)
-        if ker is not None:  # the step's constants by the compiled kernel, packed as band_system takes them
-            ne = old.n.size
-            V = self._mixture_velocity(t_new)
-            sc, vc = np.empty((16, ne)), np.empty((4, ne + 1))
-            alpha = np.ascontiguousarray(self.bed_force_shift(old), dtype=float)
-            ker[6](V, old.V, old.W, old.n, alpha, float(dt), self._inv2vol, 0.5 * (mat.rho_s + mat.rho_f) / dt,
-                   -0.5 * (mat.rho_s - mat.rho_f) / dt, float((mat.rho_s - mat.rho_f) * self.g_y), self._mc,
-                   self._srcT, self._mR0, area, self._tb, sc, vc)
-            st = self._step = {"old": old, "dt": dt, "t": t_new, "V": V, "sc": sc, "vc": vc, "mR": vc[3],
-                               "Vbar": sc[0], "dn": sc[12], "hc": 0.5 * mat.rho_f / dt,
-                               "cw0": -0.5 * (mat.rho_s - mat.rho_f) / dt}
-            return st
-        dc = self._dt_c
-        if dc is None or dc["dt"] != dt:
-            cdt = dt * self._inv2vol
-            dc = self._dt_c = {"dt": dt, "hc": 0.5 * mat.rho_f / dt, "cv0": 0.5 * (mat.rho_s + mat.rho_f) / dt,
-                               "cw0": -0.5 * (mat.rho_s - mat.rho_f) / dt, "cdt": cdt, "mcdt": -cdt,
-                               "mcdtAb": -cdt * area[:-1], "cdtAt": cdt * area[1:]}
+        mat, area = self.mat, self.vert_area
+        # the step's constants by the kernel, packed as band_system takes them
+        ne = old.n.size
         V = self._mixture_velocity(t_new)
-        vc = self._V_c
-        if vc is None or vc["V"] is not V:
-            Vb, Vt = V[:-1], V[1:]
-            Vbar = self._w0 * Vb + self._w1 * Vt
-            vc = self._V_c = {"V": V, "Vbar": Vbar, "Vbar2": 2.0 * Vbar, "MVe": M0 * Vb + M1 * Vt, "AV": area * V,
-                              "kv": self._kap * (Vb - Vt)}  # Kv V = (kv, −kv)
-        MVe = vc["MVe"]
-        MdV = MVe - (M0 * old.V[:-1] + M1 * old.V[1:])
-        MWold = M0 * old.W[:-1] + M1 * old.W[1:]
-        # finite-difference step of the drag in n, away from n = 0 and 1 (direction fixed per step);
-        # the drag law is evaluated at (n, |s|), (n + δn, |s(n + δn)|), (n, |s| + δs): rows of (3, ne)
-        dn = np.where(old.n < 0.5, 1e-8, -1e-8)
-        dn3 = np.zeros((3, dn.size))
-        dn3[1] = dn
-        # bed forces tested with the upwind ψ = N ∓ αB of the step (TwoFluid1D.force_shift):
-        # Mψ x = M x + σ α (BN·x), σ = (−1, +1); buoyant weight g_src (n − 1) with ∫ψ
-        sa = self._sig * self.bed_force_shift(old)
-        gs = (mat.rho_s - mat.rho_f) * self.g_y * (self.src.T + sa * self._BNt.sum(axis=0))
-        saV = sa * (self._BNt[0] * V[:-1] + self._BNt[1] * V[1:])
-        # inertia: M(ρ̂ΔV − ΔρΔW)/Δt = R_in + cw0 M W (R_in assembled into the constant rows);
-        # liquid inertia h M(ΔV + ΔW) = h (U + M W)
-        st = dict(dc, **vc)
-        st.update(old=old, dt=dt, t=t_new, U=MdV - MWold, old_n=old.n, dn=dn, dn3=dn3, dq3=dn3 * vc["Vbar2"],
-                  gs=gs, sa=sa, saV=saV,
-                  mR=self._mR0 + self._assemble_nodal(gs) - self._assemble_nodal(dc["cv0"] * MdV - dc["cw0"] * MWold))
-        self._step = st
+        sc, vc = np.empty((16, ne)), np.empty((4, ne + 1))
+        alpha = np.ascontiguousarray(self.bed_force_shift(old), dtype=float)
+        ker[6](V, old.V, old.W, old.n, alpha, float(dt), self._inv2vol, 0.5 * (mat.rho_s + mat.rho_f) / dt,
+               -0.5 * (mat.rho_s - mat.rho_f) / dt, float((mat.rho_s - mat.rho_f) * self.g_y), self._mc,
+               self._srcT, self._mR0, area, self._tb, sc, vc)
+        st = self._step = {"old": old, "dt": dt, "t": t_new, "V": V, "sc": sc, "vc": vc, "mR": vc[3],
+                           "Vbar": sc[0], "dn": sc[12], "hc": 0.5 * mat.rho_f / dt,
+                           "cw0": -0.5 * (mat.rho_s - mat.rho_f) / dt}
         return st
 
     def _force_shift_at(self, s: State) -> np.ndarray:
-        """:meth:`TwoFluid1D._force_shift_at`, by the compiled kernels where they are used (the same
-        closure calls: the drag law at n and n + δn, P_s' at n)."""
+        """:meth:`TwoFluid1D._force_shift_at` by the kernels (the drag law at n and n + δn, P_s' at n)."""
         ker = self._kernels()
-        if ker is None or self.bed_forces == "galerkin":
+        if self.bed_forces == "galerkin":
             return super()._force_shift_at(s)
         n = s.n
         ne = n.size
@@ -274,35 +230,11 @@ class Reduced1D(TwoFluid1D):
         return alpha
 
     def _kernels(self):
-        """The compiled kernels (:func:`~twofluid.models.reduced_kernel.kernels`), or None for the NumPy path."""
-        if self.compiled is False or not self._kernel_ok:
-            return None
+        """The model's kernels (:func:`~twofluid.models.reduced_kernel.kernels`)."""
         ker = self.__dict__.get("_ker")
         if ker is None:
-            ker = self._ker = reduced_kernel.kernels() or ()
-        return ker or None
-
-    def _upwind(self, n, below, phi):
-        """Upwind ratio r = (1 − n_up)/(1 − n_f) at the vertices and φ ∂r/∂n_below, φ ∂r/∂n_above.
-
-        The same as :meth:`TwoFluid1D._upwind_ratio` with the upwind side ``below``
-        (0/1 floats) given; ``phi`` is the vertex factor of the derivatives.
-        """
-        ext = self._ext
-        ext[1:-1] = n
-        nb, na = ext[:-1], ext[1:]
-        tb = self._tb
-        diff = nb - na
-        oma = 1.0 - na
-        one_f = oma - tb * diff
-        inv = (one_f > _CLEAR) / np.maximum(one_f, _CLEAR)  # 0 in clear liquid on both sides: no solids flux
-        r = (oma - below * diff) * inv
-        pinv = phi * inv
-        Pb = pinv * (r * tb - below)  # φ ∂r/∂n_below = φ inv (r tb − below)
-        Qa = pinv * (r - 1.0) - Pb  # φ ∂r/∂n_above = φ inv (r (1 − tb) − (1 − below))
-        Pb[0] = 0.0  # outside the domain the porosity is fixed
-        Qa[-1] = 0.0
-        return r, Pb, Qa
+            ker = self._ker = reduced_kernel.kernels()
+        return ker
 
     # ---------------------------------------------------- stepper interface
     def _first_iterate(self, k: State) -> None:
@@ -311,7 +243,7 @@ class Reduced1D(TwoFluid1D):
         n kept in (0, 1], and V from c(t)/A.
         """
         ex = self._extrap
-        if ex.order >= 3 and k.t > ex.t and ex.compiled and abs((k.t - ex.t) - ex.h) <= 1e-9 * ex.h:
+        if ex.order >= 3 and k.t > ex.t and abs((k.t - ex.t) - ex.h) <= 1e-9 * ex.h:
             args = self._whole_args(k)  # the same tests and prediction in one compiled call
             if args is not None:
                 if args[0][4](*ex.D, ex.order, k.W, k.n):
@@ -327,119 +259,9 @@ class Reduced1D(TwoFluid1D):
                 np.maximum(k.n, _CLEAR, out=k.n)
 
     def assemble(self, k: State, old: State, dt: float, t_new: float) -> tuple:
-        """Banded Newton system for the increment of (W, n) of one Picard iterate (module docstring)."""
-        st = self._prepare_step(old, dt, t_new)
-        if "sc" in st:  # prepared for the compiled kernels
-            return self._assemble_compiled(k, st)
-        mat = self.mat
-        n, W = k.n, k.W
-        Wb, Wt = W[:-1], W[1:]
-        MVe = st["MVe"]
-        MWe = self._M0 * Wb + self._M1 * Wt
-        Wbar = self._w0 * Wb + self._w1 * Wt
-        # drag D = K M q/(2n²), K = β/(1 − n), q = (1 − 2n)V + W, |s| = |q̄|/(2n(1 − n)) from the
-        # element mean q̄: Newton in W (exact), finite difference in n — the full model's ``_drag``,
-        # with the closure at (n, |s|), (n + δn, |s(n + δn)|) and (n, |s| + δs) in one call
-        n3 = n + st["dn3"]
-        omn = 1.0 - (n + n)
-        qb = omn * st["Vbar"] + Wbar
-        iden3 = 0.5 / (n3 * np.maximum(1.0 - n3, _CLEAR))
-        s3 = np.abs(qb - st["dq3"]) * iden3  # |s| at n, n + δn, n
-        ds = 1e-6 * np.maximum(s3[0], 1e-6)
-        s3[2] += ds
-        k3 = self.clo.beta_per_solids(n3.ravel(), s3.ravel(), self._materials_times(3)).reshape(3, -1) * (0.5 / (n3 * n3))
-        k0, kn = k3[0], k3[1]  # K/(2n²) at the iterate and at n + δn
-        gain = (k3[2] - k0) * (np.sign(qb) * iden3[0] / ds)  # K'(|s|) |s|/q̄ /(2n²)
-        kd = (kn - k0) / st["dn"]
-        sa, saV = st["sa"], st["saV"]
-        cor = omn * saV + sa * (self._BNt[0] * Wb + self._BNt[1] * Wt)  # (Mψ − M) q
-        Mq = omn * MVe + MWe + cor  # Mψ q
-        Jdn = kd * Mq - (kn + kn) * (MVe + saV)  # ∂D/∂n = [D(n + δn) − D(n)]/δn, q(n + δn) = q − 2δn V
-        ps, dps = self.solids_pressure(n, k.n_bar, derivative=True)
-        h = st["hc"] / n  # liquid inertia per unit liquid volume
-        al = (st["cw0"] - h) - k0
-        kom = k0 * omn
-        # mixture − liquid rows at iterate k (the constant terms are in st["mR"]):
-        # (cw0 − h) M W − h U − k0 M q + B0ᵀ P_s + g_src n (+ viscous)
-        gs = st["gs"]
-        X = al * MWe - (h * st["U"] + kom * MVe) - k0 * cor + (self._psA * ps + gs * n)
-        JW = al * self._Mt - (gain * Mq)[:, None, :] * self._wt - (k0 * sa)[:, None, :] * self._BNt[None, :, :]
-        Jn = (gs + self._psA * dps) - Jdn + (h / n) * (st["U"] + MWe)  # + ∂/∂n of −h (U + M W)
-        if self.clo.viscous:  # μ_s at n and n + δn in one call; Newton in μ_s(n) and the 1/n of m_l
-            dnv = st["dn"]
-            mu2 = solid_viscosity(np.concatenate((n, n + dnv)), mat.mu_f, **self.clo.viscosity_params)
-            ne = n.size
-            mu_s = mu2[:ne]
-            m_l = (0.5 * mat.mu_f) / n
-            base = 0.5 * mat.mu_f - m_l
-            hs = 0.5 * mu_s
-            c_w = base - hs
-            kw = self._kap * (Wb - Wt)
-            vx = (base + hs) * st["kv"] + c_w * kw
-            X[0] += vx
-            X[1] -= vx
-            JW += c_w * self._Kt
-            hds = 0.5 * (mu2[ne:] - mu_s) / dnv
-            ml_n = m_l / n
-            dvx = (ml_n + hds) * st["kv"] + (ml_n - hds) * kw
-            Jn[0] += dvx
-            Jn[1] -= dvx
-        else:
-            m_l = None
-        self._last_iterate = (W, n, Wbar, h, m_l, Mq, k0, kom, gain, Jdn, st)
-
-        # porosity rows, upwind ratio Newton-linearised about the iterate
-        phi = st["AV"] - self.vert_area * W  # A (V − W) = 2 A F at the vertices (node = vertex)
-        if self.solids_flux == "upwind":
-            below = getattr(self, "_below", None)
-            if below is None:
-                belf = (phi >= 0.0).astype(float)
-            else:
-                if self._belf_of is not below:
-                    self._belf, self._belf_of = below.astype(float), below
-                belf = self._belf
-            r, Pb, Qa = self._upwind(n, belf, phi)
-        else:
-            r, Pb, Qa = np.ones(self.nv), np.zeros(self.nv), np.zeros(self.nv)
-        G = r * phi  # A r (V − W) at the vertices
-        cdt = st["cdt"]
-
-        # band storage (LAPACK): entry (i, i + d) in ab[_DIAG − d, i + d]; W_i at 2i, n_e at 2e + 1
-        N = 2 * self.nv - 1
-        ab = np.empty((N, 3 * _KL + 1)).T
-        # W rows (vertex i): element i − 1 through its local row 1, element i through its local row 0
-        ab[6, 0:N - 1:2] = JW[1, 0]  # W_{i−1}
-        ab[5, 1::2] = Jn[1]  # n_{i−1}
-        d = ab[4, 0::2]
-        d[:-1] = JW[0, 0]
-        d[-1] = 0.0
-        d[1:] += JW[1, 1]
-        ab[3, 1::2] = Jn[0]  # n_i
-        ab[2, 2::2] = JW[0, 1]  # W_{i+1}
-        # n rows (element e): n_e − Δt [A r (V − W)]_e^{e+1}/(2 Vol_e) = n_eᵗ
-        np.multiply(cdt[1:], Pb[1:-1], out=ab[6, 1:N - 2:2])  # n_{e−1}
-        np.multiply(st["mcdtAb"], r[:-1], out=ab[5, 0:N - 1:2])  # W_e
-        d = ab[4, 1::2]
-        np.subtract(Qa[:-1], Pb[1:], out=d)
-        d *= cdt
-        d += 1.0
-        np.multiply(st["cdtAt"], r[1:], out=ab[3, 2::2])  # W_{e+1}
-        np.multiply(st["mcdt"][:-1], Qa[1:-1], out=ab[2, 3::2])  # n_{e+1}
-        rhs = np.empty(N)  # minus the residual at iterate k
-        rW = rhs[0::2]
-        mR = st["mR"]
-        np.subtract(mR[:-1], X[0], out=rW[:-1])
-        rW[-1] = mR[-1]
-        rW[1:] -= X[1]
-        rn = rhs[1::2]
-        np.subtract(st["old_n"], n, out=rn)
-        rn += cdt * (G[1:] - G[:-1])
-        V = st["V"]
-        for row, col, val in self._dir:
-            ab[row, col] = val
-        for v in self._fixed:
-            rW[v] = V[v] - W[v]
-        return ab, rhs, k, st
+        """Banded Newton system for the increment of (W, n) of one iterate (module docstring):
+        (band storage, minus the residual, the iterate, the step's constants)."""
+        return self._assemble_compiled(k, self._prepare_step(old, dt, t_new))
 
     def _upwind_side(self):
         """(whether the solids flux is upwinded, the upwind side fixed for the step or None, that side as
@@ -453,7 +275,8 @@ class Reduced1D(TwoFluid1D):
         return upwind, below, self._belf
 
     def _assemble_compiled(self, k: State, st: dict) -> tuple:
-        """:meth:`assemble` by the compiled kernels (same arithmetic; the closures called as there)."""
+        """:meth:`assemble` by the kernels: the closure points, the laws (compiled, else the registry's),
+        the band system."""
         points, band = self._kernels()[:2]
         mat, clo = self.mat, self.clo
         n, W = k.n, k.W
@@ -495,12 +318,12 @@ class Reduced1D(TwoFluid1D):
         """One whole Newton iterate where the compiled kernels assemble it: :meth:`assemble`,
         :meth:`solve`, :meth:`unpack` and :meth:`~TwoFluid1D.iterate_change` in one call (the same
         calls, without the stepper's dispatch between them); returns (the new iterate, whether the
-        solve's output is finite, max |Δn|, the velocity change), or None on the NumPy path and
-        where a subclass or the instance replaces one of those methods (the stepper calls them then)."""
+        solve's output is finite, max |Δn|, the velocity change), or None where a subclass or the
+        instance replaces one of those methods (the stepper calls them then)."""
         st = self._prepare_step(old, dt, t_new)
         way = st.get("way", _UNDECIDED)
         if way is _UNDECIDED:  # how this step's iterates go, decided once: False for the stepper's four calls
-            way = st["way"] = (self._whole_call(k, st) if "sc" in st and self._whole_iterate_ok() else False)
+            way = st["way"] = (self._whole_call(k, st) if self._whole_iterate_ok() else False)
         if way is False:
             return None
         if way is not None:  # all of it in two compiled calls around Wen–Yu's powers (the same operations)
@@ -579,10 +402,7 @@ class Reduced1D(TwoFluid1D):
     def solve(self, S: tuple, t: float) -> np.ndarray:
         """Increment of (W, n) from the banded solve; returns [V, W, n]."""
         ab, rhs, k, st = S
-        if "sc" in st:  # assembled by the compiled kernels: their band solve (block tridiagonal, else dgbsv's LU)
-            info, x = reduced_kernel.kernels()[2](ab, rhs), rhs
-        else:
-            _, _, x, info = dgbsv(_KL, _KL, ab, rhs, overwrite_ab=1, overwrite_b=1)
+        info, x = self._kernels()[2](ab, rhs), rhs  # block tridiagonal, else the band LU
         nv = self.nv
         out = np.empty(3 * nv - 1)
         if info != 0:  # singular: the stepper rejects the non-finite result and shrinks the step
@@ -613,30 +433,13 @@ class Reduced1D(TwoFluid1D):
         h M(ΔV + ΔW) − ρ_f g_y ∫N + D + m_l Kv (V + W) + A [[P]] = 0, with h, m_l frozen and
         D linearised about the iterate.
         """
-        last = self._last_iterate
-        if type(last) is _LastRows:  # assembled by the compiled kernels: the same recovery compiled
-            nk, m_l, st = last.n, last.viscous, last.st
-            P = np.empty(nk.size)
-            top = self.top.kind == "outlet"
-            reduced_kernel.kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src,
-                                        m_l, self.vert_area, top,
-                                        float(self.top.pressure if top else self.bottom.pressure), P)
-            new.P = P
-            self._remember(old, new, lambda s: [s.W, s.n])
-            return new
-        Wk, nk, Wbar, h, m_l, Mq, k0, kom, gain, Jdn, st = last
-        W = new.W
-        Wb, Wt = W[:-1], W[1:]
-        MW = self._M0 * Wb + self._M1 * Wt
-        dWbar = (self._w0 * Wb + self._w1 * Wt) - Wbar
-        cor = (1.0 - 2.0 * nk) * st["saV"] + st["sa"] * (self._BNt[0] * Wb + self._BNt[1] * Wt)  # (Mψ − M) q
-        L = (h + k0) * MW + (h * st["U"] + kom * st["MVe"]) + k0 * cor + self._liq_src + (gain * dWbar) * Mq \
-            + Jdn * (new.n - nk)
-        if m_l is not None:
-            vl = m_l * (st["kv"] + self._kap * (Wb - Wt))
-            L[0] += vl
-            L[1] -= vl
-        new.P = self._pressure_from(self._assemble_nodal(L))
+        last = self._last_iterate  # the same recovery as the kernels' last iterate
+        nk, m_l, st = last.n, last.viscous, last.st
+        P = np.empty(nk.size)
+        top = self.top.kind == "outlet"
+        self._kernels()[3](new.W, new.n, nk, self._last_rows, self._mc, st["sc"], self._liq_src, m_l,
+                           self.vert_area, top, float(self.top.pressure if top else self.bottom.pressure), P)
+        new.P = P
         self._remember(old, new, lambda s: [s.W, s.n])
         return new
 

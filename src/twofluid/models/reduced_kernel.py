@@ -1,9 +1,11 @@
-"""The reduced 1D model's Newton iterate and per-step work as compiled loops around the closure calls.
+"""The reduced 1D model's Newton iterate and per-step work: its one source, loops around the closure calls.
 
-Same arithmetic as the NumPy path of :meth:`Reduced1D.assemble
-<twofluid.models.reduced_1d.Reduced1D.assemble>` (the reference path), operation by
-operation, so the band matrix and right-hand side agree to round-off
-(``tests/unit/test_reduced_kernel.py``):
+:class:`~twofluid.models.reduced_1d.Reduced1D` assembles, solves and recovers its pressure only
+through these kernels (compiled by :mod:`twofluid.compiled`; plain Python with
+``TWOFLUID_DISABLE_JIT=1``). What checks them: the band matrix against the finite-difference
+Jacobian of the residual and the steps against the full model's (``tests/unit/test_reduced_model.py``),
+the exact solutions (Kynch, Terzaghi), the golden outputs of the bundled cases
+(``tests/cases/test_golden_1d.py``):
 
 - :func:`_closure_points` — from the iterate (n, W) the porosities and slips at which the
   drag law is called (n, |s|), (n + δn, |s(n + δn)|), (n, |s| + δs);
@@ -14,18 +16,16 @@ operation, so the band matrix and right-hand side agree to round-off
   porosity rows (upwind ratio Newton-linearised), written straight into LAPACK band storage
   (half-width 2, the interleaved (W_0, n_0, W_1, …) numbering) with minus the residual.
 
-What the NumPy path spends on about a hundred array operations of a few hundred entries
+What would be about a hundred NumPy operations on arrays of a few hundred entries
 (each ~1–3 µs of call overhead) is here a few loops over the elements; the same holds for
 what is done once per step (:func:`_step_constants`, the bed-force shift :func:`_shift_points`
 / :func:`_shift`, the pressure recovery :func:`_step_pressure`), and the band is solved as the
 block-tridiagonal system it is (:func:`twofluid.fem.banded._bt22`: 2 × 2 blocks of the (W_v, n_v)
 pairs, checked by its backward error, LAPACK's band LU where that fails). The closures then take about half
-of an iterate's time. Compiled with numba when it is installed (the ``fast`` extra;
-``cache=True``, so only the first run after an install or a change compiles, a few seconds);
-without numba the model keeps the NumPy path. Loading numba and the cached kernels costs
-~0.5 s of CPU once per process (docs/benchmarks.md, "Compiled 1D iterate").
+of an iterate's time. Built once ahead of time (``twofluid build-kernels``); a run imports the
+module without numba.
 
->>> ok = available()  # numba installed?
+>>> ok = available()
 >>> isinstance(ok, bool)
 True
 """
@@ -599,13 +599,13 @@ def _compile():
 
 def whole_iterate():
     """(:func:`_iterate_points`, :func:`_whole_iterate`, :func:`_shift_law_points`,
-    :func:`_shift_with_laws`, :func:`_first_iterate`) compiled, or None without numba."""
+    :func:`_shift_with_laws`, :func:`_first_iterate`) compiled (:mod:`twofluid.compiled`)."""
     _compile()
     return _WHOLE
 
 
 def available() -> bool:
-    """Whether the compiled kernels can be used (numba importable).
+    """Whether the kernels can be had (always, with numba or their modules built).
 
     >>> available() == (kernels() is not None)
     True
@@ -615,7 +615,7 @@ def available() -> bool:
 
 def kernels():
     """(closure_points, band_system, band_solve, step_pressure, shift_points, shift, step_constants,
-    iterate_change, state_check) compiled, or None without numba.
+    iterate_change, state_check) compiled (:mod:`twofluid.compiled`).
 
     >>> k = kernels()
     >>> k is None or len(k) == 9

@@ -22,12 +22,14 @@ converged steps (:class:`~twofluid.models.extrapolation.Extrapolator`, V, W and 
 and each iterate is one band LU solve for the increment from the iterate
 (:mod:`twofluid.fem.banded`; without it, a slowly settling column with 300
 elements stalled at the solve's round-off, 2e-7 of the velocity scale, above the
-Picard tolerance, and hit the iteration limit again and again). Where numba is
-installed the iterate of the ``1VW/0P/0n`` element with ``"newton"`` — its terms written
-straight into band storage, the residual, the band LU — runs as compiled loops around the
-same closure calls (:mod:`~twofluid.models.full_kernel`, the same numbers to round-off),
-a quarter to a half of the NumPy path's CPU time per step; ``compiled = False`` keeps the
-NumPy path, the reference the kernels are tested against.
+Picard tolerance, and hit the iteration limit again and again). The iterate of the
+``1VW/0P/0n`` element with ``"newton"`` — its terms written straight into band storage, the
+residual, the band LU — runs as compiled kernels around the same closure calls
+(:mod:`~twofluid.models.full_kernel`), a quarter to a half of the CPU time per step of the
+general weak-form assembly (:mod:`twofluid.fem.terms_1d` into a
+:class:`~twofluid.fem.assembly.BlockSystem`). That assembly is the only one of the quadratic
+element and of ``"picard"``; ``compiled = False`` puts the linear element on it too, which is
+how the tests check the kernels against an independent derivation of the same equations.
 
 Pressure gradients (P constant per element): the mixture term is integrated by
 parts, −∫ ∇·δV (P + P_s), plus the traction of the prescribed pressure on an
@@ -85,7 +87,7 @@ __all__ = ["Materials", "Closures", "Boundary", "State", "TwoFluid1D", "ELEMENTS
 
 ELEMENTS = {"1VW/0P/0n": (LINE1, 0), "2VW/1P/0n": (LINE2, 1)}
 # the methods whose equations the compiled iterate (full_kernel) reproduces: a subclass overriding
-# one of them keeps the NumPy path
+# one of them takes the general weak-form assembly
 _KERNEL_METHODS = ("assemble", "solve", "_step_terms", "_drag", "_liquid_pressure", "_solids_flux",
                    "_upwind_ratio", "_newton_in_n", "psi_mass", "psi_source", "_force_shift_at", "force_shift",
                    "vertex_porosity", "pack", "unpack")
@@ -96,12 +98,11 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
 
     ``compiled`` (class attribute, may be set per instance): None (default) or True assembles
     and solves each iterate of the ``1VW/0P/0n`` element with the Newton linearisation by the
-    compiled kernels of :mod:`~twofluid.models.full_kernel` where numba is installed (built
-    ahead of time: a run imports them without numba), and the other elements' band systems
-    with the compiled band LU of :mod:`twofluid.fem.banded`; False always takes the NumPy
-    path and LAPACK's ``dgbsv`` (the reference path: the same band matrix and right-hand side
-    to round-off, the same algorithm). A subclass that overrides a method of the equations
-    (e.g. to add a load term to the assembled system) keeps the NumPy path. The compiled
+    kernels of :mod:`~twofluid.models.full_kernel`, and the other elements' band systems
+    with the compiled band LU of :mod:`twofluid.fem.banded`; False always takes the general
+    weak-form assembly and LAPACK's ``dgbsv`` (the tests' independent second path: the same
+    band matrix and right-hand side to round-off). A subclass that overrides a method of the
+    equations (e.g. to add a load term to the assembled system) takes the general assembly. The
     iterates also call the run's drag, P_s and μ_s laws compiled, and so does
     :meth:`solids_pressure` everywhere (:meth:`compiled_laws`; a few ulp from the registry's
     functions), unless ``compiled`` or ``compiled_closures`` is False.
@@ -155,7 +156,7 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
                            np.concatenate((e[1:], e, e[:-1])), np.concatenate((e[:-1], e, e[1:])))  # n_{e−1}, n_e, n_{e+1}
         self._band = BandSolver(np.concatenate([node, node, pos_p, ecentre]))
         # the compiled iterate (full_kernel): the element, the Newton linearisation, scalar densities
-        # and viscosity, and the equations of this class (a subclass that adds terms keeps the NumPy path)
+        # and viscosity, and the equations of this class (a subclass that adds terms takes the general assembly)
         self._fk_ok = (element == "1VW/0P/0n" and linearisation == "newton" and self.BN is not None
                        and all(np.ndim(getattr(materials, f)) == 0 for f in ("rho_f", "rho_s", "mu_f", "g"))
                        and all(getattr(type(self), f) is getattr(TwoFluid1D, f) for f in _KERNEL_METHODS))
@@ -237,7 +238,7 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
 
     def solids_pressure(self, n, n_bar, derivative=False):
         """P_s(n, n̄) [Pa] (and ∂P_s/∂n) of the run's law: compiled (:meth:`compiled_laws`) for
-        element arrays where it is, else the registry's (the NumPy path always)."""
+        element arrays where it is, else the registry's (the general assembly always)."""
         laws = self.compiled_laws()
         if laws is not None and type(n) is np.ndarray and n.ndim == 1 and np.shape(n_bar) == n.shape:
             ps, dps = laws.solids_pressure(n, n_bar)
@@ -264,10 +265,9 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
 
     # -------------------------------------------------------------- assembly
     def _full_kernels(self) -> dict | None:
-        """The compiled kernels of the iterate (:mod:`~twofluid.models.full_kernel`), or None for the
-        NumPy path (``compiled`` False, numba missing, or an element or subclass they do not cover)."""
+        """The kernels of the iterate (:mod:`~twofluid.models.full_kernel`), or None for the general
+        assembly (``compiled`` False, or an element, linearisation or subclass they do not cover)."""
         if self.compiled is False or not self._fk_ok:
-            self._extrap.compiled = False
             return None
         ker = self._fk
         if ker is None:
@@ -275,7 +275,6 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
             if ker:
                 self._fk_constants = full_kernel.constants(self)
             self._fk = ker
-        self._extrap.compiled = bool(ker)  # its predictions entry by entry too (the same numbers)
         return ker or None
 
     def assemble(self, k: State, old: State, dt: float, t_new: float):
@@ -371,7 +370,7 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
     def compiled_laws(self):
         """The run's drag, P_s and μ_s laws compiled (:func:`twofluid.closures.kernels.for_closures`),
         which the compiled iterates call in place of the registry functions; None where there are
-        none (no numba, another law), and on the NumPy path (``compiled = False``). Kept while
+        none (another law), and on the general assembly (``compiled = False``). Kept while
         ``clo`` and ``mat`` are the same objects."""
         if self.compiled is False or not self.compiled_closures:
             return None

@@ -132,7 +132,7 @@ _TRIED = False
 
 
 def _kernels():
-    """:func:`_accept` compiled (twofluid.compiled), or None without numba."""
+    """:func:`_accept` compiled (:mod:`twofluid.compiled`)."""
     global _KERNEL, _TRIED
     if not _TRIED:
         _TRIED = True
