@@ -18,6 +18,7 @@ def _cmd_run(args) -> int:
     from .io.folders import default_out_dir
     from .runners import run_case
 
+    _Signals.pending()  # a signal during the imports, swallowed there: the run does not start
     res = run_case(args.case, default_out_dir if args.out is None else args.out,
                    progress=False if args.quiet else (True if sys.stderr.isatty() else "lines"),
                    plots=False if args.no_plots else None)
@@ -463,6 +464,8 @@ class _Signals:
         import signal
 
         cls.got = None
+        cls._unraisable = sys.unraisablehook
+        sys.unraisablehook = cls._unraisable_hook
         try:
             if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:  # ignored on purpose (nohup, a background job)
                 return None, signal.signal(signal.SIGTERM, cls.handler)
@@ -508,10 +511,29 @@ class _Signals:
             pass
         os._exit(rc)
 
-    @staticmethod
-    def restore(old) -> None:
+    _unraisable = None
+
+    @classmethod
+    def _unraisable_hook(cls, unraisable) -> None:
+        """A KeyboardInterrupt raised where Python cannot propagate it (a weakref callback of the import
+        system, a ``__del__``) is not printed as "Exception ignored …": the signal is noted (``got``)
+        and acted on by :meth:`pending` and at the end of :func:`main`."""
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            return
+        (cls._unraisable or sys.__unraisablehook__)(unraisable)
+
+    @classmethod
+    def pending(cls) -> None:
+        """Raise the interruption of a signal noted but swallowed on the way (see above)."""
+        if cls.got is not None:
+            raise KeyboardInterrupt
+
+    @classmethod
+    def restore(cls, old) -> None:
         import signal
 
+        if cls._unraisable is not None:
+            sys.unraisablehook, cls._unraisable = cls._unraisable, None
         if old is not None:
             if old[0] is not None:
                 signal.signal(signal.SIGINT, old[0])
@@ -534,6 +556,7 @@ def main(argv=None) -> int:
     try:
         try:
             rc = _main(argv)
+            _Signals.pending()  # a signal swallowed on the way still ends the command as interrupted
         except KeyboardInterrupt:
             if argv is None:
                 _Signals.late()  # a second signal while saying so ends it at once, with the same status

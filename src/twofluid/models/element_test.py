@@ -25,7 +25,8 @@ the number of cycles to liquefaction is that time [cycles].
 """
 from __future__ import annotations
 
-import json
+import io
+
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Callable
@@ -311,12 +312,17 @@ def run_element_test(*, csr: float | None = None, gamma_amplitude: float | None 
         table = np.column_stack([result.cycles, result.gamma[:, 0], result.tau[:, 0],
                                  result.p_s[:, 0], result.n_bar[:, 0], result.porosity[:, 0],
                                  result.r_u[:, 0]])
-        np.savetxt(out / "element_test.csv", table, delimiter=",", comments="", fmt="%.9g",
+        from ..io.folders import write_atomic
+        from ..io.results import write_json
+
+        buf = io.StringIO()  # written whole, never through a symbolic link (io.folders)
+        np.savetxt(buf, table, delimiter=",", comments="", fmt="%.9g",
                    header="cycles,gamma,tau_Pa,p_s_Pa,n_bar,porosity,r_u")
+        write_atomic(out / "element_test.csv", buf.getvalue())
         n_liq = float(result.cycles_to_liquefaction[0])
         summary = {"cycles_to_liquefaction": n_liq if np.isfinite(n_liq) else None,
                    "liquefied": bool(np.isfinite(n_liq)),
                    "final_r_u": float(result.r_u[-1, 0]), "settings": result.settings}
-        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        write_json(out / "summary.json", summary)
         plot_element_test(result, out / "element_test.png")  # on its own canvas: nothing to close
     return result
