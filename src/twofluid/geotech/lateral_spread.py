@@ -17,7 +17,8 @@ Three estimates a geotechnical engineer would set beside the two-fluid column on
    LD are in m. γ_max(FS, Dr) is the relation the project already uses for the reconsolidation
    floor (Idriss & Boulanger 2008's fit of Yoshimine et al. 2006, :func:`.settlement.max_shear_strain`),
    not Zhang et al.'s own curves read from Ishihara & Yoshimine's (1992) charts: the two differ by
-   tens of per cent at a given FS (Zhang et al. reach 51 % strain at Dr = 40 %, the fit 93 %).
+   tens of per cent at a given FS (the limiting strain at Dr = 40 % is 51 % in Zhang et al., 64 %
+   in the fit).
 
 2. **Empirical regression** (Youd, Hansen & Bartlett 2002), ground-slope form::
 
