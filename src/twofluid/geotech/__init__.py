@@ -8,6 +8,8 @@
 - :mod:`.spectra` — elastic response spectra (Nigam & Jennings 1969);
 - :mod:`.correlations` — Dr [%] from (N1)60cs and q_c1Ncs, the CPT route of B&I (2014), the
   CSR–N slope b from MSF_max, residual strength, K_α, Seed–Booker r_u (docs/dynamic-curves.md).
+- :mod:`.lateral_spread` — lateral spreading on gentle slopes: Zhang et al. (2004), Youd et al.
+  (2002), a one-way Newmark block on the residual strength (docs/lateral-spreading.md).
 
 All are pure NumPy functions; see ``docs/simplified.md``.
 """
