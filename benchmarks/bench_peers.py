@@ -90,7 +90,8 @@ def _case_file(text: str, path: Path, edits: dict) -> Path:
 def column_case(path: Path, elements: int, shaking: float, end: float, plots: bool = False) -> Path:
     """The bundled liquefaction-elcentro (one layer) with ``elements``, ``shaking`` seconds of the
     record and run to ``end`` [s] whatever the pore pressures (no dissipation stop), no plots
-    unless ``plots``."""
+    unless ``plots``, with the hysteretic model (the column's default; the bundled case is a
+    thesis case)."""
     import tomli_w
     from twofluid.casefile.loader import case_text
 
@@ -100,6 +101,10 @@ def column_case(path: Path, elements: int, shaking: float, end: float, plots: bo
     else:  # before layered sites
         case["deposit"]["elements"] = elements
     case["ground_motion"]["duration"] = shaking
+    if "shear_wave" in case and "model" in case["shear_wave"]:
+        # the column's default, hysteretic model (the bundled case keeps the thesis's model)
+        case["shear_wave"]["model"] = "hysteretic"
+        case["shear_wave"]["damping_ratio"] = 0.01
     case["time"]["end"] = end
     if "dissipated_r_u" in case.get("reconsolidation", {}):
         case["reconsolidation"]["dissipated_r_u"] = 0.0

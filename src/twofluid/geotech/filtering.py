@@ -3,9 +3,12 @@
 A computed surface acceleration holds frequencies the mesh does not resolve (a linear element
 carries a wave to about a tenth of its wavelength: f ≲ V_s/(10 h), 15–30 Hz for the bundled
 columns' soft layers and 0.25–0.5 m elements) and the short spikes of a dilating liquefied layer.
-Engineers compare a *low-passed* PGA: here a 4th-order Butterworth low-pass run forwards and
-backwards (zero phase; the magnitude response is the square of the 4th-order filter's, −6 dB at
-the cut-off), by default at 15 Hz, on the record resampled to a uniform step.
+Engineers compare a *low-passed* PGA: here the zero-phase 4th-order Butterworth low-pass, the
+filter a forward and backward pass of the 4th-order Butterworth makes, |H(f)|² = 1/(1 + (f/f_c)^8)
+(−6 dB at the cut-off), by default at 15 Hz, on the record resampled to a uniform step. It is
+applied in the frequency domain (NumPy's real FFT, the record padded with zeros to four times its
+length so that its ends do not wrap around): the same magnitude and zero phase as SciPy's
+``sosfiltfilt`` without the 1 s it costs to import ``scipy.signal``.
 
 >>> import numpy as np
 >>> t = np.arange(0.0, 4.0, 0.005)
@@ -39,16 +42,22 @@ def _uniform(t, a):
 
 def low_pass(t, a, cutoff_hz: float = CUTOFF_HZ, order: int = 4):
     """(t_uniform [s], a_filtered) of acceleration ``a`` at times ``t`` [s]: resampled to the median
-    step, then a Butterworth low-pass of ``order`` at ``cutoff_hz`` [Hz] run forwards and backwards
-    (zero phase). A cut-off at or above the Nyquist frequency returns the resampled record."""
-    from scipy.signal import butter, sosfiltfilt
+    step, then the zero-phase Butterworth low-pass of ``order`` at ``cutoff_hz`` [Hz], |H|² =
+    1/(1 + (f/f_c)^(2 order)) (module docstring). A cut-off at or above the Nyquist frequency returns
+    the resampled record.
 
+    >>> t = np.arange(0.0, 2.0, 0.001)
+    >>> _, y = low_pass(t, np.sin(2 * np.pi * 15.0 * t), 15.0)
+    >>> round(float(np.max(np.abs(y[500:1500]))), 3)  # -6 dB at the cut-off
+    0.5
+    """
     tu, au, dt = _uniform(t, a)
-    nyq = 0.5 / dt
-    if cutoff_hz >= nyq or au.size < 3 * (2 * order + 1):
+    if cutoff_hz >= 0.5 / dt:
         return tu, au
-    sos = butter(order, cutoff_hz, fs=1.0 / dt, output="sos")
-    return tu, sosfiltfilt(sos, au)
+    n = 4 * au.size
+    f = np.fft.rfftfreq(n, dt)
+    gain = 1.0 / (1.0 + (f / cutoff_hz) ** (2 * order))
+    return tu, np.fft.irfft(np.fft.rfft(au, n) * gain, n)[:au.size]
 
 
 def low_passed_peak(t, a, cutoff_hz: float = CUTOFF_HZ) -> float:

@@ -313,6 +313,9 @@ class LiquefactionColumn:
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
         self.floor_applied = False
+        #: skip the vertical model (a total-stress run: no layer generates pore pressure, so the
+        #: column stays in its geostatic state; :func:`twofluid.runners.liquefaction.total_stress_surface`)
+        self.shear_only = False
 
     # ------------------------------------------------------------ state
     def initial_state(self, porosity, excess_ratio: float = 0.0) -> ColumnState:
@@ -612,6 +615,9 @@ class LiquefactionColumn:
             hist = np.array(hist, dtype=float)  # the shaking has ended: the reconsolidation floor
             n_bar = self._apply_floor(s, n_bar, hist)
             self.floor_applied = True
+        if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
+            vert = s.vertical.copy(t=t_new)
+            return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface))
         vert = s.vertical.copy(n_bar=n_bar)
         if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
             self.v.continue_from(s.vertical, vert)

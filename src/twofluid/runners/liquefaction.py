@@ -150,6 +150,7 @@ def total_stress_surface(case: dict):
         la["liquefiable"] = False
     b = build_column(c)
     col = b.column
+    col.shear_only = True
     t, a = [], []
     for step in col.run(b.state, col.shear_end, b.dt, b.dt_after):
         for ti, ai in step.surface:
