@@ -4,8 +4,8 @@ A computed surface acceleration holds frequencies the mesh does not resolve (a l
 carries a wave to about a tenth of its wavelength: f ≲ V_s/(10 h), 15–30 Hz for the bundled
 columns' soft layers and 0.25–0.5 m elements) and the short spikes of a dilating liquefied layer.
 Engineers compare a *low-passed* PGA: here the zero-phase 4th-order Butterworth low-pass, the
-filter a forward and backward pass of the 4th-order Butterworth makes, |H(f)|² = 1/(1 + (f/f_c)^8)
-(−6 dB at the cut-off), by default at 15 Hz, on the record resampled to a uniform step. It is
+filter a forward and backward pass of the digital 4th-order Butterworth makes,
+|H(f)|² = 1/(1 + (tan(π f Δt)/tan(π f_c Δt))^8) (−6 dB at the cut-off), by default at 15 Hz, on the record resampled to a uniform step. It is
 applied in the frequency domain (NumPy's real FFT, the record padded with zeros to four times its
 length so that its ends do not wrap around): the same magnitude and zero phase as SciPy's
 ``sosfiltfilt`` without the 1 s it costs to import ``scipy.signal``.
@@ -42,8 +42,8 @@ def _uniform(t, a):
 
 def low_pass(t, a, cutoff_hz: float = CUTOFF_HZ, order: int = 4):
     """(t_uniform [s], a_filtered) of acceleration ``a`` at times ``t`` [s]: resampled to the median
-    step, then the zero-phase Butterworth low-pass of ``order`` at ``cutoff_hz`` [Hz], |H|² =
-    1/(1 + (f/f_c)^(2 order)) (module docstring). A cut-off at or above the Nyquist frequency returns
+    step, then the zero-phase digital Butterworth low-pass of ``order`` at ``cutoff_hz`` [Hz]
+    (module docstring). A cut-off at or above the Nyquist frequency returns
     the resampled record.
 
     >>> t = np.arange(0.0, 2.0, 0.001)
@@ -56,7 +56,9 @@ def low_pass(t, a, cutoff_hz: float = CUTOFF_HZ, order: int = 4):
         return tu, au
     n = 4 * au.size
     f = np.fft.rfftfreq(n, dt)
-    gain = 1.0 / (1.0 + (f / cutoff_hz) ** (2 * order))
+    # the digital Butterworth's magnitude (bilinear transform, cut-off pre-warped), squared
+    ratio = np.tan(np.pi * np.minimum(f * dt, 0.5 - 1e-12)) / np.tan(np.pi * cutoff_hz * dt)
+    gain = 1.0 / (1.0 + ratio ** (2 * order))
     return tu, np.fft.irfft(np.fft.rfft(au, n) * gain, n)[:au.size]
 
 
