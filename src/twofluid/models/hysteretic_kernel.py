@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from ..closures import hysteretic as _law
+from . import newmark_bands as _nb
 from ..closures.hysteretic import P_LIQ, P_SIG0, S_EPS, S_RG
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
@@ -46,15 +47,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     m = a_in.size
     md = np.zeros(nv)
     mo = np.empty(ne)
-    for e in range(ne):
-        me = rho[e] * h[e]
-        md[e] += me / 3.0
-        md[e + 1] += me / 3.0
-        mo[e] = me / 6.0
-    m1 = md.copy()
-    for e in range(ne):
-        m1[e] += mo[e]
-        m1[e + 1] += mo[e]
+    m1 = np.empty(nv)
+    _nb.consistent_mass(rho, h, md, mo, m1)
     s = np.empty(ne)
     gr = np.empty(ne)
     gm = np.empty(ne)
@@ -71,6 +65,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     dp = np.empty(nv)
     du = np.zeros(nv)
     nn = np.empty(ne)
+    visc = np.empty(ne)
     dirn = np.empty(ne)
     g_prev = np.empty(ne)
     t_prev = np.empty(ne)
@@ -97,14 +92,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         ag = a_in[i]
         if not math.isfinite(ag):
             return 2
-        for j in range(nv):
-            cd[j] = a0 * md[j]
-        cd[0] += impedance
         for e in range(ne):
-            ke = (eta[e] + a1 * gm[e]) / h[e]
-            cd[e] += ke
-            cd[e + 1] += ke
-            co[e] = -ke + a0 * mo[e]
+            visc[e] = eta[e] + a1 * gm[e]
+        _nb.damping_bands(md, mo, a0, impedance, visc, h, cd, co)
         for j in range(nv):
             un[j] = u[j] + dt * v[j] + 0.5 * dt * dt * a[j]
         if first == 1:
@@ -137,23 +127,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
                 g_prev[e] = g
                 t_prev[e] = te
-            for j in range(nv):
-                jd[j] = c0 * md[j] + cc1 * cd[j]
-            for e in range(ne):
-                jd[e] += kk[e]
-                jd[e + 1] += kk[e]
-                jo[e] = c0 * mo[e] + cc1 * co[e] - kk[e]
-            # Thomas elimination on the free nodes first..ne: J du = −res
-            cp[first] = jo[first] / jd[first] if first < ne else 0.0
-            dp[first] = -res[first] / jd[first]
-            for j in range(first + 1, nv):
-                den = jd[j] - jo[j - 1] * cp[j - 1]
-                if j < ne:
-                    cp[j] = jo[j] / den
-                dp[j] = (-res[j] - jo[j - 1] * dp[j - 1]) / den
-            du[ne] = dp[ne]
-            for j in range(ne - 1, first - 1, -1):
-                du[j] = dp[j] - cp[j] * du[j + 1]
+            _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
+            _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
             dmax = 0.0
             umax = 0.0
             for j in range(first, nv):
@@ -257,7 +232,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8[::1], f8, f8)")
-_HELPERS = (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
+_HELPERS = _nb.HELPERS + (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
             _law.skeleton_stress, _law.tangent,
             _law.half_cycle_damage, _law.commit, _law.seed_booker, _law.generated_ratio)
 

@@ -29,6 +29,8 @@ import math
 
 import numpy as np
 
+from . import newmark_bands as _nb
+
 __all__ = ["available", "compiled", "shear_substeps"]
 
 _MAX_EXPONENT = 700.0  # as closures.solids_pressure
@@ -45,15 +47,9 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
     m = a_in.size
     md = np.zeros(nv)
     mo = np.empty(ne)
-    for e in range(ne):
-        me = rho[e] * h[e]
-        md[e] += me / 3.0
-        md[e + 1] += me / 3.0
-        mo[e] = me / 6.0
-    m1 = md.copy()  # M 1
-    for e in range(ne):
-        m1[e] += mo[e]
-        m1[e + 1] += mo[e]
+    m1 = np.empty(nv)  # M 1
+    _nb.consistent_mass(rho, h, md, mo, m1)
+    visc = np.empty(ne)
     gmax = np.empty(ne)
     cd = np.empty(nv)
     co = np.empty(ne)
@@ -93,14 +89,9 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
         for e in range(ne):
             x = 1.0 + abs(gamma[e]) / gamma_ref[e]
             gt0[e] = 1.0 / (x * x)
-        for j in range(nv):
-            cd[j] = a0 * md[j]
-        cd[0] += impedance
         for e in range(ne):
-            ke = (eta[e] + a1 * gmax[e] * gt0[e]) / h[e]
-            cd[e] += ke
-            cd[e + 1] += ke
-            co[e] = -ke + a0 * mo[e]
+            visc[e] = eta[e] + a1 * gmax[e] * gt0[e]
+        _nb.damping_bands(md, mo, a0, impedance, visc, h, cd, co)
         for j in range(nv):
             un[j] = u[j] + dt * v[j] + 0.5 * dt * dt * a[j]
         if first == 1:
@@ -121,23 +112,8 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
                 res[e] -= te
                 res[e + 1] += te
                 kk[e] = gmax[e] * (1.0 / (x * x)) / h[e]
-            for j in range(nv):
-                jd[j] = c0 * md[j] + cc1 * cd[j]
-            for e in range(ne):
-                jd[e] += kk[e]
-                jd[e + 1] += kk[e]
-                jo[e] = c0 * mo[e] + cc1 * co[e] - kk[e]
-            # Thomas elimination on the free nodes first..ne: J du = −res
-            cp[first] = jo[first] / jd[first] if first < ne else 0.0
-            dp[first] = -res[first] / jd[first]
-            for j in range(first + 1, nv):
-                den = jd[j] - jo[j - 1] * cp[j - 1]
-                if j < ne:
-                    cp[j] = jo[j] / den
-                dp[j] = (-res[j] - jo[j - 1] * dp[j - 1]) / den
-            du[ne] = dp[ne]
-            for j in range(ne - 1, first - 1, -1):
-                du[j] = dp[j] - cp[j] * du[j + 1]
+            _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
+            _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
             dmax = 0.0
             umax = 0.0
             for j in range(first, nv):
@@ -208,9 +184,10 @@ def _kernel():
     global _COMPILED, _TRIED
     if not _TRIED:
         _TRIED = True
-        from ..compiled import kernel
+        from ..compiled import group
 
-        _COMPILED = kernel("shear_substeps", _substeps, SIGNATURE)
+        out = group("shear_substeps", {"shear_substeps": (_substeps, SIGNATURE)}, helpers=_nb.HELPERS)
+        _COMPILED = None if out is None else out["shear_substeps"]
     return _COMPILED
 
 
