@@ -106,14 +106,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         for it in range(max_iter):
             if it == 25:
                 relax = 0.5  # still alternating: damped
-            for j in range(nv):
-                acc[j] = c0 * (un[j] - u[j]) - (v[j] / (nm_beta * dt) + ca * a[j])
-                vel[j] = v[j] + dt * ((1.0 - nm_gamma) * a[j] + nm_gamma * acc[j])
-            for j in range(nv):
-                res[j] = md[j] * acc[j] + cd[j] * vel[j] + m1[j] * ag
+            _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
+            _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
             for e in range(ne):
-                res[e] += mo[e] * acc[e + 1] + co[e] * vel[e + 1]
-                res[e + 1] += mo[e] * acc[e] + co[e] * vel[e]
                 g = (un[e + 1] - un[e]) / h[e]
                 te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
                 res[e] -= te
@@ -145,9 +140,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 break
         if not converged:
             return 1
-        for j in range(nv):
-            acc[j] = c0 * (un[j] - u[j]) - (v[j] / (nm_beta * dt) + ca * a[j])
-            vel[j] = v[j] + dt * ((1.0 - nm_gamma) * a[j] + nm_gamma * acc[j])
+        _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
             te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])

@@ -14,7 +14,7 @@ that call them (:mod:`twofluid.models.hysteretic_kernel`, :mod:`twofluid.models.
 """
 from __future__ import annotations
 
-__all__ = ["consistent_mass", "damping_bands", "jacobian_bands", "thomas"]
+__all__ = ["consistent_mass", "damping_bands", "jacobian_bands", "thomas", "newmark_rates", "inertia_residual"]
 
 
 def consistent_mass(rho, h, md, mo, m1):
@@ -77,4 +77,24 @@ def thomas(jd, jo, res, first, cp, dp, du):
         du[j] = dp[j] - cp[j] * du[j + 1]
 
 
-HELPERS = (consistent_mass, damping_bands, jacobian_bands, thomas)
+def newmark_rates(un, u, v, a, dt, beta, gamma, acc, vel):
+    """Newmark's acceleration and velocity at the end of a step from the displacement ``un``:
+    a′ = (u′ − u)/(β Δt²) − v/(β Δt) − (1/(2β) − 1) a, v′ = v + Δt ((1 − γ) a + γ a′)."""
+    c0 = 1.0 / (beta * dt * dt)
+    ca = 0.5 / beta - 1.0
+    for j in range(un.size):
+        acc[j] = c0 * (un[j] - u[j]) - (v[j] / (beta * dt) + ca * a[j])
+        vel[j] = v[j] + dt * ((1.0 - gamma) * a[j] + gamma * acc[j])
+
+
+def inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res):
+    """res = M a′ + C v′ + (M 1) a_g: the nodal residual before the elements' internal forces."""
+    ne = mo.size
+    for j in range(ne + 1):
+        res[j] = md[j] * acc[j] + cd[j] * vel[j] + m1[j] * ag
+    for e in range(ne):
+        res[e] += mo[e] * acc[e + 1] + co[e] * vel[e + 1]
+        res[e + 1] += mo[e] * acc[e] + co[e] * vel[e]
+
+
+HELPERS = (consistent_mass, damping_bands, jacobian_bands, thomas, newmark_rates, inertia_residual)

@@ -98,14 +98,9 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
             un[0] = 0.0
         converged = False
         for _ in range(max_iter):
-            for j in range(nv):
-                acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + (0.5 / 0.25 - 1.0) * a[j])
-                vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
-            for j in range(nv):
-                res[j] = md[j] * acc[j] + cd[j] * vel[j] + m1[j] * ag
+            _nb.newmark_rates(un, u, v, a, dt, 0.25, 0.5, acc, vel)
+            _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
             for e in range(ne):
-                res[e] += mo[e] * acc[e + 1] + co[e] * vel[e + 1]
-                res[e + 1] += mo[e] * acc[e] + co[e] * vel[e]
                 g = (un[e + 1] - un[e]) / h[e]
                 x = 1.0 + abs(g) / gamma_ref[e]
                 te = gmax[e] * (g / x)
@@ -128,9 +123,7 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
                 break
         if not converged:
             return 1
-        for j in range(nv):
-            acc[j] = c0 * (un[j] - u[j]) - (v[j] / (0.25 * dt) + (0.5 / 0.25 - 1.0) * a[j])
-            vel[j] = v[j] + dt * (0.5 * a[j] + 0.5 * acc[j])
+        _nb.newmark_rates(un, u, v, a, dt, 0.25, 0.5, acc, vel)
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
             x = 1.0 + abs(g) / gamma_ref[e]
