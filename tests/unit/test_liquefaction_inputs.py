@@ -284,15 +284,16 @@ def test_compliant_base_case(folder):
     """[shear_wave] base = "compliant": the record is the outcrop motion, the base node moves, the
     summary gives c = ρ_r V_r and the impedance ratio of the bottom element. The stiffest bedrock
     the ranges allow (α = 0.0053) moves the surface 1.6 % of its peak away from the rigid base,
-    a soft one (α = 0.44) 67 %: asserted < 5 % of the soft difference, and > 10 %. (The precise
-    checks against the exact solution are in test_liquefaction_base.py.)"""
+    a soft one (α = 0.44) 67 %: asserted < 5 % of the soft difference, and > 10 % (measured with the
+    thesis model, whose column is elastic at these strains). (The precise checks against the exact
+    solution are in test_liquefaction_base.py.)"""
     out = {}
     for name, sw in (("rigid", {}), ("soft", {"base": "compliant", "bedrock_density": 2000.0,
                                              "bedrock_shear_velocity": 300.0}),
                      ("stiff", {"base": "compliant", "bedrock_density": 5000.0,
                                 "bedrock_shear_velocity": 10000.0})):
         path = folder / f"{name}.toml"
-        path.write_text(_case(shear_wave=sw))
+        path.write_text(_case(shear_wave={"model": "thesis", **sw}))
         r = run_liquefaction(str(path), folder / name)
         assert r.status == "completed"
         out[name] = (r, _probes(folder / name))
