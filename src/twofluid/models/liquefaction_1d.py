@@ -527,13 +527,15 @@ class LiquefactionColumn:
         span = np.log(np.maximum(self.sigma_v0 / p_end, 1.0))
         need = floor - drained
         soft = (need > A * span) & (span > -np.log(0.95))  # r_u > 0.05 left: a softer reloading
-        a_new = np.where(soft, need / np.where(soft, span, 1.0), A)
+        # A′ at most what keeps the law's 1 − A′ ln(P_s/p_ref) ≥ 1/2 at σ′_v0 (a positive skeleton)
+        a_cap = 0.5 / np.log(np.maximum(self.sigma_v0 / p_ref, np.e))
+        a_new = np.where(soft, np.minimum(need / np.where(soft, span, 1.0), np.maximum(a_cap, A)), A)
         nb = np.array(n_bar, dtype=float)
         # P_s(n, n̄′, A′) = P_s(n, n̄, A): 1 − n̄′ = (1 − n)(1 − A′ ln(P_end/p_ref))
         nb = np.where(soft, 1.0 - (1.0 - n) * (1.0 - a_new * np.log(p_end / p_ref)), nb)
-        rest = np.where(~soft, np.maximum(need - A * span, 0.0), 0.0)
+        rest = np.maximum(need - a_new * span, 0.0)  # what the reloading cannot make: a drop of n̄
         nb = nb - (1.0 - nb) * np.expm1(rest)
-        st[:ns, _hyst_law.S_EPS] += np.where(soft, need - A * span, rest)
+        st[:ns, _hyst_law.S_EPS] += np.maximum(need - A * span, 0.0)
         if np.any(soft):
             from dataclasses import replace
 
