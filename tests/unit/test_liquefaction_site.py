@@ -358,3 +358,32 @@ def test_the_status_line_says_a_run_stopped_early(tmp_path, capsys):
     assert "completed at t = 0.5 s" in out
     assert "stopped at the end time 0.5 s before dissipation: max r_u = " in out
     assert "% of the final settlement" in out
+
+
+def test_summary_separates_shaking_from_seepage_and_low_passes_the_surface(layered):
+    """Item 5 of the liquefaction issue: the liquefied range by shaking and after it (seepage or the
+    reconsolidation floor) partition the elements that ever reached r_u > 0.95; the low-passed
+    surface PGA is at most the raw one; the simplified procedure's run a_max is the low-passed peak
+    of the total-stress companion run; Sa at 0.1-1 s is given."""
+    s = layered.summary
+    total = s["liquefied_thickness_m"]
+    assert s["liquefied_thickness_shaking_m"] + s["liquefied_thickness_after_shaking_m"] == pytest.approx(total)
+    sh = s["shaking"]
+    assert 0.0 < sh["peak_surface_acceleration_low_passed_g"] <= sh["peak_surface_acceleration_g"] * (1 + 1e-12)
+    ts = sh["peak_surface_acceleration_total_stress_low_passed_g"]
+    assert ts is not None and s["simplified_procedure"]["a_max_run_g"] == pytest.approx(ts)
+    assert "total stress" in s["simplified_procedure"]["a_max_run_definition"]
+    assert sorted(float(k) for k in sh["surface_Sa_g"]) == [0.1, 0.2, 0.3, 0.5, 1.0]
+    assert all(v > 0.0 for v in sh["surface_Sa_g"].values())
+
+
+def test_total_stress_companion_generates_no_pore_pressure():
+    """The companion run holds n̄ (every layer liquefiable = false): its column never leaves the
+    geostatic state, and its surface motion is that of a column whose strength and stiffness follow
+    the initial effective stress."""
+    from twofluid.runners.liquefaction import total_stress_surface
+
+    c = _coarse()
+    t, a = total_stress_surface(c)
+    assert t.size > 100 and np.all(np.diff(t) > 0.0) and np.all(np.isfinite(a))
+    assert t[-1] == pytest.approx(c["ground_motion"]["duration"] + c["shear_wave"]["free_vibration"])
