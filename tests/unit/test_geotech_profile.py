@@ -134,3 +134,19 @@ def test_docs_worked_example_is_current():
             decimals = len(cell.split(".")[1]) if "." in cell else 0
             assert abs(float(cell) - col[i]) <= 0.5 * 10.0 ** -decimals + 1e-12, (i, cell, col[i])
     assert f"Total settlement {1e3 * r.total_settlement_m:.1f} mm" in doc
+
+
+def test_a_layer_given_by_spt_or_cpt_takes_its_own_route():
+    """(N1)60cs given: the same FS as the Dr that 46 Dr² maps to it; q_c1Ncs given: Boulanger &
+    Idriss's CPT CRR, C_σ and MSF_max (not the SPT curve at the equivalent Dr)."""
+    from twofluid.geotech import correlations as co
+
+    args = ([3.0], [3.5], [60e3], [40e3])
+    by_dr = simplified_procedure(*args, [47.0], True, 0.2, 7.5)
+    by_n = simplified_procedure(*args, [80.0], True, 0.2, 7.5, n160cs=[46.0 * 0.47 ** 2])
+    assert by_n.FS[0] == pytest.approx(by_dr.FS[0], rel=1e-12)
+    q = 100.0
+    by_q = simplified_procedure(*args, [80.0], True, 0.2, 7.5, qc1ncs=[q])
+    assert by_q.CRR_75[0] == pytest.approx(float(co.crr_75_cpt(q)), rel=1e-12)
+    assert by_q.K_sigma[0] == pytest.approx(float(co.k_sigma_cpt(40e3, q)), rel=1e-12)
+    assert by_q.relative_density[0] == pytest.approx(float(co.dr_from_qc1ncs(q)), rel=1e-12)

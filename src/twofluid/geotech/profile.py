@@ -141,8 +141,8 @@ def check_relative_density(dr_percent, source: str, key: str) -> None:
 
 
 def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relative_density,
-                         liquefiable, a_max_g, magnitude, *, msf_form: str = "ib2014"
-                         ) -> SimplifiedResult:
+                         liquefiable, a_max_g, magnitude, *, msf_form: str = "ib2014", n160cs=None,
+                         qc1ncs=None) -> SimplifiedResult:
     """Factor of safety and post-liquefaction settlement of each row of a profile.
 
     Parameters
@@ -162,6 +162,12 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
         Peak horizontal ground-surface acceleration [g], in [0, 3].
     magnitude : float
         Moment magnitude M_w, in [5, 9].
+    n160cs, qc1ncs : array (n,) or scalar, optional
+        A row's clean-sand (N1)60cs or q_c1Ncs where known (0 or NaN: not given). A row with
+        q_c1Ncs takes Boulanger & Idriss's (2014) CPT route (CRR, C_σ, MSF_max from q_c1Ncs) and
+        Dr = 0.478 q^0.264 − 1.063; one with (N1)60cs takes it and Dr = √(N/46); the others
+        (N1)60cs = 46 Dr² from ``relative_density``. The liquefaction column's hysteretic model is
+        calibrated to the same relations (:mod:`twofluid.models.hysteretic_sand`).
     msf_form : {"ib2014", "ib2008"}
         Magnitude scaling factor: Boulanger & Idriss (2014), density-dependent
         (default), or Idriss & Boulanger (2008).
@@ -218,12 +224,28 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
 
     z_mid = 0.5 * (z_top + z_bot)
     h = z_bot - z_top
-    n160 = sp.n160_from_relative_density(dr)
+    from . import correlations as co
+
+    def given(name, value):
+        x = np.zeros(n) if value is None else np.nan_to_num(_rows(name, value, n), nan=0.0)
+        if np.any(x < 0.0):
+            _fail(name, "must be >= 0 in every row (0: not given)")
+        return x
+    nspt, qcpt = given("n160cs", n160cs), given("qc1ncs", qc1ncs)
+    cpt, spt = qcpt > 0.0, (nspt > 0.0) & ~(qcpt > 0.0)
+    dr = np.where(cpt, np.clip(co.dr_from_qc1ncs(np.maximum(qcpt, 1.0)), 5.0, 100.0) / 100.0,
+                  np.where(spt, np.minimum(np.sqrt(nspt / 46.0), 1.0), dr))
+    dr_percent = 100.0 * dr
+    n160 = np.where(spt, nspt, sp.n160_from_relative_density(dr))
     rd = sp.stress_reduction(z_mid, mag)
     csr = sp.cyclic_stress_ratio(s_v, s_e, a_max, rd)
-    crr = sp.crr_75(n160)
-    msf = sp.msf_ib2014(mag, n160) if msf_form == "ib2014" else sp.msf_ib2008(mag) * np.ones(n)
-    ks = sp.k_sigma(s_e, n160)
+    crr = np.where(cpt, co.crr_75_cpt(qcpt), sp.crr_75(n160))
+    if msf_form == "ib2014":
+        msf_max = np.where(cpt, co.msf_max_cpt(qcpt), co.msf_max_spt(n160))
+        msf = 1.0 + (msf_max - 1.0) * (8.64 * np.exp(-mag / 4.0) - 1.325)
+    else:
+        msf = sp.msf_ib2008(mag) * np.ones(n)
+    ks = np.where(cpt, co.k_sigma_cpt(s_e, np.maximum(qcpt, 1.0)), sp.k_sigma(s_e, n160))
     can = liq & (s_e < s_v)
     fs = np.where(can, sp.factor_of_safety(crr, msf, ks, csr), np.inf)
     eps = np.where(can, settlement.volumetric_strain(fs, dr), 0.0)

@@ -31,11 +31,11 @@ import math
 import numpy as np
 
 from ..closures import hysteretic as law
+from ..geotech import correlations as co
 from ..geotech.correlations import csr_slope_b, residual_strength_ratio_ib2008
 from ..geotech.simplified import crr_75, k_sigma
 
-__all__ = ["derive", "parameters", "menq_fit", "bolton_friction_angle",
-           "cpt_crr_75", "cpt_k_sigma", "DEFAULTS", "K0"]
+__all__ = ["derive", "parameters", "menq_fit", "bolton_friction_angle", "DEFAULTS", "K0"]
 
 K0 = 0.5  # at-rest earth pressure coefficient of the element tests and of σ′_m [-]
 PA = 101325.0
@@ -64,23 +64,6 @@ def bolton_friction_angle(dr, p_mean_pa):
     return 33.0 + 3.0 * ir
 
 
-def cpt_crr_75(qc1ncs):
-    """CRR_M7.5,1atm from q_c1Ncs, Boulanger & Idriss (2014) [-].
-
-    >>> round(float(cpt_crr_75(100.0)), 4)
-    0.1373
-    """
-    q = np.asarray(qc1ncs, dtype=float)
-    return np.exp(q / 113.0 + (q / 1000.0) ** 2 - (q / 140.0) ** 3 + (q / 137.0) ** 4 - 2.80)
-
-
-def cpt_k_sigma(sigma_v_eff_pa, qc1ncs):
-    """K_σ = 1 − C_σ ln(σ′_v/P_a) ≤ 1.1, C_σ = 1/(37.3 − 8.27 q_c1Ncs^0.264) ≤ 0.3 [-]."""
-    q = np.minimum(np.asarray(qc1ncs, dtype=float), 211.0)
-    c = np.minimum(1.0 / (37.3 - 8.27 * q ** 0.264), 0.3)
-    return np.minimum(1.0 - c * np.log(np.asarray(sigma_v_eff_pa) / PA), 1.1)
-
-
 def derive(*, n160cs=None, qc1ncs=None, dr=None, sigma_v0, friction_angle=None):
     """Correlated parameters of one soil at σ′_v0 [Pa]: a dict of crr, b, tan_phi,
     residual_strength [Pa], gamma_lim, dr (fraction), n160cs. Give one of (N1)60cs, q_c1Ncs or Dr
@@ -88,10 +71,10 @@ def derive(*, n160cs=None, qc1ncs=None, dr=None, sigma_v0, friction_angle=None):
     sig = float(sigma_v0)
     if qc1ncs is not None:
         q = float(qc1ncs)
-        dr_f = min(max(0.478 * q ** 0.264 - 1.063, 0.05), 1.0)
+        dr_f = min(max(float(co.dr_from_qc1ncs(q)) / 100.0, 0.05), 1.0)
         n = 46.0 * dr_f * dr_f
-        crr = float(cpt_crr_75(q) * cpt_k_sigma(sig, q))
-        msf_max = min(1.09 + (q / 180.0) ** 3, 2.2)
+        crr = float(co.crr_75_cpt(q) * co.k_sigma_cpt(sig, q))
+        msf_max = float(co.msf_max_cpt(q))
     else:
         if n160cs is not None:
             n = float(n160cs)
@@ -100,7 +83,7 @@ def derive(*, n160cs=None, qc1ncs=None, dr=None, sigma_v0, friction_angle=None):
             dr_f = float(dr) / 100.0
             n = 46.0 * dr_f * dr_f
         crr = float(crr_75(n) * k_sigma(sig, n))
-        msf_max = min(1.09 + (n / 31.5) ** 2, 2.2)
+        msf_max = float(co.msf_max_spt(n))
     p_mean = sig * (1.0 + 2.0 * K0) / 3.0
     phi = float(bolton_friction_angle(dr_f, p_mean)) if friction_angle is None else float(friction_angle)
     tan_phi = math.tan(math.radians(phi))
