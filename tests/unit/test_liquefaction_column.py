@@ -372,7 +372,7 @@ def test_medium_sand_is_determinate(bundled_runs):
     """With the liquefied-soil viscosity of 1 000 Pa·s a 1e-5 relative change of the drag moves the
     0.8 mm sand's liquefied depth range by at most one element and its settlement by at most 2 %,
     and halving both time steps moves the settlement by at most 5 % (measured: the same range,
-    3.70 cm in every member; without the viscosity 7.0–10.4 cm, docs/liquefaction.md). Members run
+    3.70 cm in every member; without the viscosity 7.0–10.4 cm, CHANGELOG.md's measurement history). Members run
     through scripts/liquefaction_ensemble.py, the script behind those tables."""
     ensemble = _ensemble()
     c = load_case("liquefaction-elcentro")
