@@ -20,7 +20,7 @@ only and never feeds back into P_s). Above the water table (crust) P_s and G_max
 
 θ = 0 is the hyperbola x/(1 + x) (Hardin & Drnevich), θ = 1 elastic–perfectly plastic.
 
-**Unloading and reloading.** From the open reversal (γ_0, τ_0), moving in direction d:
+**Unloading and reloading.** From the last reversal (γ_0, τ_0), moving in direction d:
 
     τ = τ_0 + d τ_max [F (2 f(x/2) − f(x)) + f(x)],   x = |γ − γ_0|/γ_r,  f the backbone ratio,
 
@@ -28,10 +28,7 @@ with F = p1 − p2 (1 − G(γ_m)/G_max)^p3 the MRDF factor of Phillips & Hashas
 largest strain so far γ_m (F = 1: Masing's rule). Beyond ±γ_m in the direction of motion the
 branch does not go past the backbone. Reversal stresses are stored as τ/τ_max, so when τ_max
 shrinks they shrink with it (the mapping of Matasovic & Vucetic): no stress of an old reversal
-ever exceeds the new strength. The open reversals are a stack (extended
-Masing rules, 16 points kept): a strain that passes the reversal before the last closes that loop and
-goes on along the branch it had left, one past the mirror of the oldest point is on the backbone, so
-small inner cycles neither ratchet the stress nor drift the strain.
+ever exceeds the new strength.
 
 **Cyclic mobility.** Dilation of the skeleton stiffens it again once the strain leaves a zone
 |γ − γ_c| ≤ γ_d around the centre of the cycles: the strength envelope is
@@ -105,14 +102,10 @@ S_LIQ = 13  # 1 once the element has liquefied (D ≥ 1)
 S_GC = 14  # centre of the cycles γ_c [-]
 S_GD = 15  # half-width of the zone without dilation γ_d [-]
 S_TLIQ = 16  # time of liquefaction [s] (−1: not yet)
-S_NM = 17  # number of open reversal points on the memory stack
-S_MEM = 18  # stack: (γ, τ/τ_max) pairs, oldest first
-NM_MAX = 16  # open reversal points kept (a full stack forgets its oldest)
-NSTATE = S_MEM + 2 * NM_MAX
+NSTATE = 17
 STATE_COLUMNS = ("gamma", "tau_ratio", "tau", "gamma_rev", "tau_ratio_rev", "tau_rev", "direction",
                  "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
-                 "liquefied", "gamma_centre", "gamma_d", "t_liquefied", "open_reversals") + tuple(
-                     f"{q}_{i}" for i in range(NM_MAX) for q in ("gamma_open", "tau_ratio_open"))
+                 "liquefied", "gamma_centre", "gamma_d", "t_liquefied")
 
 # ---- columns of the per-element parameter array
 P_K2 = 0  # Seed–Idriss K2max [-]
@@ -226,54 +219,31 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     moving in direction ``d`` (±1, fixed over a sub-step's Newton iterations) from its committed
     state, with strength ``s`` [Pa] and reference strain ``gr`` = s/G_max [-].
 
-    The branch's origin comes from the stack of open reversal points (extended Masing rules): a
-    reversal at the committed strain is pushed for the trial; a strain that passes the point below
-    the top of the stack in its direction closes that loop (both points dropped: the older branch
-    goes on), and one past the mirror of the oldest point is back on the backbone. Each branch is
-    an odd function of γ − γ_0, smooth through its origin, so iterates on either side of the
-    committed strain see one smooth branch."""
+    Each branch is an odd function of γ − γ_0, smooth through its origin, so iterates on either
+    side of the committed strain see one smooth branch; ``d`` only chooses the origin: the
+    committed point where ``d`` reverses the last direction, else the last reversal."""
     d_old = st[e, S_DIR]
     th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
     reversal = d_old != 0.0 and d != d_old
-    k = int(st[e, S_NM])
-    extra = reversal
-    while True:
-        m = k + (1 if extra else 0)
-        if m >= 2:
-            gp = st[e, S_MEM + 2 * (m - 2)]  # the entry below the top (real when m-2 < k)
-            if d * (g - gp) >= 0.0:
-                if extra:
-                    extra = False
-                    k -= 1
-                else:
-                    k -= 2
-                continue
-        elif m == 1:
-            g1 = st[e, S_G] if extra else st[e, S_MEM]
-            if d * g >= abs(g1):
-                if extra:
-                    extra = False
-                else:
-                    k -= 1
-                continue
-        break
-    m = k + (1 if extra else 0)
-    if m == 0:
+    if st[e, S_NREV] == 0.0 and not reversal:  # first loading: the backbone
         tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
         return _envelope(g, d, tau, st, par, e, s)
-    if extra:
+    if reversal:
         g0 = st[e, S_G]
         t0 = st[e, S_T]
     else:
-        g0 = st[e, S_MEM + 2 * (k - 1)]
-        t0 = st[e, S_MEM + 2 * (k - 1) + 1]
+        g0 = st[e, S_GREV]
+        t0 = st[e, S_TREV]
     gm = st[e, S_GM]
     xm = gm / gr
     red = gqh_ratio(xm, th1, th2, th3, th4, th5) / xm if xm > 0.0 else 1.0
+    # MRDF's factor; a liquefied element flows between its dilation stops on Masing branches
     fm = 1.0 if st[e, S_LIQ] > 0.0 else par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
+    # the branch's scale: 1 from a reversal inside the strength; from a stress the dilation carried
+    # above it, wider, so that the branch still reaches the strength the other way (asymptote d τ_max)
     kappa = max(1.0, abs(d - t0) / (1.0 + fm)) if abs(t0) > 1.0 else 1.0
     tau = t0 * s + s * kappa * _branch((g - g0) / (kappa * gr), fm, th1, th2, th3, th4, th5)
-    if d * g > gm:
+    if d * g > gm:  # beyond the largest strain so far: not past the backbone
         tb = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
         if (d > 0.0 and tau > tb) or (d < 0.0 and tau < tb):
             tau = tb
@@ -306,24 +276,6 @@ def commit(g, d, tau, st, par, e, s, t):
     Returns the total damage."""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
-    k = int(st[e, S_NM])
-    if d_old != 0.0 and d != d_old:  # push the reversal point
-        if k == NM_MAX:  # full: forget the oldest
-            for j in range(2 * NM_MAX - 2):
-                st[e, S_MEM + j] = st[e, S_MEM + j + 2]
-            k -= 1
-        st[e, S_MEM + 2 * k] = g_old
-        st[e, S_MEM + 2 * k + 1] = st[e, S_T]
-        k += 1
-    while True:  # loop closure
-        if k >= 2 and d * (g - st[e, S_MEM + 2 * (k - 2)]) >= 0.0:
-            k -= 2
-            continue
-        if k == 1 and d * g >= abs(st[e, S_MEM]):
-            k = 0
-            continue
-        break
-    st[e, S_NM] = k
     if d_old != 0.0 and d != d_old:  # the half cycle ended at g_old
         st[e, S_D] += st[e, S_DPART]
         st[e, S_DPART] = 0.0
@@ -361,7 +313,7 @@ def new_state(n_elements: int, par=None) -> np.ndarray:
     """A virgin state array (no shear history) for ``n_elements`` elements; γ_d from ``par``.
 
     >>> new_state(2).shape
-    (2, 50)
+    (2, 17)
     """
     st = np.zeros((n_elements, NSTATE))
     st[:, S_TLIQ] = -1.0
