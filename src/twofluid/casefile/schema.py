@@ -535,7 +535,9 @@ def markdown() -> str:
              "quantities derived from several keys are checked (terminal and fluidization velocities, drag, "
              "pressure scales, at most 1e7 time steps; 2D: the mesh, its boundary groups and the heights), so "
              "a combination that cannot run is refused before anything is computed.",
-             "`[case] model` chooses the equation set; each model lists its sections below.", ""]
+             "`[case] model` chooses the equation set; each model lists its sections below. From Python, "
+             "`twofluid.load_case` returns the case nested as the TOML file: `[closures.drag] law` is "
+             "`case[\"closures\"][\"drag\"][\"law\"]`.", ""]
     seen: set[str] = set()
     for model, schema in SCHEMAS.items():
         arrays = ", ".join(f"[[{a}]]" for a in ARRAYS.get(model, {}))
