@@ -85,6 +85,7 @@ def test_nested_and_flat_input_give_the_same_case():
     warned, again = _flat_accesses(lambda: revalidate(flat, "old.toml"))
     assert again == nested
     assert len(warned) == 1  # one warning per case given, naming the nested form
+    assert warned[0].filename == __file__  # the line that gave the case (shown by default in a script)
     assert 'case["closures"]["drag"]' in str(warned[0].message) and "[closures.drag]" in str(warned[0].message)
     both = copy.deepcopy(flat)
     both["closures"] = {"drag": nested["closures"]["drag"]}
@@ -121,6 +122,8 @@ def test_flat_access_reads_tests_and_writes_the_nested_section_with_one_warning_
     warned, _ = _flat_accesses(assign)
     assert len(warned) == 1 and 'case["boundary"]["bottom"]' in str(warned[0].message)
     assert case["boundary"]["bottom"] is new and "boundary.bottom" not in dict.keys(case)
+    warned, _ = _flat_accesses(lambda: case.update({"closures.drag": {"law": "wen_yu"}}, time=case["time"]))
+    assert len(warned) == 1 and warned[0].filename == __file__ and case["closures"]["drag"] == {"law": "wen_yu"}
     with pytest.raises(KeyError):
         _flat_accesses(lambda: case["boundary.left"])
     warned, popped = _flat_accesses(lambda: case.pop("boundary.top"))

@@ -11,7 +11,10 @@ Until version 0.1.0, ``load_case`` returned the sections under flat dotted keys
 """
 from __future__ import annotations
 
+import os
+import sys
 import warnings
+from pathlib import Path
 
 __all__ = ["Case", "FlatKeyWarning", "nest", "sections", "section", "nested_spelling", "is_group"]
 
@@ -31,10 +34,24 @@ def nested_spelling(key: str) -> str:
     return "case" + "".join(f"[{p!r}]" for p in key.split(".")).replace("'", '"')
 
 
-def _warn(key: str) -> None:
+def _warn(key: str, stacklevel: int = 3) -> None:
+    """One warning for a flat access, attributed to the line that made it (``Case`` method: 3)."""
     warnings.warn(FlatKeyWarning(
         f'twofluid: case["{key}"]: flat dotted section keys are deprecated and will be removed in the '
-        f"next release; use {nested_spelling(key)}, the nesting of the TOML file"), stacklevel=3)
+        f"next release; use {nested_spelling(key)}, the nesting of the TOML file"), stacklevel=stacklevel)
+
+
+_PACKAGE = str(Path(__file__).resolve().parent.parent) + os.sep
+
+
+def caller_stacklevel() -> int:
+    """The ``stacklevel`` of the innermost frame outside the twofluid package, for a warning about
+    what the caller gave: Python shows a ``DeprecationWarning`` by default only where it is
+    attributed to ``__main__`` (a script, a notebook), not to the package's own modules."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(_PACKAGE):
+        frame, level = frame.f_back, level + 1
+    return level
 
 
 def _is_flat(case: dict, key) -> bool:
@@ -136,6 +153,17 @@ class Case(dict):
                 raise KeyError(f"{key}: {key.rpartition('.')[0]} is not a table of sections")
             return node.setdefault(last, default)
         return dict.setdefault(self, key, default)
+
+    def update(self, other=(), /, **kw) -> None:
+        for key, value in dict(other, **kw).items():
+            if _is_flat(self, key):
+                _warn(key, stacklevel=4)
+                node, last = self._parent(key, create=True)
+                if node is None:
+                    raise KeyError(f"{key}: {key.rpartition('.')[0]} is not a table of sections")
+                node[last] = value
+            else:
+                dict.__setitem__(self, key, value)
 
     def __reduce__(self):  # pickled (Dask workers) and deep-copied as a Case, nested
         return (Case, (dict(self),))

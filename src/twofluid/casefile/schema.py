@@ -500,12 +500,12 @@ def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
 
     dotted = [k for k, v in doc.items() if isinstance(k, str) and "." in k and isinstance(v, dict)]
     if dotted:
-        from .case import FlatKeyWarning, nested_spelling
+        from .case import FlatKeyWarning, caller_stacklevel, nested_spelling
 
         warnings.warn(FlatKeyWarning(
             f"{source}: sections given by flat dotted names ({', '.join(dotted)}) are deprecated and will "
             f"be refused in the next release; nest them as the TOML file does: "
-            f"{nested_spelling(dotted[0])} in Python, [{dotted[0]}] in TOML"), stacklevel=3)
+            f"{nested_spelling(dotted[0])} in Python, [{dotted[0]}] in TOML"), stacklevel=caller_stacklevel())
     walk("", doc)
     return flat
 
