@@ -6,7 +6,7 @@ inside tables in TOML, and :func:`~twofluid.casefile.loader.load_case` returns t
 :func:`sections` gives that flat view for code that walks the sections by schema name.
 
 Until version 0.1.0, ``load_case`` returned the sections under flat dotted keys
-(``case["closures"]["drag"]``). A :class:`Case` still answers them for one more release, with a
+(``case["closures.drag"]``). A :class:`Case` still answers them for one more release, with a
 :class:`FlatKeyWarning` (a ``DeprecationWarning``) that names the nested spelling.
 """
 from __future__ import annotations
@@ -20,7 +20,7 @@ __all__ = ["Case", "FlatKeyWarning", "nest", "sections", "section", "nested_spel
 
 
 class FlatKeyWarning(DeprecationWarning):
-    """A case section looked up by its flat dotted name (``case["closures"]["drag"]``): it still
+    """A case section looked up by its flat dotted name (``case["closures.drag"]``): it still
     works in this release and is removed in the next; the nesting of the TOML file replaces it
     (``case["closures"]["drag"]``)."""
 
