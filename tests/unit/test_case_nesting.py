@@ -141,12 +141,14 @@ def test_nested_access_raises_no_warning():
 
 def test_a_flat_access_is_shown_by_default_in_a_script():
     """Python shows a DeprecationWarning by default where __main__ triggers it: a user's script."""
+    import os
     import subprocess
     import sys
 
     code = ("import twofluid\nc = twofluid.load_case('settling-illite')\nc['closures.drag']\n"
             "c['closures.drag']\n")  # the second access is on another line: two lines of warning
-    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONWARNINGS"}  # Python's default filters
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=env)
     assert p.returncode == 0, p.stderr
     lines = [ln for ln in p.stderr.splitlines() if "FlatKeyWarning" in ln]
     assert len(lines) == 2 and 'use case["closures"]["drag"]' in lines[0]
