@@ -21,6 +21,7 @@ import tomllib
 import twofluid.runners.liquefaction as liq
 from twofluid.casefile.loader import load_case
 from twofluid.casefile.schema_liquefaction import layer_elements
+from twofluid.ensemble.members import locate
 
 
 def _with_drag_factor(factor: float):
@@ -62,8 +63,8 @@ def set_key(case: dict, item: str) -> None:
         for la in targets:
             la[parts[-1]] = v
         return
-    section, name = key.rsplit(".", 1)
-    case[section][name] = v
+    node, name = locate(case, key)  # a path through the nested case: closures.drag.law
+    node[name] = v
 
 
 def spread(members: list[dict], element_size: float) -> dict:

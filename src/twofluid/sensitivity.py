@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .casefile.case import sections
 from .casefile.loader import load_case
 from .casefile.schema import CaseError, revalidate
 from .ensemble.members import Member, case_hash
@@ -112,8 +113,8 @@ def _check_figure(figure: str, case: dict, source: str) -> str:
 
 def _linked(case: dict, section: str, key: str) -> dict:
     """Keys moved with a change of [section] key: the inlet's first porosity follows the bed's."""
-    if section == "initial" and key == "porosity" and case.get("boundary.bottom", {}).get("porosities"):
-        por = case["boundary.bottom"]["porosities"]
+    if section == "initial" and key == "porosity" and case.get("boundary", {}).get("bottom", {}).get("porosities"):
+        por = case["boundary"]["bottom"]["porosities"]
         return {"boundary.bottom.porosities": [case[section][key]] + list(por[1:])}
     return {}
 
@@ -123,7 +124,7 @@ def _inlet_velocities(case: dict) -> dict[str, list]:
     from .casefile.builder import closures, inlet_velocities, materials
 
     out = {}
-    for where, b in case.items():
+    for where, b in sections(case).items():
         if where.startswith("boundary") and isinstance(b, dict) and b.get("kind") == "inlet" and b.get("porosities"):
             try:
                 mat = materials(case)

@@ -86,7 +86,7 @@ def _dilute_riser(nx=12, ny=24):
     """The pipe-flow case fed as a dilute riser: 0.078 m/s liquid, 0.0011 m/s solids, n = 0.9727."""
     case = load_case("pipe-flow")
     case["mesh"].update(nx=nx, ny=ny)
-    case["boundary.bottom"].update(velocities=[0.078], solids_velocity=0.0011)
+    case["boundary"]["bottom"].update(velocities=[0.078], solids_velocity=0.0011)
     case["initial"]["porosity"] = 0.9727
     case["output"]["plots"] = False
     return case

@@ -37,7 +37,7 @@ def front_width(y, n, n0, n1):
 def step_case(n0, n1, bed=0.7, end=20.0):
     c = load_case("fluidized-bed-step")  # (its inlet is given by velocities, its bed by a settled height)
     c["initial"].update(state="uniform", porosity=n0, bed_height=bed, settled_height=-1.0)
-    c["boundary.bottom"].update(porosities=[n0, n1], velocities=[])
+    c["boundary"]["bottom"].update(porosities=[n0, n1], velocities=[])
     c["time"]["end"] = end
     return c
 

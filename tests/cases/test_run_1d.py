@@ -143,7 +143,7 @@ def test_initial_pressure_is_that_of_the_unstepped_inlet(model):
     for por in ([0.65, 0.716], [0.65, 0.65]):
         c = load_case("fluidized-bed-step")
         c["case"]["model"] = model
-        c["boundary.bottom"]["porosities"] = por
+        c["boundary"]["bottom"]["porosities"] = por
         b = build(c)
         P[por[-1]] = column_1d._initial_pressure(b.model, b.state, b.dt).P
     assert np.abs(P[0.716] - P[0.65]).max() < b.settings.tol * np.abs(P[0.65]).max()

@@ -14,7 +14,7 @@ def model_of(name: str, model: str, element: str | None = None, drag: str | None
     if element:
         case["mesh"]["element"] = element
     if drag:
-        case["closures.drag"]["law"] = drag
+        case["closures"]["drag"]["law"] = drag
     return build(case)
 
 

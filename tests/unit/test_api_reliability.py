@@ -129,7 +129,7 @@ def test_the_resolved_2d_case_holds_only_what_acts(tmp_path):
     text = (tmp_path / "r.toml").read_text()
     assert "[boundary.left]" not in text and 'kind = "none"' not in text and "file = " not in text
     again = load_case(tmp_path / "r.toml")
-    assert again["boundary.cut"] == case["boundary.cut"] and again["mesh"] == case["mesh"]
+    assert again["boundary"]["cut"] == case["boundary"]["cut"] and again["mesh"] == case["mesh"]
     one_d = load_case("settling-illite")
     write_resolved_case(tmp_path / "s.toml", one_d)
     assert "area_top" not in (tmp_path / "s.toml").read_text()

@@ -19,9 +19,9 @@ def classic_fluidized_bed():
     inlet by porosities (0.65 -> 0.716), Gidaspow's drag (the case now gives velocities, a settled
     height and the ergun_richardson_zaki law)."""
     c = load_case("fluidized-bed-step")
-    c["closures.drag"].update(law="gidaspow", blend_width=0.02)
+    c["closures"]["drag"].update(law="gidaspow", blend_width=0.02)
     c["initial"].update(state="uniform", porosity=0.65, bed_height=0.7, settled_height=-1.0)
-    c["boundary.bottom"].update(porosities=[0.65, 0.716], velocities=[])
+    c["boundary"]["bottom"].update(porosities=[0.65, 0.716], velocities=[])
     return c
 
 
@@ -44,7 +44,7 @@ def test_bundled_1d_cases_raise_no_range_warning():
 
 def test_stokes_drag_with_millimetre_glass_in_water_warns_with_the_key_and_range():
     c = bed()
-    c["closures.drag"]["stokes"] = True
+    c["closures"]["drag"]["stokes"] = True
     c["materials"]["particle_diameter"] = 1e-3
     with pytest.warns(CaseWarning) as rec:
         b = built(c)
@@ -58,8 +58,8 @@ def test_stokes_drag_with_millimetre_glass_in_water_warns_with_the_key_and_range
 
 def test_ergun_alone_at_a_fluidized_porosity_warns():
     c = bed(porosity=0.85)
-    c["closures.drag"]["law"] = "ergun"
-    c["boundary.bottom"]["porosities"] = [0.85, 0.86]
+    c["closures"]["drag"]["law"] = "ergun"
+    c["boundary"]["bottom"]["porosities"] = [0.85, 0.86]
     with pytest.warns(CaseWarning, match=r"\[closures.drag\] law = 'ergun': valid for porosities 0–0.8"):
         built(c)
 
@@ -78,7 +78,7 @@ def test_fluidized_initial_state_takes_the_porosity_the_inlet_velocity_holds():
 
 def test_fluidized_state_beyond_the_terminal_velocity_is_a_one_line_error():
     c = bed(state="fluidized", porosity=-1.0)
-    c["boundary.bottom"].update(porosities=[], velocities=[1.0, 1.0])
+    c["boundary"]["bottom"].update(porosities=[], velocities=[1.0, 1.0])
     with pytest.raises(CaseError, match=r"\[initial\] state = 'fluidized'.*terminal velocity"):
         built(c)
 
@@ -119,7 +119,7 @@ def test_step_change_reports_t1_from_the_step_and_the_bed_pressure_drop(tmp_path
     c["case"]["model"] = "reduced_1d"
     c["mesh"]["elements"] = 50
     c["initial"]["bed_height"] = 0.3
-    c["boundary.bottom"]["times"] = [2.0, 2.0]  # the step at t = 2 s
+    c["boundary"]["bottom"]["times"] = [2.0, 2.0]  # the step at t = 2 s
     c["time"].update(end=30.0, step=0.05)
     c["output"].update(times=[], probes=[], probe_interval=1.0)
     r = run_case(revalidate(c, "test.toml"), tmp_path)

@@ -129,7 +129,7 @@ def test_case_key_adds_the_fluidized_pressure_to_the_models_ps():
 
     case = load_case("slis-step-change")
     on = build(case).model
-    case["closures.solids_pressure"]["fluidized"] = "none"
+    case["closures"]["solids_pressure"]["fluidized"] = "none"
     off = build(case).model
     n, nb = np.array([0.5, 0.7, 1.0]), np.full(3, 0.4)
     pe = solids_pressure.foscolo_gibilaro(n, 3e-3, 1140.0, 998.2, 9.81)

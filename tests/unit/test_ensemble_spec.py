@@ -50,9 +50,11 @@ count = 3
     zipped = {(m.params["materials.liquid_density"], m.params["materials.liquid_viscosity"]) for m in ms}
     assert zipped == {(870.0, 0.5e-3), (880.0, 0.6e-3)}
     m = ms[-1]
-    for key, value in m.params.items():
-        section, _, name = key.rpartition(".")
-        assert m.case[section][name] == value
+    for key, value in m.params.items():  # a dotted key is a path into the nested case
+        node = m.case
+        for part in key.split("."):
+            node = node[part]
+        assert node == value
     assert m.case["time"]["end"] == 1.0 and m.case["output"]["plots"] is False
 
 

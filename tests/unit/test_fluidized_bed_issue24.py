@@ -80,10 +80,10 @@ def bundled():
 
 def test_bundled_bed_is_set_by_velocity_and_starts_in_equilibrium(bundled):
     c, b = bundled
-    assert c["boundary.bottom"]["velocities"] and not c["boundary.bottom"]["porosities"]
+    assert c["boundary"]["bottom"]["velocities"] and not c["boundary"]["bottom"]["porosities"]
     m = b.model
     n0 = b.state.n[0]
-    assert m.clo.fluidization_velocity(n0, m.mat) == pytest.approx(c["boundary.bottom"]["velocities"][0], rel=1e-9)
+    assert m.clo.fluidization_velocity(n0, m.mat) == pytest.approx(c["boundary"]["bottom"]["velocities"][0], rel=1e-9)
 
 
 def test_bed_figures_give_u_mf_u_t_and_expanded_beds(bundled):
@@ -117,7 +117,7 @@ def test_packed_bed_set_by_velocity_lands_on_the_model_and_rz_heights():
     case = load_case("fluidized-bed-step")
     case["case"].update(model="reduced_1d", study="general")
     case["initial"].update(state="uniform", porosity=0.4)
-    case["boundary.bottom"].update(times=[0.0], velocities=[6e-3])
+    case["boundary"]["bottom"].update(times=[0.0], velocities=[6e-3])
     case["time"].update(end=80.0, step=0.05)
     case["output"].update(times=[], probes=[], plots=False)
     with warnings.catch_warnings():

@@ -35,7 +35,7 @@ def _refused(case, match):
 def test_a_fluidized_inlet_needs_particles_denser_than_the_liquid():
     case = load_case("fluidized-bed-step")
     case["initial"].update(state="uniform", porosity=0.65, bed_height=0.7, settled_height=-1.0)
-    case["boundary.bottom"].update(porosities=[0.65, 0.716], velocities=[])  # an inlet given by porosities
+    case["boundary"]["bottom"].update(porosities=[0.65, 0.716], velocities=[])  # an inlet given by porosities
     case["materials"]["particle_density"] = 0.9 * case["materials"]["liquid_density"]
     _refused(case, r"\[boundary.bottom\] porosities: .*denser than the liquid")
 
@@ -75,10 +75,10 @@ def test_2d_missing_groups_axis_off_the_axis_duplicates_and_inverted_elements_ar
     case["mesh"]["cut"] = [0.0, 0.02, 0.04, 0.16]
     _refused(case, r"\[boundary.axis\] kind: the mesh has no boundary group 'axis'")
     case = load_case("viscometer")
-    case["boundary.axis"]["group"] = "outer"
+    case["boundary"]["axis"]["group"] = "outer"
     _refused(case, r"\[boundary.axis\] (group|kind): .*(already has a condition|r = 0)")
     case = load_case("viscometer")
-    case["boundary.outer"]["group"] = "Wall"
+    case["boundary"]["outer"]["group"] = "Wall"
     _refused(case, r"\[boundary.outer\] group: the mesh has no boundary group 'Wall'")
     case = load_case("viscometer")
     case["mesh"]["grading_y"] = 1e40
@@ -87,10 +87,10 @@ def test_2d_missing_groups_axis_off_the_axis_duplicates_and_inverted_elements_ar
 
 def test_2d_inlet_schedules_and_list_entries_are_checked():
     case = load_case("viscometer")
-    case["boundary.bottom"]["porosities"] = [-0.6]
+    case["boundary"]["bottom"]["porosities"] = [-0.6]
     _refused(case, r"\[boundary.bottom\] porosities: entry 1 \(-0.6\) is outside")
     case = load_case("viscometer")
-    case["boundary.bottom"]["times"] = [float("nan")]
+    case["boundary"]["bottom"]["times"] = [float("nan")]
     _refused(case, r"\[boundary.bottom\] times: entry 1 \(nan\) must be finite")
 
 
@@ -109,7 +109,7 @@ def test_keys_without_effect_are_warned():
     case = load_case("viscometer")
     case["output"]["probes"] = [0.05]
     case["mesh"]["file"] = "x.msh"
-    case["boundary.outer"]["omega"] = 3.0
+    case["boundary"]["outer"]["omega"] = 3.0
     case["single_fluid"]["enabled"] = False
     doc = {k: v for k, v in case.items() if not k.startswith("_")}
     from twofluid.casefile.schema import validate

@@ -13,7 +13,7 @@ def test_bundled_case_is_row_one():
     case, row = load_case("slis-step-change"), load_slis_table()[0]
     assert case["case"]["model"] == "reduced_1d" and case["initial"]["bed_height"] == 0.27
     assert case["materials"]["particle_diameter"] == row.d
-    assert case["boundary.bottom"]["porosities"] == [row.n0, row.n1]
+    assert case["boundary"]["bottom"]["porosities"] == [row.n0, row.n1]
 
 
 def test_no_slip_cap_of_its_own():

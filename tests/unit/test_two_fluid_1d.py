@@ -13,9 +13,9 @@ def settled_case(element="1VW/0P/0n", p_out=0.0):
     c = load_case("settling-illite")
     c["mesh"].update(length=1.0, elements=40, element=element)
     c["materials"].update(particle_diameter=1e-3, sphericity=1.0)
-    c["closures.solids_pressure"].update(compressibility=0.015)
+    c["closures"]["solids_pressure"].update(compressibility=0.015)
     c["initial"].update(bed_height=0.6, state="settled", porosity=0.45)
-    c["boundary.top"]["pressure"] = p_out
+    c["boundary"]["top"]["pressure"] = p_out
     return c
 
 
@@ -71,7 +71,7 @@ def test_adding_a_constant_to_the_outlet_pressure_changes_no_velocity_or_porosit
     for p_out in (0.0, 1.0e5):
         c = load_case("fluidized-bed-step")
         c["mesh"].update(elements=50)
-        c["boundary.top"]["pressure"] = p_out
+        c["boundary"]["top"]["pressure"] = p_out
         b = build(c)
         res.append(run(b, b.state, 2.0, 0.05))
     a, b2 = res
@@ -94,11 +94,11 @@ def test_solids_volume_is_conserved_to_round_off(name):
 
 def rz_case(n_bed, n_flow, elements=40, end=1.0, dt=0.05):
     c = load_case("fluidized-bed-step")
-    c["closures.drag"].update(law="wen_yu", stokes=True)  # exactly U = U_t n^4.65
-    c["closures.solids_pressure"]["fluidized"] = "none"  # the drag law's identity alone, P_s negligible
+    c["closures"]["drag"].update(law="wen_yu", stokes=True)  # exactly U = U_t n^4.65
+    c["closures"]["solids_pressure"]["fluidized"] = "none"  # the drag law's identity alone, P_s negligible
     c["mesh"].update(elements=elements)
     c["initial"].update(state="uniform", porosity=n_bed, bed_height=0.5, settled_height=-1.0)
-    c["boundary.bottom"].update(times=[0.0], porosities=[], velocities=[_rz_velocity(c, n_flow)])
+    c["boundary"]["bottom"].update(times=[0.0], porosities=[], velocities=[_rz_velocity(c, n_flow)])
     c["time"].update(end=end, step=dt)
     return c
 
@@ -134,7 +134,7 @@ def test_settled_start_warns_where_the_fluidized_bed_pressure_exceeds_the_weight
     from twofluid.casefile.schema import CaseWarning
 
     c = settled_case()
-    c["closures.solids_pressure"].update(fluidized="foscolo_gibilaro", fluidized_coefficient=100.0)
+    c["closures"]["solids_pressure"].update(fluidized="foscolo_gibilaro", fluidized_coefficient=100.0)
     with pytest.warns(CaseWarning, match="in 1 of 24 bed elements"):
         b = build(c)
     m, s = b.model, b.state

@@ -14,6 +14,7 @@ from ..mesh.line import uniform_line
 from ..models.two_fluid_1d import Boundary, Closures, Materials, State, TwoFluid1D
 from ..timestepping.backward_euler import PicardSettings
 from .bed import initial_bed
+from .case import section
 from .validity import drag_validity_warnings
 
 __all__ = ["Schedule", "Built", "build"]
@@ -63,7 +64,8 @@ def materials(case: dict) -> Materials:
 def closures(case: dict, mat: Materials, pressure_section: str = "closures.solids_pressure") -> Closures:
     """The case's closures, with the drag law's |slip| saturation (``[closures.drag] slip_saturation``).
 
-    ``pressure_section`` is the section holding ``compressibility`` and ``p_ref`` of P_s.
+    ``pressure_section`` is the section holding ``compressibility`` and ``p_ref`` of P_s, by its
+    schema name (``"closures.solids_pressure"``: ``case["closures"]["solids_pressure"]``).
     """
     clo = _closures(case, pressure_section)
     if "exponent" in clo.drag_params and clo.drag_params["exponent"] == 0.0:  # Khan & Richardson's k
@@ -71,7 +73,7 @@ def closures(case: dict, mat: Materials, pressure_section: str = "closures.solid
         clo = replace(clo, drag_params={**clo.drag_params,
                                         "exponent": float(drag_laws.khan_richardson_exponent(max(float(ar), 0.0)))})
     return replace(clo, slip_max=drag_laws.slip_limit(
-        clo.drag, case["closures.drag"]["slip_saturation"], mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
+        clo.drag, case["closures"]["drag"]["slip_saturation"], mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g,
         **clo.drag_params))
 
 
@@ -84,20 +86,20 @@ def inlet_velocities(b: dict, clo: Closures, mat: Materials) -> tuple[float, ...
 
 
 def _closures(case: dict, pressure_section: str) -> Closures:
-    d = case["closures.drag"]
+    d = case["closures"]["drag"]
     law = get("drag", d["law"]).func
     params = {"stokes": d["stokes"]}
     if d["law"] == "gidaspow":
         params.update(n_switch=d["n_switch"], blend_width=d["blend_width"])
     if d["law"] in ("richardson_zaki", "ergun_richardson_zaki"):
         params["exponent"] = d["exponent"]  # 0: Khan & Richardson's, set by closures()
-    sp = case[pressure_section]
+    sp = section(case, pressure_section)
     fluidized, fparams = None, {}
     if sp.get("fluidized", "none") != "none":
         fluidized = get("fluidized_pressure", sp["fluidized"]).func
         fparams = {"coefficient": sp["fluidized_coefficient"]}
     return Closures(drag=law, drag_params=params, A=sp["compressibility"], p_ref=sp["p_ref"],
-                    viscous=case["closures.viscosity"]["law"] != "none",
+                    viscous=case["closures"]["viscosity"]["law"] != "none",
                     fluidized_pressure=fluidized, fluidized_params=fparams)
 
 
@@ -115,8 +117,8 @@ def build(case: dict) -> Built:
                         inclination_rad=np.deg2rad(m["inclination_deg"]))
     mat = materials(case)
     clo = closures(case, mat)
-    bottom, vb = _boundary(case["boundary.bottom"], clo, mat)
-    top, vt = _boundary(case["boundary.top"], clo, mat)
+    bottom, vb = _boundary(case["boundary"]["bottom"], clo, mat)
+    top, vt = _boundary(case["boundary"]["top"], clo, mat)
     drag_validity_warnings(case, clo, mat, vb + vt)
     cls = TwoFluid1D
     if case["case"]["model"] == "reduced_1d":
@@ -168,7 +170,7 @@ def initial_state(model: TwoFluid1D, case: dict) -> State:
     elif model.top.kind == "inlet":
         u = -model.top.velocity(0.0)
     _, _, n = initial_bed(mesh, case, model.clo, model.mat, u)
-    n_bar = np.full(mesh.n_elements, case["closures.solids_pressure"]["reference_porosity"])
+    n_bar = np.full(mesh.n_elements, case["closures"]["solids_pressure"]["reference_porosity"])
     if init["state"] == "settled":
         settled_reference_porosity(n_bar, n, model.settled_solids_pressure(n), model.clo, model.mat)
     P = np.zeros(model.np)

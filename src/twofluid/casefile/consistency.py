@@ -7,7 +7,7 @@ __all__ = ["check_consistency"]
 
 
 def _boundary(case: dict, end: str, source: str) -> None:
-    b = case[f"boundary.{end}"]
+    b = case["boundary"][end]
     where = f"[boundary.{end}]"
     vel, por = b["velocities"], b["porosities"]
     if b["kind"] != "inlet":
@@ -36,7 +36,7 @@ def check_consistency(case: dict, source: str) -> None:
         raise CaseError(source, "[initial] " + "/".join(given), "give the bed by one of bed_height [m], "
                         "solids_mass [kg] or settled_height [m]")
     if init["state"] == "fluidized":
-        b = case["boundary.bottom"]
+        b = case["boundary"]["bottom"]
         if b["kind"] != "inlet":
             raise CaseError(source, "[initial] state", "'fluidized' needs an inlet at the bottom (its "
                             "velocity at t = 0 sets the porosity)")
@@ -56,7 +56,7 @@ def check_consistency(case: dict, source: str) -> None:
                             "clear liquid above it (porosity > 1); use 'upwind'")
     for end in ("bottom", "top"):
         _boundary(case, end, source)
-    kinds = (case["boundary.bottom"]["kind"], case["boundary.top"]["kind"])
+    kinds = (case["boundary"]["bottom"]["kind"], case["boundary"]["top"]["kind"])
     if "outlet" not in kinds:
         raise CaseError(source, "[boundary.bottom/top] kind", "one end must be an outlet: it fixes the "
                         "pressure datum")
@@ -73,7 +73,7 @@ def check_consistency(case: dict, source: str) -> None:
             raise CaseError(source, "[output] probes", f"{y:g} lies outside [0, {mesh['length']:g}] m")
     study = case["case"]["study"]
     if study == "step_change":
-        b = case["boundary.bottom"]
+        b = case["boundary"]["bottom"]
         if b["kind"] != "inlet" or len(b["times"]) < 2:
             raise CaseError(source, "[case] study", "step_change needs an inlet at the bottom with a "
                             "schedule of at least two values")

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .case import section, sections
 from .schema import WORKING_MAX, CaseError
 
 __all__ = ["check_derived", "MAX_STEPS", "SCALE_LIMIT"]
@@ -59,7 +60,7 @@ def _steps(case: dict, source: str) -> None:
 
 
 def _inlets(case: dict, source: str, clo, mat) -> None:
-    for where, b in case.items():
+    for where, b in sections(case).items():
         if not (where.startswith("boundary.") and isinstance(b, dict)) or b.get("kind") != "inlet":
             continue
         if not b.get("porosities"):
@@ -81,12 +82,12 @@ def _inlets(case: dict, source: str, clo, mat) -> None:
 def check_derived(case: dict, source: str) -> None:
     """Raise :class:`CaseError` if a quantity derived from several keys is unusable (see module doc)."""
     _steps(case, source)
-    if "materials" not in case or "closures.drag" not in case:
+    if "materials" not in case or section(case, "closures.drag") is None:
         return
     from .builder import closures, materials
 
-    pressure = "closures.solids_pressure" if "closures.solids_pressure" in case else "sand"
-    if pressure not in case:
+    pressure = "closures.solids_pressure" if section(case, "closures.solids_pressure") is not None else "sand"
+    if section(case, pressure) is None:
         return
     with np.errstate(all="ignore"):
         mat = materials(case)

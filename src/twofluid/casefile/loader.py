@@ -5,6 +5,7 @@ import re
 import tomllib
 from pathlib import Path
 
+from .case import Case
 from .schema import CaseError, validate
 
 __all__ = ["bundled_cases", "case_text", "case_readme", "copyable", "load_case", "CaseError"]
@@ -104,14 +105,19 @@ def case_readme(case: str) -> str | None:
     return _read(readme, str(readme)) if readme.is_file() else None
 
 
-def load_case(case: str) -> dict:
+def load_case(case: str) -> Case:
     """Parse and validate; returns the resolved case with ``_source`` set.
 
+    The case is a :class:`~twofluid.casefile.case.Case` (a ``dict``) nested as the TOML file:
+    ``[boundary.bottom] kind`` is ``case["boundary"]["bottom"]["kind"]``. The flat dotted
+    spelling of version 0.1.0 (``case["boundary.bottom"]``) still works in this release, with a
+    :class:`~twofluid.casefile.case.FlatKeyWarning` (a ``DeprecationWarning``).
     An empty or missing ``[case] name`` becomes the file's name without ``.toml`` (the
     bundled case's name), so a copied case runs under its own name.
 
-    >>> load_case("settling-illite")["case"]["name"]
-    'settling-illite'
+    >>> case = load_case("settling-illite")
+    >>> case["case"]["name"], case["boundary"]["bottom"]["kind"], case["closures"]["drag"]["law"]
+    ('settling-illite', 'wall', 'gidaspow')
     """
     loc, source, name = _locate(case)
     doc = read_toml(loc, source)

@@ -113,7 +113,7 @@ def check_mesh(case: dict, source: str) -> QuadMesh:
     groups = sorted(mesh.boundaries)
     used: dict[str, str] = {}
     for name in BOUNDARY_NAMES:
-        b = case[f"boundary.{name}"]
+        b = case["boundary"][name]
         if b["kind"] == "none":
             continue
         where = f"[boundary.{name}]"

@@ -13,6 +13,8 @@ import warnings
 from dataclasses import dataclass
 from typing import Any
 
+from .case import nest, sections
+
 __all__ = ["Key", "SCHEMA", "INITIAL_1D", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning",
            "validate", "revalidate", "effective", "markdown", "check_schedule", "given_keys"]
 
@@ -355,6 +357,7 @@ def validate(doc: dict, source: str = "<case>", name: str = "case") -> dict:
         resolved[name] = [_resolve_section(source, _entry_label(name, i, item), keys, item, unused)
                           for i, item in enumerate(tables.get(name, []))]
     resolved["case"] = case
+    resolved = nest(resolved)  # as the TOML file nests it: resolved["closures"]["drag"]
     for where, keys in IGNORED.get(case["model"], {}).items():
         for key, why in keys.items():
             if key in flat.get(where, {}):
@@ -394,12 +397,13 @@ def check_schedule(b: dict, where: str, source: str) -> None:
 def effective(case: dict) -> dict:
     """The resolved ``case`` with only the keys that act in it: without the keys that have no
     effect (``Key.used_when``, a model's ignored keys), keys left at their "not set" sentinel
-    (``Key.sentinel``, e.g. ``area_top = -1``) and sections switched off (``kind = "none"``)."""
+    (``Key.sentinel``, e.g. ``area_top = -1``) and sections switched off (``kind = "none"``).
+    Nested as the case is (``out["closures"]["drag"]``)."""
     model = case["case"]["model"]
     schema = _model_schema(model)
     ignored = IGNORED.get(model, {})
     out = {}
-    for where, table in case.items():
+    for where, table in sections(case).items():
         if not isinstance(table, dict):
             out[where] = table
             continue
@@ -418,7 +422,7 @@ def effective(case: dict) -> dict:
             return not (k.used_when and table.get(k.used_when[0], None) not in k.used_when[1])
 
         out[where] = {name: value for name, value in table.items() if acts(name, value)}
-    return out
+    return nest(out)
 
 
 def revalidate(case: dict, source: str) -> dict:
@@ -474,7 +478,8 @@ def _entry_label(name: str, i: int, item: dict) -> str:
 
 
 def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
-    """{"closures": {"drag": {...}}} -> {"closures.drag": {...}}."""
+    """{"closures": {"drag": {...}}} -> {"closures.drag": {...}}; a flat dotted section name given
+    (``{"closures.drag": {...}}``, the resolved case of version 0.1.0) is a :class:`FlatKeyWarning`."""
     flat: dict[str, dict] = {}
 
     def walk(prefix: str, table: dict):
@@ -484,12 +489,23 @@ def _flatten_sections(doc: dict, source: str) -> dict[str, dict]:
         plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
         subs = {k: v for k, v in table.items() if isinstance(v, dict)}
         if prefix and (plain or not subs):
+            if prefix in flat:
+                raise CaseError(source, f"[{prefix}]", "given twice: nested and by its flat dotted name; "
+                                "give it once, nested")
             flat[prefix] = plain
         elif not prefix and plain:
             raise CaseError(source, ", ".join(plain), "keys must sit inside a [section]")
         for k, v in subs.items():
             walk(f"{prefix}.{k}" if prefix else k, v)
 
+    dotted = [k for k, v in doc.items() if isinstance(k, str) and "." in k and isinstance(v, dict)]
+    if dotted:
+        from .case import FlatKeyWarning, caller_stacklevel, nested_spelling
+
+        warnings.warn(FlatKeyWarning(
+            f"{source}: sections given by flat dotted names ({', '.join(dotted)}) are deprecated and will "
+            f"be refused in the next release; nest them as the TOML file does: "
+            f"{nested_spelling(dotted[0])} in Python, [{dotted[0]}] in TOML"), stacklevel=caller_stacklevel())
     walk("", doc)
     return flat
 
@@ -519,7 +535,9 @@ def markdown() -> str:
              "quantities derived from several keys are checked (terminal and fluidization velocities, drag, "
              "pressure scales, at most 1e7 time steps; 2D: the mesh, its boundary groups and the heights), so "
              "a combination that cannot run is refused before anything is computed.",
-             "`[case] model` chooses the equation set; each model lists its sections below.", ""]
+             "`[case] model` chooses the equation set; each model lists its sections below. From Python, "
+             "`twofluid.load_case` returns the case nested as the TOML file: `[closures.drag] law` is "
+             "`case[\"closures\"][\"drag\"][\"law\"]`.", ""]
     seen: set[str] = set()
     for model, schema in SCHEMAS.items():
         arrays = ", ".join(f"[[{a}]]" for a in ARRAYS.get(model, {}))

@@ -132,7 +132,7 @@ def check_2d(case: dict, source: str) -> None:
             raise CaseError(source, "[mesh] cut", "must be [x0, x1, y0, y1] in m (or empty)")
     elif not m["file"]:
         raise CaseError(source, "[mesh] file", "a gmsh mesh needs a file")
-    used = {b: case[f"boundary.{b}"] for b in BOUNDARY_NAMES if case[f"boundary.{b}"]["kind"] != "none"}
+    used = {b: case["boundary"][b] for b in BOUNDARY_NAMES if case["boundary"][b]["kind"] != "none"}
     if not any(b["kind"] == "outlet" for b in used.values()):
         raise CaseError(source, "[boundary.*] kind", "one boundary must be an outlet: it fixes the "
                         "pressure datum")

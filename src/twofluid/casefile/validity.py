@@ -36,7 +36,7 @@ def drag_validity_warnings(case: dict, clo, mat, inlet_velocities, porosities=No
     >>> drag_validity_warnings(c, b.model.clo, b.model.mat, b.inlet_velocities)
     []
     """
-    d = case["closures.drag"]
+    d = case["closures"]["drag"]
     law = get("drag", d["law"])
     src = case.get("_source", "<case>")
     key = f"[closures.drag] law = {d['law']!r}" + (", stokes = true" if d["stokes"] else "")
@@ -45,7 +45,7 @@ def drag_validity_warnings(case: dict, clo, mat, inlet_velocities, porosities=No
     if porosities is None:
         porosities = [case["initial"]["porosity"]] if case["initial"]["state"] != "fluidized" else []
         for end in ("bottom", "top"):
-            porosities += case[f"boundary.{end}"]["porosities"]
+            porosities += case["boundary"][end]["porosities"]
     bad = [n for n in porosities if not lo <= n <= hi]
     if bad:
         out.append(f"{src}: {key}: valid for porosities {lo:g}–{hi:g}, but the case starts or feeds "

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from ..casefile.case import is_group, sections
 from ..casefile.schema import CaseError, revalidate
 
 __all__ = ["Member", "members", "samples", "case_hash", "apply", "locate"]
@@ -36,12 +37,17 @@ class Member:
 def case_hash(case: dict) -> str:
     """sha256 of the resolved case as stable JSON (sorted keys; the ``_`` entries left out).
 
+    The sections are hashed by their dotted names (:func:`~twofluid.casefile.case.sections`), so
+    a nested case hashes as the flat case of version 0.1.0 did: an ensemble started then resumes.
+
     >>> case_hash({"a": {"x": 1.0}, "_source": "f.toml"}) == case_hash({"a": {"x": 1.0}})
     True
     >>> case_hash({"a": {"x": 1.0}}) == case_hash({"a": {"x": 1.0 + 1e-15}})
     False
+    >>> case_hash({"closures": {"drag": {"law": "ergun"}}}) == case_hash({"closures.drag": {"law": "ergun"}})
+    True
     """
-    doc = {k: v for k, v in case.items() if not k.startswith("_")}
+    doc = {k: v for k, v in sections(case).items() if not k.startswith("_")}
     text = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
@@ -57,10 +63,11 @@ def _as_base_type(old, value):
 
 def locate(case: dict, key: str) -> tuple:
     """(container, name or index) of the dotted ``key`` in a resolved case; LookupError saying
-    what is valid. A section may hold dots (``closures.drag.law``); an entry of an array of
-    tables is its 1-based position (``layers.2.relative_density``: the second layer from the top).
+    what is valid. The path follows the case's nesting (``closures.drag.law``:
+    ``case["closures"]["drag"]["law"]``); an entry of an array of tables is its 1-based position
+    (``layers.2.relative_density``: the second layer from the top).
 
-    >>> case = {"closures.drag": {"law": "ergun"}, "layers": [{"porosity": 0.4}, {"porosity": 0.38}]}
+    >>> case = {"closures": {"drag": {"law": "ergun"}}, "layers": [{"porosity": 0.4}, {"porosity": 0.38}]}
     >>> locate(case, "closures.drag.law")
     ({'law': 'ergun'}, 'law')
     >>> locate(case, "layers.2.porosity")
@@ -69,24 +76,32 @@ def locate(case: dict, key: str) -> tuple:
     Traceback (most recent call last):
     ...
     LookupError: [[layers]] has 2 entries: give layers.1 .. layers.2
+    >>> locate(case, "closures.dragg.law")
+    Traceback (most recent call last):
+    ...
+    LookupError: no section [closures.dragg] in the case; valid sections: closures.drag, layers
     """
     parts = key.split(".")
-    cut = next((i for i in range(len(parts) - 1, 0, -1) if ".".join(parts[:i]) in case), None)
-    if cut is None:
-        valid = ", ".join(s for s in case if not s.startswith("_"))
-        raise LookupError(f"no section [{'.'.join(parts[:-1]) or key}] in the case; valid sections: {valid}")
-    where, node, rest = ".".join(parts[:cut]), case[".".join(parts[:cut])], parts[cut:]
-    for j, p in enumerate(rest):
+    node, where, in_section = case, "", False
+    for j, p in enumerate(parts):
         if isinstance(node, list):
             if not (p.isdigit() and 1 <= int(p) <= len(node)):
                 raise LookupError(f"[[{where}]] has {len(node)} entries: give {where}.1 .. {where}.{len(node)}")
             p = int(p) - 1
-        elif not isinstance(node, dict) or p not in node:
+        elif not isinstance(node, dict) or not dict.__contains__(node, p):
+            if not in_section:  # the case or a table of sections (closures): the section is unknown
+                valid = ", ".join(s for s in sections(case) if not s.startswith("_"))
+                missing = ".".join(parts[:max(j + 1, len(parts) - 1)])
+                raise LookupError(f"no section [{missing}] in the case; valid sections: {valid}")
             valid = ", ".join(node) if isinstance(node, dict) else "none (it is a value)"
             raise LookupError(f"no key {p!r} in [{where}]; valid: {valid}")
-        if j == len(rest) - 1:
-            return node, p
-        node, where = node[p], f"{where}.{rest[j]}"
+        if j == len(parts) - 1:
+            if in_section:
+                return node, p
+            break
+        node = dict.__getitem__(node, p) if isinstance(node, dict) else node[p]
+        where = f"{where}.{parts[j]}" if where else parts[j]
+        in_section = in_section or isinstance(node, list) or not is_group(node)
     raise LookupError(f"{key!r} names a section, not a key")
 
 

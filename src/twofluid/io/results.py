@@ -193,15 +193,7 @@ def write_resolved_case(path: Path, case: dict) -> None:
     """The fully resolved case (every key that acts, defaults filled) as TOML, re-loadable as a case."""
     from ..casefile.schema import effective
 
-    doc: dict = {}
-    for where, table in effective(case).items():
-        if where.startswith("_"):
-            continue
-        node = doc
-        parts = where.split(".")
-        for p in parts[:-1]:
-            node = node.setdefault(p, {})
-        node[parts[-1]] = table
+    doc = {where: table for where, table in effective(case).items() if not where.startswith("_")}  # nested
     from .folders import write_atomic
 
     source = " ".join(str(case.get("_source", "?")).split())  # one comment line, whatever the source

@@ -65,8 +65,8 @@ class _Figures:
         n_bed = state.n[state.n < 1.0]
         self.n0 = pp.median(n_bed) if n_bed.size else 1.0  # the bed, not its cut surface element
         self.thr = 0.5 * (1.0 + self.n0)
-        if self.study == "step_change" and case["boundary.bottom"]["porosities"]:
-            self.thr = 0.5 * (1.0 + max(case["boundary.bottom"]["porosities"]))
+        if self.study == "step_change" and case["boundary"]["bottom"]["porosities"]:
+            self.thr = 0.5 * (1.0 + max(case["boundary"]["bottom"]["porosities"]))
         elif self.study == "step_change" and n_final is not None and n_final < 1.0:
             self.thr = 0.5 * (1.0 + max(self.n0, n_final))  # the bed after the step (its model equilibrium)
         self.t, self.rows, self.dp = [], [], []
@@ -257,7 +257,7 @@ def _summary(case, b, model, fig, status, reason, last, n_steps, wall, solids0, 
 
 def step_time(case) -> float:
     """When the bottom inlet's schedule starts to change [s] (the step of a step-change study)."""
-    b = case["boundary.bottom"]
+    b = case["boundary"]["bottom"]
     values = b["velocities"] or b["porosities"]
     for i in range(len(values) - 1):
         if values[i + 1] != values[i]:

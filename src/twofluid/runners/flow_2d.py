@@ -61,7 +61,7 @@ def build_2d(case: dict) -> Built2D:
     clo = closures(case, mat)
     bcs, inlet_speeds, inlet_porosities = [], [], []
     for name in BOUNDARY_NAMES:
-        b = case[f"boundary.{name}"]
+        b = case["boundary"][name]
         if b["kind"] == "none":
             continue
         group = b["group"] or name
@@ -103,7 +103,7 @@ def initial_state(model: TwoFluid2D, case: dict, settings: PicardSettings | None
     y0 = mesh.points[:, 1].min()
     h = init["bed_height"] if init["bed_height"] > 0 else np.inf
     n = np.where(yc - y0 < h, init["porosity"], 1.0)
-    n_bar = np.full(model.ne, case["closures.solids_pressure"]["reference_porosity"])
+    n_bar = np.full(model.ne, case["closures"]["solids_pressure"]["reference_porosity"])
     if init["state"] == "settled":
         settled_reference_porosity(n_bar, n, model.settled_solids_pressure(n), model.clo, model.mat)
     V, W = np.zeros(model.nv), np.zeros(model.nv)
@@ -354,7 +354,7 @@ def single_fluid_check(case: dict, mesh: QuadMesh, out: Path, plots: bool = True
     clo = closures(case, mat)
     dirichlet, omega = {}, 0.0
     for name in BOUNDARY_NAMES:
-        b = case[f"boundary.{name}"]
+        b = case["boundary"][name]
         grp = b["group"] or name
         if b["kind"] == "inlet":
             dirichlet[grp] = {"r": 0.0, "z": inlet_velocities(b, clo, mat)[0], "theta": 0.0}

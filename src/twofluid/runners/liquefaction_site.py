@@ -101,7 +101,7 @@ def site_arrays(case: dict) -> Site:
             d_p[i] = d / scalar.sphericity
     mat = replace(scalar, d_p=np.array([d_p[i] for i in owner]))
     # the drag law's slip saturation (3 terminal velocities) of the finest layer: one scalar
-    factor = case["closures.drag"]["slip_saturation"]
+    factor = case["closures"]["drag"]["slip_saturation"]
     slip_max = min(drag_laws.slip_limit(clo.drag, factor, scalar.sphericity * d_p[i], scalar.rho_s,
                                         scalar.rho_f, scalar.mu_f, scalar.g, **clo.drag_params) for i in wet)
     clo = replace(clo, A=np.array([layers[i]["compressibility"] for i in owner]),

@@ -20,7 +20,7 @@ def spindle(case: dict):
     if not (case["mesh"]["axisymmetric"] and case["mesh"]["swirl"]):
         return None
     for name in BOUNDARY_NAMES:
-        b = case[f"boundary.{name}"]
+        b = case["boundary"][name]
         if b["kind"] == "rotating_wall" and b["omega"] != 0.0:
             return b["group"] or name, b["omega"]
     return None

@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..casefile.builder import build
+from ..casefile.case import section
 from ..casefile.loader import load_case
 from .runs import case_from, run_history
 
@@ -39,7 +40,7 @@ def _bundled(name: str, model: str, t_end: float | None = None, **changes) -> di
     if t_end:
         case["time"]["end"] = t_end
     for sec, kv in changes.items():
-        case[sec.replace("__", ".")].update(kv)
+        section(case, sec.replace("__", ".")).update(kv)  # boundary__top: case["boundary"]["top"]
     return case
 
 

@@ -57,13 +57,13 @@ def slis_case(row, model: str = "reduced_1d", elements: int | None = None, dt: f
     case["case"]["model"] = model
     case["mesh"]["elements"] = ELEMENTS
     case["time"]["step"] = STEP
-    sp = case["closures.solids_pressure"]
+    sp = case["closures"]["solids_pressure"]
     sp["fluidized"], sp["fluidized_coefficient"] = "foscolo_gibilaro", FG_COEFFICIENT
     if drag:
-        case["closures.drag"]["law"] = drag
+        case["closures"]["drag"]["law"] = drag
     case["materials"]["particle_diameter"] = row.d
     case["initial"]["porosity"] = row.n0
-    case["boundary.bottom"]["porosities"] = [row.n0, row.n1]
+    case["boundary"]["bottom"]["porosities"] = [row.n0, row.n1]
     case["time"]["end"] = max(3.0 * row.t1_exp, 20.0)
     case["output"].update(times=[], plots=False)
     case["time"]["picard_tol"] = PICARD_TOL
@@ -88,7 +88,7 @@ def t1_reach(t: np.ndarray, h: np.ndarray, band: float = 0.02) -> float:
 
 def slis_run(case: dict, wall_limit: float | None = WALL_LIMIT) -> tuple[float, float]:
     """(t1, t1_reach) [s] of a step-change case (module docstring)."""
-    thr = 0.5 * (1.0 + max(case["boundary.bottom"]["porosities"]))
+    thr = 0.5 * (1.0 + max(case["boundary"]["bottom"]["porosities"]))
     h = run_history(case, {"h": lambda m, s: pp.surface_height(m.mesh.centres, s.n, thr, m.mesh.y[0])},
                     wall_limit=wall_limit)
     return pp.t1_from_history(h.t, h.values["h"], band=T1_BAND), t1_reach(h.t, h.values["h"], band=T1_BAND)
@@ -109,7 +109,7 @@ def kynch_t1_same_law(case: dict) -> float:
 
     mat = materials(case)
     clo = closures(case, mat)
-    n0, n1 = case["boundary.bottom"]["porosities"][:2]
+    n0, n1 = case["boundary"]["bottom"]["porosities"][:2]
     return float(step_change_t1_law(n0, n1, case["initial"]["bed_height"],
                                     lambda n: clo.fluidization_velocity(n, mat)))
 
