@@ -514,9 +514,11 @@ class LiquefactionColumn:
         A ln(σ′_v0/P_end). Where that total is below the floor, the skeleton's compressibility for
         that reloading is raised to A′ = (floor − drained)/ln(σ′_v0/P_end), with n̄ remapped so that
         P_s does not change: the strain then comes out of the two-fluid drainage as the excess pore
-        pressure dissipates (it takes longer, as a softer skeleton must), without a jump of r_u. An
-        element that has already drained (r_u ≤ 0.05: no pore pressure left to drain) takes the rest
-        as a drop of n̄, the only way left to it. ``st`` records the strain added; returns n̄."""
+        pressure dissipates (it takes longer, as a softer skeleton must), without a jump of r_u. A′ is
+        at most what keeps 1 − A′ ln(σ′_v0/p_ref) ≥ 1/2 (a positive skeleton law). An element that has
+        already drained (r_u ≤ 0.05: no pore pressure left to drain), and what the capped A′ cannot
+        make, take the rest as a drop of n̄, the only way left. ``st`` records the strain added;
+        returns n̄."""
         ns, v = self.n_sat, self.v
         n = s.vertical.n
         floor = self.reconsolidation_floor(ColumnState(s.vertical, s.wave, st))
