@@ -39,7 +39,7 @@ _MAX_EXPONENT = 700.0
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
-              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, ps_out, nm_beta, nm_gamma):
+              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma):
     """Advance len(a_in) sub-steps in place; returns 0, 1 (Newton did not converge: halve the
     sub-step) or 2 (a non-finite value)."""
     ne = h.size
@@ -88,7 +88,6 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             s[e] = se
             gm[e] = ge
             gr[e] = se / ge
-            ps_out[e] = ps
         ag = a_in[i]
         if not math.isfinite(ag):
             return 2
@@ -224,7 +223,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 #: argument types for the ahead-of-time build (C-contiguous float64 arrays, floats, integers)
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
-             "f8[::1], f8[::1], f8[::1], f8, f8)")
+             "f8[::1], f8[::1], f8, f8)")
 _HELPERS = _nb.HELPERS + (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
             _law.skeleton_stress, _law.tangent,
             _law.half_cycle_damage, _law.commit, _law.seed_booker, _law.generated_ratio)

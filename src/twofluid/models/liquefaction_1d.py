@@ -312,7 +312,6 @@ class LiquefactionColumn:
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
-        self.floor_applied = False
         #: skip the vertical model (a total-stress run: no layer generates pore pressure, so the
         #: column stays in its geostatic state; :func:`twofluid.runners.liquefaction.total_stress_surface`)
         self.shear_only = False
@@ -413,23 +412,16 @@ class LiquefactionColumn:
             return self._shear_hysteretic(s, t_new)
         v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
         n = s.vertical.n
-        wave.rho[:ns] = self.mixture_density(n)
-        laws = v.compiled_laws()
-        mu_m = laws.mixture_viscosity(n) if laws is not None and not v.clo.viscosity_params \
-            else mooney_pringle(n, v.mat.mu_f)
+        mu_m = self._wave_properties(s)
         w, n_bar, hist = s.wave, s.vertical.n_bar, s.shear
         span = t_new - s.t
         m = max(1, math.ceil(span / self.shear_step - 1e-9))
         dt = span / m
         power = self._eta_s is None
-        if not power:  # Newtonian: η_s fixed
-            wave.eta[:ns] = mu_m + self._eta_s
-            if self._kernel is not None:
-                fast = self._shear_compiled(s, w, n, n_bar, hist, m, dt)
-                if fast is not None:
-                    return fast
-        else:
-            wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / wave.h[:ns])
+        if not power and self._kernel is not None:  # Newtonian: η_s fixed
+            fast = self._shear_compiled(s, w, n, n_bar, hist, m, dt)
+            if fast is not None:
+                return fast
         cap = sand.gamma_law_max
         g_crust = None if self.crust is None else self.crust.g_max
         surface = []
@@ -447,20 +439,35 @@ class LiquefactionColumn:
                 wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / wave.h[:ns])
         return w, n_bar, hist, m, surface
 
-    def _shear_hysteretic(self, s: ColumnState, t_new: float):
-        """The sub-steps of :meth:`_shear` with the hysteretic law (:mod:`~twofluid.models.hysteretic_kernel`);
-        a sub-step whose Newton iterations fail is retried at half the size (four times at most)."""
+    def _wave_properties(self, s: ColumnState) -> np.ndarray:
+        """Set the shear wave's density and viscosity of the saturated elements at the start of a
+        step (η_s fixed, or from the strain rate at the start for a shear-thinning soil); returns
+        the mixture viscosity μ_m [Pa·s]."""
         v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
-        n = np.ascontiguousarray(s.vertical.n, dtype=float)
+        n = s.vertical.n
         wave.rho[:ns] = self.mixture_density(n)
         laws = v.compiled_laws()
         mu_m = laws.mixture_viscosity(n) if laws is not None and not v.clo.viscosity_params \
             else mooney_pringle(n, v.mat.mu_f)
-        w = s.wave
-        if self._eta_s is None:  # shear thinning: η_s from the rate at the start of the step
-            wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(w.v[:ns + 1]) / wave.h[:ns])
+        if self._eta_s is None:
+            wave.eta[:ns] = mu_m + sand.shear_viscosity(np.diff(s.wave.v[:ns + 1]) / wave.h[:ns])
         else:
             wave.eta[:ns] = mu_m + self._eta_s
+        return mu_m
+
+    def _record_at(self, times: np.ndarray) -> np.ndarray:
+        """The base (or outcrop) acceleration at the sub-steps' ``times`` [s], as one array [m/s²]."""
+        if self.a_g_at is None:
+            return np.array([self.a_g(t) for t in times.tolist()], dtype=float)
+        return np.ascontiguousarray(self.a_g_at(times), dtype=float)
+
+    def _shear_hysteretic(self, s: ColumnState, t_new: float):
+        """The sub-steps of :meth:`_shear` with the hysteretic law (:mod:`~twofluid.models.hysteretic_kernel`);
+        a sub-step whose Newton iterations fail is retried at half the size (four times at most)."""
+        v, wave, ns = self.v, self.wave, self.n_sat
+        n = np.ascontiguousarray(s.vertical.n, dtype=float)
+        self._wave_properties(s)
+        w = s.wave
         span = t_new - s.t
         dn = np.ascontiguousarray(self._ndot * span)
         m = max(1, math.ceil(span / self.shear_step - 1e-9))
@@ -471,17 +478,16 @@ class LiquefactionColumn:
         for attempt in range(5):
             dt = span / m
             times = s.t + np.arange(1.0, m + 1.0) * dt
-            a_in = (np.array([self.a_g(t) for t in times.tolist()], dtype=float) if self.a_g_at is None
-                    else np.ascontiguousarray(self.a_g_at(times), dtype=float))
+            a_in = self._record_at(times)
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
             st = np.array(s.shear, dtype=float)
             nb = np.array(s.vertical.n_bar, dtype=float)
-            surface, tau, ps = np.empty(m), np.empty(ne), np.empty(ne)
+            surface, tau = np.empty(m), np.empty(ne)
             code = _hyst_kernel.substeps(
                 u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
                 wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
                 0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
-                self.shaking_end, surface, tau, ps, self.newmark[0], self.newmark[1])
+                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1])
             if code != 1:
                 break
             m *= 2
@@ -570,8 +576,7 @@ class LiquefactionColumn:
         then takes the reference path from the same start)."""
         k, wave = self._kernel, self.wave
         times = s.t + np.arange(1.0, m + 1.0) * dt  # as the reference path's s.t + i dt
-        a_in = (np.array([self.a_g(t) for t in times.tolist()], dtype=float) if self.a_g_at is None
-                else np.asarray(self.a_g_at(times), dtype=float))
+        a_in = self._record_at(times)
         u, vel, acc, gam, tau = w.u.copy(), w.v.copy(), w.a.copy(), w.gamma.copy(), w.tau.copy()
         nb = np.array(n_bar, dtype=float)
         eps_v, g_a, g_h, dirn, path = (np.array(x, dtype=float) for x in
@@ -614,11 +619,8 @@ class LiquefactionColumn:
             if not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
                 raise StepFailure(s.t, dt, "shear sub-steps gave a non-finite reference porosity or "
                                   "displacement", s)
-        if (self.hysteretic is not None and not self.floor_applied
-                and s.t < self.shear_end - 1e-12 and t_new >= self.shear_end - 1e-9):
-            hist = np.array(hist, dtype=float)  # the shaking has ended: the reconsolidation floor
-            n_bar = self._apply_floor(s, n_bar, hist)
-            self.floor_applied = True
+        if self.hysteretic is not None and s.t < self.shear_end - 1e-12 <= t_new:
+            n_bar = self._apply_floor(s, n_bar, hist)  # the shear wave stops: the reconsolidation floor
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
             return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface))

@@ -60,7 +60,6 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
     jd = np.empty(nv)
     jo = np.empty(ne)
     kk = np.empty(ne)
-    tn = np.empty(ne)
     cp = np.empty(nv)
     dp = np.empty(nv)
     du = np.zeros(nv)
