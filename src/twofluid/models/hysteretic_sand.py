@@ -38,8 +38,6 @@ from ..geotech.simplified import crr_75, k_sigma
 __all__ = ["derive", "parameters", "menq_fit", "bolton_friction_angle", "DEFAULTS", "K0"]
 
 K0 = 0.5  # at-rest earth pressure coefficient of the element tests and of σ′_m [-]
-PA = 101325.0
-KPA = 1000.0  # [Pa]
 
 #: defaults of the parameters that are not correlations (docs/liquefaction.md states each)
 DEFAULTS = {

@@ -175,13 +175,15 @@ class Crust:
     """Layers above the water table, bottom element first: thickness h [m], density ρ = γ/g
     [kg/m³] and small-strain modulus G_max [Pa] per element (fixed: no pore pressure), the
     G/G_max curve (``reduction`` callable over the crust elements, or hyperbolic with
-    ``gamma_ref``). Its weight is carried by the vertical model as a surcharge."""
+    ``gamma_ref``), and σ′_v at each element's centre [Pa] (surcharge plus the crust above; None:
+    not given). Its weight is carried by the vertical model as a surcharge."""
 
     h: np.ndarray
     rho: np.ndarray
     g_max: np.ndarray
     gamma_ref: float | np.ndarray = 1e-3
     reduction: Callable | None = None
+    sigma_v: np.ndarray | None = None
 
 
 class VerticalColumn(TwoFluid1D):

@@ -485,8 +485,9 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                     "applied_pga_m_s2": None if b.motion is None else b.motion.pga, "base": base,
                     "peak_surface_acceleration_g": pga_surf,
                     "peak_surface_acceleration_low_passed_g": pga_lp,
-                    "low_pass": f"4th-order Butterworth, zero phase (forwards and backwards), "
-                                f"{filtering.CUTOFF_HZ:g} Hz, on the surface motion resampled to the shear sub-step",
+                    "low_pass": f"zero-phase 4th-order Butterworth (a forward and backward pass's response, "
+                                f"applied in the frequency domain), {filtering.CUTOFF_HZ:g} Hz, on the surface "
+                                "motion resampled to the shear sub-step",
                     "surface_Sa_g": sa_surf, "surface_Sa_damping": 0.05,
                     "peak_surface_acceleration_total_stress_low_passed_g": pga_ts,
                     "modulus_reduction": curves.pop() if len(curves) == 1 else "per layer"},

@@ -113,9 +113,7 @@ def profile_stresses(col, site, case: dict) -> dict:
     sig_eff = np.empty(owner.size)
     sig_eff[:ns] = col.sigma_v0
     if owner.size > ns:  # the crust: σ′_v = σ_v = surcharge + weight above the centre
-        c = col.crust
-        load = c.rho * col.v.mat.g * c.h
-        sig_eff[ns:] = case["site"]["surcharge"] + np.cumsum(load[::-1])[::-1] - 0.5 * load
+        sig_eff[ns:] = col.crust.sigma_v
     dr = np.array([layers[i]["relative_density"] for i in owner])
     liq = np.array([layers[i]["liquefiable"] for i in owner], dtype=bool)
     liq[ns:] = False

@@ -184,7 +184,7 @@ def crust_for(case: dict, source: str, site: Site) -> Crust | None:
     rho = gam / g
     g_max = np.where(vs > 0.0, rho * vs * vs, seed_idriss_gmax(sig, 1.0) * k2)
     return Crust(h, rho, g_max, gamma_ref=np.array([layers[i]["gamma_ref"] for i in owner]),
-                 reduction=_reduction(case, source, owner))
+                 reduction=_reduction(case, source, owner), sigma_v=sig)
 
 
 def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: Crust | None,
@@ -198,7 +198,7 @@ def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: C
     the σ′_v of its middle element, with that element's strength and G_max."""
     if case["shear_wave"]["model"] != "hysteretic":
         return None
-    from ..models.hysteretic_sand import KPA, menq_fit, parameters
+    from ..models.hysteretic_sand import menq_fit, parameters
 
     layers = case["layers"]
 
@@ -220,7 +220,7 @@ def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: C
             theta, mrdf = la["gqh_theta"], la["mrdf"]
             if not theta or not mrdf:
                 g_max = par[mid, law.P_GMAXFIX] if par[mid, law.P_GMAXFIX] > 0.0 else \
-                    218.8 * KPA * par[mid, law.P_K2] * np.sqrt(sig[mid] / KPA)
+                    float(seed_idriss_gmax(sig[mid], par[mid, law.P_K2]))
                 th_fit, p_fit, _ = menq_fit(sig[mid], par[mid, law.P_TANPHI], g_max)
                 theta = theta or th_fit
                 mrdf = mrdf or p_fit
@@ -233,8 +233,5 @@ def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: C
     if crust is None:
         return par
     c_owner = site.crust_layer_of
-    load = crust.rho * case["materials"]["gravity"] * crust.h
-    above = np.cumsum(load[::-1])[::-1] - load
-    sig_c = np.maximum(case["site"]["surcharge"] + above + 0.5 * load, 1.0)
-    top = rows(c_owner, sig_c, per(c_owner, "k2max"), 0.0, crust.g_max)
+    top = rows(c_owner, np.maximum(crust.sigma_v, 1.0), per(c_owner, "k2max"), 0.0, crust.g_max)
     return np.concatenate([par, top])
