@@ -225,7 +225,7 @@ def run_twofluid(pga_g: float, substeps: int = 10, per_sublayer: int = 2, delta:
     st = law.new_state(ne, par)
     empty = np.zeros(0)
     eta = np.zeros(ne)
-    tau, ps = np.empty(ne), np.empty(ne)
+    tau = np.empty(ne)
     surface = np.empty_like(a)
     surface[0] = a[0] + acc[-1]  # absolute acceleration of the surface at rest: 0
     # histories at the record's samples, base-up (the stress with its viscous part)
@@ -243,7 +243,7 @@ def run_twofluid(pga_g: float, substeps: int = 10, per_sublayer: int = 2, delta:
             code = hysteretic_kernel.substeps(
                 uu, vv, aa, ss, par, empty, empty, empty, empty, empty, rho, eta, h, 0, col["a0"],
                 col["a1"], col["impedance"], 0, NEWTON_TOL, NEWTON_MAX_ITER, float(t[i - 1]), dt, a_in,
-                float(t[-1]), out, tau, ps, nm_beta, nm_gamma)
+                float(t[-1]), out, tau, nm_beta, nm_gamma)
             if code != 1:
                 break
             halved += 1
