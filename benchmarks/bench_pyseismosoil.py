@@ -371,7 +371,7 @@ def law_on_pyseismosoil_strain(ps: dict, sublayer: int, substeps: int = 10,
     for i in range(1, path.size):
         d = law.direction(path[i], st, 0)
         tau[i] = law.skeleton_stress(path[i], d, st, par, 0, s, gr)
-        law.commit(path[i], d, tau[i], st, par, 0, s, 0.0)
+        law.commit(path[i], d, tau[i], st, par, 0, s, 0.0, gr)
     layer = int(np.searchsorted(np.cumsum(sublayers()), sublayer, side="right"))
     fit, gref = col["fits"][layer], LAYERS[layer, 3]
     mkz = masing_with_memory(path, lambda g: float(mkz_stress(g, fit.g_max, gref)))

@@ -107,7 +107,7 @@ def test_stress_of_an_old_reversal_never_exceeds_the_new_strength():
     s, gm = law.strength_modulus(100e3, par, 0)
     gr = s / gm
     for g in np.linspace(0.0, 3 * gr, 50)[1:]:
-        law.commit(g, 1.0, law.skeleton_stress(g, 1.0, st, par, 0, s, gr), st, par, 0, s, 0.0)
+        law.commit(g, 1.0, law.skeleton_stress(g, 1.0, st, par, 0, s, gr), st, par, 0, s, 0.0, gr)
     s2, gm2 = law.strength_modulus(25e3, par, 0)
     gr2 = s2 / gm2
     assert 3 * gr < par[0, law.P_GD0]
@@ -162,3 +162,153 @@ def test_element_test_command_prints_the_csr_n_curve(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "twofluid.cli", "element-test", "--model", "hysteretic",
                           "--n160cs", "99"], capture_output=True, text=True)
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "--n160cs" in bad.stderr
+
+
+# ---- the memory of open reversal points (extended Masing rules)
+def _total_stress_element(mrdf):
+    """A total-stress element (no pore pressure, no dilation in reach) at σ′_v = 100 kPa: state,
+    parameters, τ_max [Pa] and γ_r [-]."""
+    par = hs.parameters(sigma_v0=[100e3], n160cs=10.0, liquefiable=False, mrdf=mrdf, gamma_d0=10.0)
+    st = law.new_state(1, par)
+    s, gm = law.strength_modulus(100e3, par, 0)
+    return st, par, s, s / gm
+
+
+def _drive(path, st, par, s, gr):
+    """The law (plain Python) along a strain path, committing every point: the stresses [Pa]."""
+    tau = np.zeros(len(path))
+    for i, g in enumerate(path):
+        d = law.direction(g, st, 0)
+        tau[i] = law.skeleton_stress(g, d, st, par, 0, s, gr)
+        law.commit(g, d, tau[i], st, par, 0, s, 0.0, gr)
+    return tau
+
+
+def _legs(points, per_unit):
+    """A piecewise-linear strain path through ``points`` [-], ``per_unit`` points per unit of strain."""
+    out = [np.array([0.0])]
+    for a, b in zip(points[:-1], points[1:]):
+        k = max(2, int(round(abs(b - a) * per_unit)))
+        out.append(np.linspace(a, b, k + 1)[1:])
+    return np.concatenate(out)
+
+
+def _masing_reference(path, backbone):
+    """Masing's rules with the memory of every open reversal point, written independently of the
+    law: from the last open point (γ_r, τ_r) the branch τ_r + 2 f((γ − γ_r)/2); a branch reaching
+    the open point before it closes that loop (both points dropped) and continues the older
+    branch; past the first point's mirror image, the backbone f."""
+    pts, tau, g_old, d_old = [], 0.0, 0.0, 0.0
+    out = np.zeros(len(path))
+    for i, g in enumerate(path):
+        d = np.sign(g - g_old)
+        if d != 0.0:
+            if d_old != 0.0 and d != d_old:
+                pts.append((g_old, tau))
+            d_old = d
+            while True:
+                if len(pts) >= 2 and d * (g - pts[-2][0]) >= 0.0:
+                    pts = pts[:-2]
+                elif len(pts) == 1 and d * g >= abs(pts[0][0]):
+                    pts = []
+                else:
+                    break
+            tau = backbone(g) if not pts else pts[-1][1] + 2.0 * backbone(0.5 * (g - pts[-1][0]))
+            g_old = g
+        out[i] = tau
+    return out
+
+
+def test_masing_memory_matches_an_independent_reference():
+    """Masing's rule (MRDF (1, 0, 1)), constant strength: along an irregular strain path with nested
+    loops (three sines, up to 3 γ_r) the law's stress equals the extended-Masing reference to
+    1e-12 τ_max (round-off: the same backbone evaluated in the same order)."""
+    st, par, s, gr = _total_stress_element((1.0, 0.0, 1.0))
+    t = np.linspace(0.0, 20.0, 8001)
+    path = gr * (2.0 * np.sin(1.3 * t) + 0.7 * np.sin(5.1 * t + 1.0) + 0.3 * np.sin(13.7 * t + 2.0)) \
+        * np.minimum(t / 5.0, 1.0)
+    tau = _drive(path, st, par, s, gr)
+    th = par[0, law.P_TH1:law.P_TH5 + 1]
+    ref = _masing_reference(path, lambda g: s * math.copysign(law.gqh_ratio(abs(g) / gr, *th), g))
+    assert np.max(np.abs(tau - ref)) <= 1e-12 * s
+
+
+@pytest.mark.parametrize("mrdf", [(1.0, 0.0, 1.0), (0.9, 0.6, 1.2)])
+def test_a_closed_inner_loop_returns_onto_the_outer_branch(mrdf):
+    """Backbone to 3 γ_r, unloading to −2 γ_r with an inner loop (−0.5 → 0.3 → −0.5 γ_r) on the
+    way: past −0.5 γ_r the stress is the one of the same unloading without the inner loop, to
+    1e-9 τ_max (Masing and MRDF: the return branch meets the reversal point exactly, being odd)."""
+    per = 400.0
+    plain = _legs([0.0, 3.0, -2.0], per)
+    inner = _legs([0.0, 3.0, -0.5, 0.3, -2.0], per)
+    st, par, s, gr = _total_stress_element(mrdf)
+    t_plain = _drive(plain * gr, st, par, s, gr)
+    st, par, s, gr = _total_stress_element(mrdf)
+    t_inner = _drive(inner * gr, st, par, s, gr)
+    tail = plain < -0.5
+    k = np.flatnonzero(tail)[0]
+    n_tail = int(tail.sum())
+    np.testing.assert_allclose(inner[-n_tail:], plain[k:], atol=1e-12)
+    assert np.max(np.abs(t_inner[-n_tail:] - t_plain[k:])) <= 1e-9 * s
+    assert st[0, law.S_NSTK] == 1  # only the backbone reversal is open
+
+
+@pytest.mark.parametrize("mrdf", [(1.0, 0.0, 1.0), (0.9, 0.6, 1.2)])
+def test_small_inner_cycles_do_not_ratchet(mrdf):
+    """N = 20 small symmetric cycles (±0.1 γ_r) at γ = 0.5 γ_r on the reloading branch from −2 γ_r,
+    then on to 2 γ_r: the stress at each strain of the outer branch is the one without the cycles,
+    to 1e-9 τ_max (a law that kept only the last reversal point ratchets here by a fraction of τ_max)."""
+    per = 400.0
+    base = [0.0, 2.0, -2.0]
+    plain = _legs(base + [2.0], per)
+    cycles = _legs(base + [0.5] + [0.4, 0.6] * 20 + [2.0], per)
+    st, par, s, gr = _total_stress_element(mrdf)
+    t_plain = _drive(plain * gr, st, par, s, gr)
+    st, par, s, gr = _total_stress_element(mrdf)
+    t_cyc = _drive(cycles * gr, st, par, s, gr)
+    after = (plain > 0.6) & (np.arange(plain.size) > np.argmin(plain))  # the last leg past the cycles
+    n_tail = int(after.sum())
+    np.testing.assert_allclose(cycles[-n_tail:], plain[after], atol=1e-12)
+    assert np.max(np.abs(t_cyc[-n_tail:] - t_plain[after])) <= 1e-9 * s
+    # and every cycle's top (0.6 γ_r, reached loading) is on the outer branch: no cycle-by-cycle drift
+    k = np.flatnonzero(np.isclose(plain, 0.6) & (np.arange(plain.size) > np.argmin(plain)))[0]
+    top = np.flatnonzero(np.isclose(cycles, 0.6) & (np.arange(cycles.size) > np.argmin(cycles)))
+    top = top[np.diff(cycles, prepend=0.0)[top] > 0.0]
+    assert top.size == 20 and np.max(np.abs(t_cyc[top] - t_plain[k])) <= 1e-9 * s
+
+
+def test_the_stress_is_continuous_where_loops_close_under_a_changing_strength():
+    """Open inner loops recorded at one strength, then the strength and γ_r lowered by 30 % and 16 %
+    (rising pore pressure) and MRDF: over a sub-step's iterates around the closure point the stress
+    is a continuous function of the strain (adjacent iterates 1e-6 γ_r apart differ by at most
+    1.01 G_max × 1e-6 γ_r), and committing past the closure point does not change the stress there."""
+    st, par, s, gr = _total_stress_element((0.9, 0.6, 1.2))
+    _drive(_legs([0.0, 3.0, -1.0, 0.5, -0.2], 400.0) * gr, st, par, s, gr)
+    assert st[0, law.S_NSTK] == 3  # 3 γ_r, −1 γ_r and 0.5 γ_r open
+    s2, gm2 = law.strength_modulus(70e3, par, 0)  # τ_max ∝ P_s, γ_r ∝ √P_s
+    gr2 = s2 / gm2
+    g_close = st[0, law.S_STK + 2 * 2]  # reloading from −0.2 γ_r closes the loop at 0.5 γ_r
+    d = 1.0
+    grid = np.arange(-0.2 * gr, g_close + 0.3 * gr, 1e-6 * gr)
+    tau = np.array([law.skeleton_stress(g, d, st, par, 0, s2, gr2) for g in grid])
+    assert np.max(np.abs(np.diff(tau))) <= 1.01 * gm2 * 1e-6 * gr
+    for g in (g_close - 0.05 * gr, g_close + 1e-9 * gr, g_close + 0.05 * gr, g_close + 0.2 * gr):
+        st2 = st.copy()
+        te = law.skeleton_stress(g, d, st2, par, 0, s2, gr2)
+        law.commit(g, d, te, st2, par, 0, s2, 0.0, gr2)
+        assert abs(law.skeleton_stress(g, d, st2, par, 0, s2, gr2) - te) <= 1e-12 * s2
+
+
+def test_the_stack_holds_at_most_nstack_points():
+    """Ever smaller nested loops (more reversals than the stack holds): at most NSTACK points stay
+    open, the stress stays within the strength, and every commit leaves the stress at the committed
+    strain unchanged."""
+    st, par, s, gr = _total_stress_element((1.0, 0.0, 1.0))
+    pts = [0.0] + [(-1.0) ** k * 3.0 * 0.9 ** k for k in range(2 * law.NSTACK + 4)]  # nested loops
+    for g in _legs(pts, 2000.0) * gr:
+        d = law.direction(g, st, 0)
+        te = law.skeleton_stress(g, d, st, par, 0, s, gr)
+        law.commit(g, d, te, st, par, 0, s, 0.0, gr)
+        assert st[0, law.S_NSTK] <= law.NSTACK
+        assert abs(te) <= s * (1 + 1e-12)
+        assert abs(law.skeleton_stress(g, d, st, par, 0, s, gr) - te) <= 1e-12 * s

@@ -102,10 +102,14 @@ S_LIQ = 13  # 1 once the element has liquefied (D ≥ 1)
 S_GC = 14  # centre of the cycles γ_c [-]
 S_GD = 15  # half-width of the zone without dilation γ_d [-]
 S_TLIQ = 16  # time of liquefaction [s] (−1: not yet)
-NSTATE = 17
+S_NSTK = 17  # number of open reversal points on the stack (0: on the backbone)
+S_STK = 18  # the stack, oldest first: (γ_k [-], τ_k/τ_max [-]) at S_STK + 2k, S_STK + 2k + 1
+NSTACK = 8  # open reversal points kept (module docstring, "Unloading and reloading")
+NSTATE = S_STK + 2 * NSTACK
 STATE_COLUMNS = ("gamma", "tau_ratio", "tau", "gamma_rev", "tau_ratio_rev", "tau_rev", "direction",
                  "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
-                 "liquefied", "gamma_centre", "gamma_d", "t_liquefied")
+                 "liquefied", "gamma_centre", "gamma_d", "t_liquefied", "open_reversals") + tuple(
+    f"{q}_open_{k}" for k in range(NSTACK) for q in ("gamma", "tau_ratio"))
 
 # ---- columns of the per-element parameter array
 P_K2 = 0  # Seed–Idriss K2max [-]
@@ -197,11 +201,82 @@ def _envelope(g, d, tau, st, par, e, s):
 
 
 def _branch(y, fm, th1, th2, th3, th4, th5):
-    """Φ(y) = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r: a Masing/MRDF branch over τ_max."""
+    """Φ(y) = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r: a Masing/MRDF branch over τ_max
+    (F = 0: the backbone f, F = 1: Masing's 2 f(y/2))."""
     x = abs(y)
-    phi = fm * (2.0 * gqh_ratio(0.5 * x, th1, th2, th3, th4, th5) - gqh_ratio(x, th1, th2, th3, th4, th5)) \
-        + gqh_ratio(x, th1, th2, th3, th4, th5)
+    if fm == 0.0:
+        phi = gqh_ratio(x, th1, th2, th3, th4, th5)
+    elif fm == 1.0:
+        phi = 2.0 * gqh_ratio(0.5 * x, th1, th2, th3, th4, th5)
+    else:
+        f1 = gqh_ratio(x, th1, th2, th3, th4, th5)
+        phi = fm * (2.0 * gqh_ratio(0.5 * x, th1, th2, th3, th4, th5) - f1) + f1
     return phi if y >= 0.0 else -phi
+
+
+def _mrdf(st, par, e, gr):
+    """F of the unloading–reloading branches of element ``e`` (1: Masing): MRDF's factor at the
+    largest strain so far; a liquefied element flows between its dilation stops on Masing branches."""
+    if st[e, S_LIQ] > 0.0:
+        return 1.0
+    xm = st[e, S_GM] / gr
+    red = 1.0
+    if xm > 0.0:
+        red = gqh_ratio(xm, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]) / xm
+    return par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
+
+
+def _from(g, d, g0, t0, s, gr, fm, par, e):
+    """Stress [Pa] at ``g`` of the branch in direction ``d`` from the reversal (``g0``, ``t0`` τ/τ_max).
+
+    From a stress the dilation carried above τ_max the branch is wider (κ > 1), so that it still
+    reaches the strength the other way (asymptote d τ_max)."""
+    kappa = max(1.0, abs(d - t0) / (1.0 + fm)) if abs(t0) > 1.0 else 1.0
+    return t0 * s + s * kappa * _branch((g - g0) / (kappa * gr), fm, par[e, P_TH1], par[e, P_TH2],
+                                        par[e, P_TH3], par[e, P_TH4], par[e, P_TH5])
+
+
+def _open_count(d, st, e):
+    """Open reversal points of element ``e`` while it moves in direction ``d`` from its committed
+    state, and whether the last of them is the committed point itself (a reversal now, pushed at
+    the commit): a function of the committed state and ``d`` only, fixed over Newton's iterations.
+
+    At a reversal the pairs whose loop the branch just left had already closed (its strain passed
+    their target) are dropped, and so is the innermost pair when the stack is full; a reversal at
+    the largest strain so far starts afresh."""
+    n = int(st[e, S_NSTK])
+    d_old = st[e, S_DIR]
+    if d_old == 0.0 or d == d_old:
+        return n, False
+    gc = st[e, S_G]
+    if abs(gc) >= st[e, S_GM]:
+        return 1, True
+    while n >= 2 and d_old * (gc - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
+        n -= 2
+    if n >= NSTACK:
+        n -= 2
+    return n + 1, True
+
+
+def _open_point(k, n, rev, st, e):
+    """(γ, τ/τ_max) of open reversal point ``k`` of ``n`` (:func:`_open_count`)."""
+    if rev and k == n - 1:
+        return st[e, S_G], st[e, S_T]
+    return st[e, S_STK + 2 * k], st[e, S_STK + 2 * k + 1]
+
+
+def _open_stress(g, d, n, rev, st, par, e, s, gr, fm):
+    """The lower (in direction ``d``) of the branch from the last open reversal point and the outer
+    branch that its loop closes onto (the one from the point before its target), before the
+    backbone cap and the envelope [Pa]."""
+    g0, t0 = _open_point(n - 1, n, rev, st, e)
+    tau = _from(g, d, g0, t0, s, gr, fm, par, e)
+    if n >= 3:
+        g1, t1 = _open_point(n - 3, n, rev, st, e)
+        to = _from(g, d, g1, t1, s, gr, fm, par, e)
+        if d * to < d * tau:
+            tau = to
+    return tau
 
 
 def direction(g, st, e):
@@ -219,33 +294,21 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     moving in direction ``d`` (±1, fixed over a sub-step's Newton iterations) from its committed
     state, with strength ``s`` [Pa] and reference strain ``gr`` = s/G_max [-].
 
-    Each branch is an odd function of γ − γ_0, smooth through its origin, so iterates on either
-    side of the committed strain see one smooth branch; ``d`` only chooses the origin: the
-    committed point where ``d`` reverses the last direction, else the last reversal."""
-    d_old = st[e, S_DIR]
+    Which reversal points are open is decided from the committed state and ``d``
+    (:func:`_open_count`), never from ``g``; the stress is then the lower, in direction ``d``, of
+    the current branch, the outer branch its loop closes onto and (beyond the largest strain so
+    far) the backbone: a continuous function of ``g``, whose branches cross at the closure point
+    (exactly so under constant strength), so Newton's iterates may pass it freely. Each branch is
+    an odd function of γ − γ_0, smooth through its origin."""
+    n, rev = _open_count(d, st, e)
     th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
-    reversal = d_old != 0.0 and d != d_old
-    if st[e, S_NREV] == 0.0 and not reversal:  # first loading: the backbone
+    if n == 0:  # first loading, or a loop closed onto the backbone: the backbone
         tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
         return _envelope(g, d, tau, st, par, e, s)
-    if reversal:
-        g0 = st[e, S_G]
-        t0 = st[e, S_T]
-    else:
-        g0 = st[e, S_GREV]
-        t0 = st[e, S_TREV]
-    gm = st[e, S_GM]
-    xm = gm / gr
-    red = gqh_ratio(xm, th1, th2, th3, th4, th5) / xm if xm > 0.0 else 1.0
-    # MRDF's factor; a liquefied element flows between its dilation stops on Masing branches
-    fm = 1.0 if st[e, S_LIQ] > 0.0 else par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
-    # the branch's scale: 1 from a reversal inside the strength; from a stress the dilation carried
-    # above it, wider, so that the branch still reaches the strength the other way (asymptote d τ_max)
-    kappa = max(1.0, abs(d - t0) / (1.0 + fm)) if abs(t0) > 1.0 else 1.0
-    tau = t0 * s + s * kappa * _branch((g - g0) / (kappa * gr), fm, th1, th2, th3, th4, th5)
-    if d * g > gm:  # beyond the largest strain so far: not past the backbone
+    tau = _open_stress(g, d, n, rev, st, par, e, s, gr, _mrdf(st, par, e, gr))
+    if d * g > st[e, S_GM]:  # beyond the largest strain so far: not past the backbone
         tb = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
-        if (d > 0.0 and tau > tb) or (d < 0.0 and tau < tb):
+        if d * tau > d * tb:
             tau = tb
     return _envelope(g, d, tau, st, par, e, s)
 
@@ -256,6 +319,29 @@ def tangent(g, d, tau, st, par, e, s, gr):
     h = (1e-6 * gr + 1e-9 * abs(g)) * d
     k = (skeleton_stress(g + h, d, st, par, e, s, gr) - tau) / h
     return k if k > 0.0 else 0.0
+
+
+def _close_loops(g, d, st, par, e, s, gr):
+    """Loop closure at the committed strain ``g`` (direction ``d``; the stack already holds this
+    sub-step's reversal): drops the innermost open pair once ``g`` has passed its target and the
+    outer branch is the active one there, and every point once the backbone is (beyond the largest
+    strain so far). Only what no longer sets the stress at ``g`` is dropped, so the stress there is
+    unchanged: closing a loop is never a jump."""
+    n = int(st[e, S_NSTK])
+    if n == 0:
+        return
+    fm = _mrdf(st, par, e, gr)
+    while n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
+        ti = _from(g, d, st[e, S_STK + 2 * (n - 1)], st[e, S_STK + 2 * (n - 1) + 1], s, gr, fm, par, e)
+        to = _from(g, d, st[e, S_STK + 2 * (n - 3)], st[e, S_STK + 2 * (n - 3) + 1], s, gr, fm, par, e)
+        if d * ti < d * to:
+            break
+        n -= 2
+    if d * g > st[e, S_GM]:
+        tb = s * _branch(g / gr, 0.0, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5])
+        if d * tb <= d * _open_stress(g, d, n, False, st, par, e, s, gr, fm):
+            n = 0
+    st[e, S_NSTK] = n
 
 
 def half_cycle_damage(ta, ga, par, e):
@@ -270,13 +356,17 @@ def half_cycle_damage(ta, ga, par, e):
     return ft / 30.0 * (csr / par[e, P_CRR]) ** (1.0 / par[e, P_B])
 
 
-def commit(g, d, tau, st, par, e, s, t):
+def commit(g, d, tau, st, par, e, s, t, gr):
     """Commit the converged strain ``g``, reached in direction ``d``, and stress ``tau`` [Pa] of
-    element ``e`` at time ``t`` [s]: reversals, the largest strain, damage and liquefaction.
-    Returns the total damage."""
+    element ``e`` at time ``t`` [s], with the sub-step's reference strain ``gr`` [-]: reversals
+    and loop closure, the largest strain, damage and liquefaction. Returns the total damage."""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if d_old != 0.0 and d != d_old:  # the half cycle ended at g_old
+        n, _ = _open_count(d, st, e)  # pushed: g_old, with the pairs it closes dropped
+        st[e, S_STK + 2 * (n - 1)] = g_old
+        st[e, S_STK + 2 * (n - 1) + 1] = st[e, S_T]
+        st[e, S_NSTK] = n
         st[e, S_D] += st[e, S_DPART]
         st[e, S_DPART] = 0.0
         if st[e, S_LIQ] > 0.0 and 0.5 * abs(g_old - st[e, S_GREV]) > par[e, P_GT]:
@@ -289,6 +379,7 @@ def commit(g, d, tau, st, par, e, s, t):
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau
+    _close_loops(g, d, st, par, e, s, gr)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
     if par[e, P_LIQ] > 0.0:
@@ -313,7 +404,7 @@ def new_state(n_elements: int, par=None) -> np.ndarray:
     """A virgin state array (no shear history) for ``n_elements`` elements; γ_d from ``par``.
 
     >>> new_state(2).shape
-    (2, 17)
+    (2, 34)
     """
     st = np.zeros((n_elements, NSTATE))
     st[:, S_TLIQ] = -1.0

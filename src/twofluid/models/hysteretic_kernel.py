@@ -144,7 +144,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             g = (un[e + 1] - un[e]) / h[e]
             te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
             tau_out[e] = te + (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])
-            _law.commit(g, dirn[e], te, st, par, e, s[e], t)
+            _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
                 r_new = _law.generated_ratio(st, par, e)
@@ -210,7 +210,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
                     lo = mid
             g = hi
             tau = _law.skeleton_stress(g, d, st, par, 0, s, gr)
-        _law.commit(g, d, tau, st, par, 0, s, t)
+        _law.commit(g, d, tau, st, par, 0, s, t, gr)
         st[0, S_RG] = _law.generated_ratio(st, par, 0)
         out_g[k] = g
         out_tau[k] = tau
@@ -224,9 +224,10 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8)")
-_HELPERS = _nb.HELPERS + (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch, _law.direction,
-            _law.skeleton_stress, _law.tangent,
-            _law.half_cycle_damage, _law.commit, _law.seed_booker, _law.generated_ratio)
+_HELPERS = _nb.HELPERS + (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch,
+                          _law._mrdf, _law._from, _law._open_count, _law._open_point, _law._open_stress,
+                          _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
+                          _law.half_cycle_damage, _law.commit, _law.seed_booker, _law.generated_ratio)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1])"
 
