@@ -104,7 +104,7 @@ S_GD = 15  # half-width of the zone without dilation γ_d [-]
 S_TLIQ = 16  # time of liquefaction [s] (−1: not yet)
 S_NSTK = 17  # number of open reversal points on the stack (0: on the backbone)
 S_STK = 18  # the stack, oldest first: (γ_k [-], τ_k/τ_max [-]) at S_STK + 2k, S_STK + 2k + 1
-NSTACK = 8  # open reversal points kept (module docstring, "Unloading and reloading")
+NSTACK = 16  # open reversal points kept (module docstring, "Unloading and reloading")
 NSTATE = S_STK + 2 * NSTACK
 STATE_COLUMNS = ("gamma", "tau_ratio", "tau", "gamma_rev", "tau_ratio_rev", "tau_rev", "direction",
                  "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
@@ -219,6 +219,8 @@ def _mrdf(st, par, e, gr):
     largest strain so far; a liquefied element flows between its dilation stops on Masing branches."""
     if st[e, S_LIQ] > 0.0:
         return 1.0
+    if par[e, P_P2] == 0.0:
+        return par[e, P_P1]
     xm = st[e, S_GM] / gr
     red = 1.0
     if xm > 0.0:
@@ -404,7 +406,7 @@ def new_state(n_elements: int, par=None) -> np.ndarray:
     """A virgin state array (no shear history) for ``n_elements`` elements; γ_d from ``par``.
 
     >>> new_state(2).shape
-    (2, 34)
+    (2, 50)
     """
     st = np.zeros((n_elements, NSTATE))
     st[:, S_TLIQ] = -1.0
