@@ -312,3 +312,49 @@ def test_the_stack_holds_at_most_nstack_points():
         assert st[0, law.S_NSTK] <= law.NSTACK
         assert abs(te) <= s * (1 + 1e-12)
         assert abs(law.skeleton_stress(g, d, st, par, 0, s, gr) - te) <= 1e-12 * s
+
+
+def _counted(path, n160=10.0, sigma_v0=100e3):
+    """Total damage after a stress path [(γ, τ [Pa]), ...] is committed point by point (the law's
+    damage count only: the stresses are imposed, not computed)."""
+    par = hs.parameters(sigma_v0=[sigma_v0], n160cs=n160)
+    st = law.new_state(1, par)
+    total = 0.0
+    for g, tau in path:
+        d = law.direction(g, st, 0)
+        total = law.commit(g, d, tau, st, par, 0, 1e9, 0.0, 1e-3)  # γ_r only for the loop bookkeeping
+    return total, par
+
+
+def _half_cycle(par, tau_a, gamma_a):
+    return law.half_cycle_damage(tau_a, gamma_a, par, 0)
+
+
+def test_a_wiggle_within_a_half_cycle_costs_it_nothing():
+    """Rainflow counting: a half cycle 0 → +τ with a small dip on the way counts the whole half
+    cycle (amplitude τ/2, from its start) plus the small closed cycle, not two pieces; counted
+    from the last reversal alone, the dip would remove almost all of its damage (1/b ≈ 10)."""
+    g1, t1 = 2e-3, 15e3
+    plain, par = _counted([(g1 / 2, t1 / 2), (g1, t1)])
+    dipped, _ = _counted([(g1 / 2, t1 / 2), (0.45 * g1, 0.45 * t1), (g1, t1)])
+    whole = _half_cycle(par, t1 / 2, g1 / 2)
+    inner = 2.0 * _half_cycle(par, 0.025 * t1, 0.025 * g1)
+    assert plain == pytest.approx(whole, rel=1e-12)
+    assert dipped == pytest.approx(whole + inner, rel=1e-12)
+    split = _half_cycle(par, t1 / 4, g1 / 4) + _half_cycle(par, 0.275 * t1, 0.275 * g1)
+    assert split < 0.01 * dipped  # what counting from the last reversal would have given
+
+
+def test_closed_inner_cycles_count_as_full_cycles():
+    """A large cycle ±τ with three inner cycles of ±τ/2 around +τ/2 on its way up: rainflow gives the
+    outer half cycles (0 → −τ, −τ → +τ, +τ → −τ) plus three full inner cycles: six half cycles of
+    amplitude τ/4."""
+    t, g = 20e3, 3e-3
+    path = [(-g, -t)]
+    for _ in range(3):
+        path += [(0.75 * g, 0.75 * t), (0.25 * g, 0.25 * t)]
+    path += [(g, t), (-g, -t)]
+    total, par = _counted(path)
+    outer = _half_cycle(par, t / 2, g / 2) + 2.0 * _half_cycle(par, t, g)
+    inner = 6.0 * _half_cycle(par, 0.25 * t, 0.25 * g)
+    assert total == pytest.approx(outer + inner, rel=1e-12)

@@ -61,6 +61,16 @@ def test_a_run_of_more_than_ten_million_steps_is_refused():
     _refused(case, r"\[time\] step: .* steps, more than 1e\+07")
 
 
+def test_a_liquefaction_column_counts_its_shaking_steps_over_the_shaking_only():
+    """The shear sub-steps run while the ground shakes, the reconsolidation steps after: a long
+    reconsolidation does not make the shear step a run that would not end, a too-fine one does."""
+    case = load_case("liquefaction-layered-site")
+    case["time"]["end"] = 2e5  # 4e7 shear steps of 5 ms if counted over the whole run
+    revalidate(case, "<test>")
+    case["shear_wave"]["step"] = case["ground_motion"]["duration"] * 2e-8
+    _refused(case, r"\[shear_wave\] step: .*\[ground_motion\] duration = 10 s .* more than 1e\+07")
+
+
 def test_2d_cut_outside_or_covering_the_domain_is_refused():
     case = load_case("viscometer")
     case["mesh"]["cut"] = [1.0, 2.0, 1.0, 2.0]

@@ -51,11 +51,16 @@ def _steps(case: dict, source: str) -> None:
     t = case["time"]
     if t.get("stepping", "fixed") == "pseudo_transient":
         return  # Δt grows there
+    # a liquefaction column takes [time] and [shear_wave] steps only while it shakes, and
+    # [reconsolidation] steps after: each is counted over the span it covers
+    shaking = case.get("ground_motion", {}).get("duration") if "reconsolidation" in case else None
     for where in ("time", "shear_wave", "reconsolidation"):
         step = case.get(where, {}).get("step")
-        if step is not None and t["end"] / step > MAX_STEPS:
-            raise CaseError(source, f"[{where}] step", f"{step:g} s makes [time] end = {t['end']:g} s "
-                            f"{t['end'] / step:.3g} steps, more than {MAX_STEPS:g}: a run that would not "
+        span = t["end"] if shaking is None or where == "reconsolidation" else min(t["end"], shaking)
+        if step is not None and span / step > MAX_STEPS:
+            what = "[time] end" if span == t["end"] else "[ground_motion] duration"
+            raise CaseError(source, f"[{where}] step", f"{step:g} s makes {what} = {span:g} s "
+                            f"{span / step:.3g} steps, more than {MAX_STEPS:g}: a run that would not "
                             "end; raise the step or lower the end time")
 
 
