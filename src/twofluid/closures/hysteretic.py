@@ -20,7 +20,7 @@ only and never feeds back into P_s). Above the water table (crust) P_s and G_max
 
 θ = 0 is the hyperbola x/(1 + x) (Hardin & Drnevich), θ = 1 elastic–perfectly plastic.
 
-**Unloading and reloading.** From the last reversal (γ_0, τ_0), moving in direction d:
+**Unloading and reloading.** From the last open reversal point (γ_0, τ_0), moving in direction d:
 
     τ = τ_0 + d τ_max [F (2 f(x/2) − f(x)) + f(x)],   x = |γ − γ_0|/γ_r,  f the backbone ratio,
 
@@ -29,6 +29,21 @@ largest strain so far γ_m (F = 1: Masing's rule). Beyond ±γ_m in the directio
 branch does not go past the backbone. Reversal stresses are stored as τ/τ_max, so when τ_max
 shrinks they shrink with it (the mapping of Matasovic & Vucetic): no stress of an old reversal
 ever exceeds the new strength.
+
+The law remembers up to ``NSTACK`` = 16 open reversal points (extended Masing rules): when a
+branch reaches the reversal point where the loop it belongs to began, the loop closes and the
+stress continues on the outer branch it had left, so small inner cycles do not ratchet the stress.
+The branch is an odd function of γ − γ_0, so the branch back from the last point meets the one
+before exactly there (for Masing and MRDF alike, F being the same for both). Within a sub-step
+the stress is the lower, in direction d, of the current branch and that outer branch (and, beyond
+γ_m, the backbone): the two cross at the closure point, so the stress is continuous in γ and
+Newton's iterates may pass the point freely; which points are open is decided from the committed
+state and d alone. At a commit, a closed pair is dropped only once the outer branch is the lower
+one at the committed strain, so dropping it never changes the stress; with a strength that changed
+since the reversal (γ_r ∝ √P_s) the crossing moves slightly off the reversal point, continuously.
+A reversal at the largest strain so far starts afresh; with the stack full, the innermost pair (the
+smallest loop) is forgotten (16 points: a decaying free vibration nests a new loop at every
+reversal, and 8 overflowed in the PySeismoSoil benchmark).
 
 **Cyclic mobility.** Dilation of the skeleton stiffens it again once the strain leaves a zone
 |γ − γ_c| ≤ γ_d around the centre of the cycles: the strength envelope is
