@@ -83,6 +83,10 @@ def child(case: str, out: str, end: float, worker: bool) -> dict:
     from twofluid import cli
 
     cli.one_blas_thread()  # as ``twofluid run`` does first, before NumPy is imported
+    from twofluid import plots as _plots_pkg
+
+    if hasattr(_plots_pkg, "command_process"):  # as ``twofluid run`` marks its process (matplotlib lean)
+        _plots_pkg.command_process()
     from twofluid.runners import column_1d
 
     marks = {}

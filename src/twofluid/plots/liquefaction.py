@@ -2,6 +2,8 @@
 (layers, water table, peak r_u, peak strain, simplified-procedure FS) and response spectra."""
 from __future__ import annotations
 
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
+
 from pathlib import Path
 
 import numpy as np

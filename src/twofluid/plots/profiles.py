@@ -7,6 +7,8 @@ time of a 1D run (docs/benchmarks.md). Figures are drawn and written by
 """
 from __future__ import annotations
 
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
+
 from pathlib import Path
 
 import numpy as np
