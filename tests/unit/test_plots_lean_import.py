@@ -26,6 +26,10 @@ fig.colorbar(pc, ax=a2, label="r_u [-]")
 a2.annotate("water table", xy=(1, 1))
 fig.tight_layout()
 write_png(fig, sys.argv[1])
+from matplotlib.patches import Rectangle  # a generated set() of a subclass of a subclass still sets
+r = Rectangle((0, 0), 1, 1)
+r.set(alpha=0.5, lw=3)
+assert (r.get_alpha(), r.get_linewidth()) == (0.5, 3)
 print("3d" in matplotlib.projections.get_projection_names(), len(matplotlib.artist.kwdoc(matplotlib.artist.Artist)) > 0)
 import mpl_toolkits.mplot3d  # importable again after the lean import
 """
