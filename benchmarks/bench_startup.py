@@ -1,7 +1,8 @@
 """Start-up and plotting cost of ``twofluid run`` for the bundled 1D and liquefaction cases.
 
 Each case runs as ``twofluid run CASE --quiet`` (the CLI's ``main``) in its own process
-(``--child``), in which the CPU time of the process (``time.process_time``: the
+(``--child``), marked as the command's process as ``twofluid`` marks its own (one BLAS thread,
+matplotlib imported lean: ``twofluid.plots.command_process``), in which the CPU time of the process (``time.process_time``: the
 interpreter's start-up, the imports, loading and building the case, the initial
 state) is read when the stepper starts its first step, and the CPU time of making the
 plots (importing matplotlib and the plotting module, drawing, writing the PNGs) is
