@@ -1,7 +1,8 @@
 """Start-up and plotting cost of ``twofluid run`` for the bundled 1D and liquefaction cases.
 
 Each case runs as ``twofluid run CASE --quiet`` (the CLI's ``main``) in its own process
-(``--child``), in which the CPU time of the process (``time.process_time``: the
+(``--child``), marked as the command's process as ``twofluid`` marks its own (one BLAS thread,
+matplotlib imported lean: ``twofluid.plots.command_process``), in which the CPU time of the process (``time.process_time``: the
 interpreter's start-up, the imports, loading and building the case, the initial
 state) is read when the stepper starts its first step, and the CPU time of making the
 plots (importing matplotlib and the plotting module, drawing, writing the PNGs) is
@@ -83,6 +84,10 @@ def child(case: str, out: str, end: float, worker: bool) -> dict:
     from twofluid import cli
 
     cli.one_blas_thread()  # as ``twofluid run`` does first, before NumPy is imported
+    from twofluid import plots as _plots_pkg
+
+    if hasattr(_plots_pkg, "command_process"):  # as ``twofluid run`` marks its process (matplotlib lean)
+        _plots_pkg.command_process()
     from twofluid.runners import column_1d
 
     marks = {}

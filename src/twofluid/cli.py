@@ -577,6 +577,10 @@ def _main(argv=None) -> int:
     from .casefile.schema import CaseError, CaseWarning
 
     one_blas_thread()
+    if argv is None:  # the command's own process: matplotlib imported lean when a figure is drawn
+        from .plots import command_process
+
+        command_process()
     args = parser().parse_args(argv)
     default_show = warnings.showwarning
     warnings.showwarning = lambda m, c, *a, **k: (_show_case_warning(m, c, *a, **k) if issubclass(c, CaseWarning)

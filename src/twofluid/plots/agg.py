@@ -14,6 +14,8 @@ Why not ``pyplot`` and ``savefig`` (measured in docs/benchmarks.md, "Start-up an
 """
 from __future__ import annotations
 
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
+
 from pathlib import Path
 
 import matplotlib

@@ -1,6 +1,8 @@
 """Figure of a cyclic simple-shear element test: pressures, n̄ and τ–γ loops."""
 from __future__ import annotations
 
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
+
 from pathlib import Path
 
 import matplotlib

@@ -1,6 +1,8 @@
 """Figures of 2D runs: porosity field, velocity fields, horizontal (radial) profiles."""
 from __future__ import annotations
 
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
+
 from pathlib import Path
 
 import numpy as np

@@ -1,6 +1,8 @@
 """The fluidization curve's figure: bed pressure drop, porosity and height against superficial velocity."""
 from __future__ import annotations
 
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
+
 from pathlib import Path
 
 import numpy as np

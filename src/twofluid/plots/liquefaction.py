@@ -1,11 +1,22 @@
 """Figures of a liquefaction run: r_u histories, depth–time map of r_u, settlement, the profile
-(layers, water table, peak r_u, peak strain, simplified-procedure FS) and response spectra."""
+(layers, water table, peak r_u, peak strain, simplified-procedure FS) and response spectra.
+
+Drawn for their CPU (docs/benchmarks.md, "Start-up and plots"): margins fixed in inches
+(:func:`_margins`) rather than computed by ``tight_layout``, which lays out every text of a
+figure once more; log axes labelled with plain numbers (0.1, 1, 10, 1e-05;
+:func:`_plain_log`) rather than matplotlib's 10^x, whose mathtext parser costs about 0.1 s
+to build; titles placed at the top of their axes (``y=1.0``) rather than placed anew at each
+drawing above whatever might stick out there (none of these axes has ticks on top).
+"""
 from __future__ import annotations
+
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
 
 from pathlib import Path
 
 import numpy as np
 from matplotlib import colormaps
+from matplotlib.ticker import LogFormatter
 
 from .agg import new_figure, write_png
 
@@ -13,6 +24,51 @@ __all__ = ["liquefaction_plots"]
 
 #: resolution of the PNGs [dots per inch]
 DPI = 110
+
+
+def _margins(fig, left: float = 0.85, right: float = 0.25, bottom: float = 0.62, top: float = 0.42,
+             **space) -> None:
+    """Fixed margins [inch] around the axes of ``fig`` (``space``: wspace, hspace, as fractions).
+
+    The default fits tick labels of up to six characters and an axis label on the left, a title
+    on top, and the x tick labels and axis label at the bottom.
+
+    >>> from twofluid.plots.agg import new_figure
+    >>> fig = new_figure((8.0, 4.0), 50)
+    >>> _margins(fig)
+    >>> print(f"{fig.subplotpars.left * 8.0:.3f} {(1.0 - fig.subplotpars.top) * 4.0:.3f}")
+    0.850 0.420
+    """
+    w, h = fig.get_size_inches()
+    fig.subplots_adjust(left=left / w, right=1.0 - right / w, bottom=bottom / h, top=1.0 - top / h, **space)
+
+
+class _PlainLog(LogFormatter):
+    """matplotlib's choice of which log ticks to label, each written as a plain number of up to
+    three significant digits (0.002, 0.1, 10, 1e−05: matplotlib's minus sign), with its sign."""
+
+    def __call__(self, x, pos=None):
+        text = super().__call__(x, pos)
+        return self.fix_minus("-" + text) if text and x < 0.0 else text
+
+    def _num_to_string(self, x, vmin, vmax):
+        return f"{x:.3g}"
+
+
+def _plain_log(ax, which: str = "x") -> None:
+    """Label the log-scaled (or symlog) ``which`` axis ("x", "y" or "both") of ``ax`` with plain
+    numbers (:class:`_PlainLog`).
+
+    >>> from twofluid.plots.agg import new_figure
+    >>> ax = new_figure((3.0, 2.0), 50).subplots()
+    >>> ax.set_xscale("log"); _ = ax.set_xlim(1e-5, 10.0); _plain_log(ax)
+    >>> f = ax.xaxis.get_major_formatter(); f.set_locs([1e-5, 0.1, 10.0])
+    >>> f(1e-5), f(0.1), f(10.0)
+    ('1e−05', '0.1', '10')
+    """
+    for axis in (ax.xaxis, ax.yaxis)[(which == "y"):(which != "x") + 1]:
+        axis.set_major_formatter(_PlainLog())
+        axis.set_minor_formatter(_PlainLog(labelOnlyBase=False))
 
 
 def _shade(ax, col):
@@ -44,8 +100,8 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
     axes[1].set_ylabel("σ′_v/σ′_v0 [-]")
     axes[1].set_xlabel("time [s]")
     _shade(axes[1], col)
-    axes[0].set_title(f"{title}: excess pore-pressure ratio")
-    fig.tight_layout()
+    axes[0].set_title(f"{title}: excess pore-pressure ratio", y=1.0)
+    _margins(fig, hspace=0.1)
     paths.append(write_png(fig, out / "ru_histories.png"))
 
     if len(rec.field_t) > 1:
@@ -60,7 +116,7 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
         ax.set_ylim(col.ground_surface, 0.0)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("depth below the ground surface [m]")
-        ax.set_title(f"{title}: r_u (red: r_u = {ru_liq:g})")
+        ax.set_title(f"{title}: r_u (red: r_u = {ru_liq:g})", y=1.0)
         if col.shaking_end > 0.0:  # the shaking window: a labelled bar along the top edge
             ax.axvline(col.shaking_end, color="w", ls="--", lw=0.8)
             ax.axvspan(0.0, col.shaking_end, ymin=0.95, ymax=1.0, color="tab:red", alpha=0.8)
@@ -73,8 +129,9 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
             ax.annotate("water table", xy=(ft[-1], zw), ha="right", va="bottom", color="c", fontsize=8)
         if len(ft) > 1 and ft[-1] / max(ft[1] - ft[0], 1e-12) > 200:
             ax.set_xscale("symlog", linthresh=max(col.shear_end, 1.0))
+            _plain_log(ax)
+        _margins(fig, right=0.2)  # before the colour bar, which takes its room from the axes
         fig.colorbar(pc, ax=ax, label="r_u [-]")
-        fig.tight_layout()
         paths.append(write_png(fig, out / "ru_map.png"))
 
     fig = new_figure((8, 6), DPI)
@@ -83,12 +140,12 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
     axes[0].set_ylabel("surface settlement [cm]")
     axes[0].invert_yaxis()
     _shade(axes[0], col)
-    axes[0].set_title(f"{title}: settlement and base pore pressure")
+    axes[0].set_title(f"{title}: settlement and base pore pressure", y=1.0)
     axes[1].plot(t, np.array(rec.pbase) / 1e3, "b", lw=1.0)
     axes[1].set_ylabel("base excess pore pressure [kPa]")
     axes[1].set_xlabel("time [s]")
     _shade(axes[1], col)
-    fig.tight_layout()
+    _margins(fig, hspace=0.1)
     paths.append(write_png(fig, out / "settlement.png"))
     if case is not None and summary is not None and extra is not None:
         paths.append(_profile_plot(rec, col, out, title, ru_liq, summary, extra))
@@ -109,6 +166,7 @@ def _profile_plot(rec, col, out: Path, title: str, ru_liq: float, summary: dict,
     axes[0].set_xlabel("peak r_u [-]")
     axes[0].set_xlim(0.0, 1.1)
     axes[1].semilogx(np.maximum(rec.peak_strain, 1e-7), z, "b.-", lw=1.0, ms=3)
+    _plain_log(axes[1])
     axes[1].set_xlabel("peak |shear strain| [-]")
     fs_run = np.where(np.isfinite(run.FS), run.FS, np.nan)
     fs_in = np.where(np.isfinite(inp.FS), inp.FS, np.nan)
@@ -133,7 +191,7 @@ def _profile_plot(rec, col, out: Path, title: str, ru_liq: float, summary: dict,
     axes[0].set_ylabel("depth below the ground surface [m]")
     fig.suptitle(f"{title}: profile (settlement {100 * summary['settlement_end_m']:.2f} cm two-fluid, "
                  f"{100 * run.total_settlement_m:.2f} cm simplified)", fontsize=10)
-    fig.tight_layout()
+    _margins(fig, right=0.3, top=0.55, wspace=0.12)
     return write_png(fig, out / "profile.png")
 
 
@@ -145,12 +203,14 @@ def _spectra_plot(out: Path, title: str, spec: dict) -> Path:
     axes[0].loglog(T, spec["Sa_surface_g"], "r", lw=1.2, label="surface")
     axes[0].set_ylabel(f"S_a, {100 * spec['damping']:g} % damped [g]")
     axes[0].legend()
-    axes[0].set_title(f"{title}: response spectra")
+    axes[0].set_title(f"{title}: response spectra", y=1.0)
     axes[1].semilogx(T, spec["amplification"], "b", lw=1.2)
     axes[1].axhline(1.0, color="k", lw=0.6)
     axes[1].set_ylabel("amplification S_a,surface / S_a,input [-]")
     axes[1].set_xlabel("period [s]")
     for ax in axes:
         ax.grid(alpha=0.3, which="both")
-    fig.tight_layout()
+    _plain_log(axes[0], "both")
+    _plain_log(axes[1])
+    _margins(fig, hspace=0.1)
     return write_png(fig, out / "spectra.png")

@@ -7,6 +7,8 @@ time of a 1D run (docs/benchmarks.md). Figures are drawn and written by
 """
 from __future__ import annotations
 
+from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
+
 from pathlib import Path
 
 import numpy as np
@@ -68,7 +70,7 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
                   color=cmap(norm(t)))
     ax.set_xlabel("porosity n [-]")
     ax.set_ylabel("height y [m]")
-    ax.set_title(title)
+    ax.set_title(title, y=1.0)  # at the top of the axes: not placed anew at each drawing
     ax.grid(alpha=0.3)
     fig.subplots_adjust(left=0.15, right=0.96, bottom=0.09, top=0.94)  # fixed margins: tight_layout is slow
     _time_bar(fig, ax, cmap, norm)
@@ -122,7 +124,7 @@ def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, t
         _scale_after(ax, t, series, levels or {}, scale_after)
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(ylabel)
-    ax.set_title(title)
+    ax.set_title(title, y=1.0)  # at the top of the axes: not placed anew at each drawing
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)
