@@ -156,3 +156,23 @@ def test_shipped_table_scales_with_the_amount_of_particles_not_a_fixed_height():
     assert abs(p - 1.0) < 2 * se and p > 3 * se
     f = inventory_fits(rows)
     assert f["charge"]["mean_abs"] < 0.6 * f["height"]["mean_abs"]
+
+
+def test_inventory_table_reruns_rows_from_the_left_out_amount_of_particles():
+    """Rows 4, 11 and 12: each runs from H_s/(1 − n0) on an element face, H_s fitted on the other two."""
+    from twofluid.verification.slis_check import inventory_table, slis_markdown
+
+    rows = [dict(r, row=i + 1) for i, r in enumerate(_kynch_rows()) if i in (3, 10, 11)]
+    out = inventory_table(rows, workers=1)
+    amount = [r["H0"] * r["t1_exp"] / r["t1_kynch"] * (1 - r["n0"]) for r in rows]
+    for i, (r, o) in enumerate(zip(rows, out)):
+        others = [a for j, a in enumerate(amount) if j != i]
+        h = np.sqrt(others[0] * others[1]) / (1 - r["n0"])
+        assert o["row"] == r["row"] and abs(o["H0"] - h) <= 0.005 + 1e-12  # nearest 1 cm face
+        assert o["H0"] * 100 == pytest.approx(round(o["H0"] * 100), abs=1e-9)
+        assert np.isfinite(o["t1_twofluid"]) and o["t1_kynch"] == pytest.approx(
+            r["t1_kynch"] * o["H0"] / r["H0"], rel=1e-9)  # Kynch's t1 ∝ H0
+    table = [dict(r, t1_twofluid=1.0, err_twofluid=0.0, t1_reach=1.0, err_kynch=0.0, t1_thesis=1.0,
+                  err_thesis=0.0, material="x", d_mm=1.0, n1=0.5, note="") for r in rows]
+    assert "twofluid rerun with that amount of particles" in slis_markdown(table, out)
+    assert "twofluid rerun" not in slis_markdown(table)
