@@ -152,7 +152,7 @@ def _cmd_verify(args) -> int:
     if tables.get("slis") is not None:
         print("\nValidation: Slis, Willemse & Kramers (1959), thesis table 5.2 (errors relative to the "
               "experiment)\n")
-        print(slis_markdown(tables["slis"]))
+        print(slis_markdown(tables["slis"], tables.get("slis_inventory")))
         print("\n" + validation_summary(tables["slis"]))
     if args.out and not args.no_write:
         print(f"report written to {args.out}", file=sys.stderr)

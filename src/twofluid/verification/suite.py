@@ -127,8 +127,9 @@ def machine() -> str:
             f"Python {platform.python_version()}, NumPy {np.__version__}, SciPy {scipy.__version__}")
 
 
-def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall: float) -> str:
-    """The text of docs/verification.md."""
+def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall: float,
+           slis_inventory: list[dict] | None = None) -> str:
+    """The text of docs/verification.md (``slis_inventory``: :func:`.slis_check.inventory_table`'s rows)."""
     from . import kynch_check as k, order_check as o, properties_check as p, scott_check as sc, terzaghi_check as t
 
     parts = [
@@ -158,7 +159,7 @@ def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall:
     if slis is not None:
         parts += ["", "## Validation: Slis, Willemse & Kramers (1959), thesis table 5.2", "",
                   "Column geometry and t1 definition: `src/twofluid/data/cases/slis-step-change/README.md`. "
-                  "Errors are relative to the experiment.", "", slis_check.slis_markdown(slis)]
+                  "Errors are relative to the experiment.", "", slis_check.slis_markdown(slis, slis_inventory)]
     if annulus is not None:
         parts += ["", "## 2D annulus (Q1–P0, axisymmetric with swirl)", "",
                   "From `twofluid.verification.annular.convergence_table()` (relative L2 errors of the "
@@ -191,10 +192,12 @@ def verify(out: str | Path | None = None, quick: bool = False, slis: bool = True
 
         out = check_out_file(out, "verify --out")
     rows = run_checks(quick, only, log)
-    tab = None
+    tab = slis_inventory = None
     if slis:
         tab = slis_check.slis_table(rows=[0, 3] if quick else None)
         rows += slis_check.gate_rows(tab)  # all twelve rows only
+        if not quick and all(np.isfinite(r["t1_kynch"]) for r in tab):  # a diagnostic, not a gate
+            slis_inventory = slis_check.inventory_table(tab)
         if log:
             log(f"  slis: {len(tab)} rows ({time.perf_counter() - t0:.1f} s so far)")
     ann = None
@@ -202,9 +205,9 @@ def verify(out: str | Path | None = None, quick: bool = False, slis: bool = True
         from .annular import annulus_study, convergence_table
 
         ann = convergence_table(annulus_study(levels=(4, 8, 16) if quick else (4, 8, 16, 32)))
-    text = report(rows, tab, ann, time.perf_counter() - t0)
+    text = report(rows, tab, ann, time.perf_counter() - t0, slis_inventory)
     if tables is not None:
-        tables.update(slis=tab, annulus=ann)
+        tables.update(slis=tab, annulus=ann, slis_inventory=slis_inventory)
     if out is not None:
         Path(out).parent.mkdir(parents=True, exist_ok=True)
         Path(out).write_text(text, encoding="utf-8")
