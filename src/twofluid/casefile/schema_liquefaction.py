@@ -49,6 +49,11 @@ _SITE = [
       "saturated layers (n̄ lowered at constant n so that P_s = (1 − r_u0) σ′_v0)", lo=0.0, hi=1.0,
       hi_open=True),
     K("water_table_pressure", float, 0.0, "Pa", "liquid pressure at the water table (datum of P)"),
+    K("slope", float, 0.0, "%", "ground slope S = 100 tan α in per cent (0: level ground): an infinite "
+      "slope with the water table parallel to the ground surface and slope-parallel seepage, so the "
+      "total weight drives, τ_s = σ_v sin α cos α (a submerged slope would drive about half as hard); "
+      "thicknesses and depths are measured normal to the slope. Needs [shear_wave] model = "
+      "\"hysteretic\" and no surcharge (docs/lateral-spreading.md)", lo=0.0, hi=10.0),
 ]
 
 LAYER_KEYS = [
@@ -316,6 +321,7 @@ def check_liquefaction(case: dict, source: str) -> None:
         raise CaseError(source, "[report] spectrum_periods", f"{periods} must be increasing periods in "
                         "(0, 100] s (or empty for the default)")
     _check_hysteretic(case, source)
+    _check_slope(case, source)
     _check_physics(case, source)
     # the files the case names, read and checked now: a bad one must not start a run
     tables = []
@@ -338,6 +344,20 @@ def check_liquefaction(case: dict, source: str) -> None:
             warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} k2max: ignored (shear_wave_velocity = "
                                       f"{la['shear_wave_velocity']:g} m/s gives G_max; k2max is used only when "
                                       "shear_wave_velocity is 0)"), stacklevel=3)
+
+
+def _check_slope(case: dict, source: str) -> None:
+    """A sloping site needs the hysteretic law (its static state and strength) and no surcharge
+    (whose downslope component the column does not carry)."""
+    slope = case["site"]["slope"]
+    if slope == 0.0:
+        return
+    if case["shear_wave"]["model"] != "hysteretic":
+        raise CaseError(source, "[site] slope", f"{slope:g} %: a sloping site needs [shear_wave] model = "
+                        "\"hysteretic\" (valid with the thesis model: 0 only)")
+    if case["site"]["surcharge"] > 0.0:
+        raise CaseError(source, "[site] surcharge", f"{case['site']['surcharge']:g} Pa on a slope of {slope:g} %: "
+                        "valid on a sloping site is 0 only (its downslope component is not modelled)")
 
 
 def _check_layers(case: dict, source: str) -> None:
