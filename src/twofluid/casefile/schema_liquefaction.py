@@ -358,6 +358,9 @@ def _check_slope(case: dict, source: str) -> None:
     if case["site"]["surcharge"] > 0.0:
         raise CaseError(source, "[site] surcharge", f"{case['site']['surcharge']:g} Pa on a slope of {slope:g} %: "
                         "valid on a sloping site is 0 only (its downslope component is not modelled)")
+    if case["ground_motion"]["pga_g"] > 0.0 and case["ground_motion"]["baseline_order"] == 0:
+        raise CaseError(source, "[ground_motion] baseline_order", f"0 on a slope of {slope:g} %: valid on a "
+                        "sloping site are 1-3 (its displacements need a baseline-corrected record)")
 
 
 def _check_layers(case: dict, source: str) -> None:

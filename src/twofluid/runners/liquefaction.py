@@ -337,6 +337,13 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
 
     write_field(state, ru0)
     writer.probe_row(state.t, rec.probe_row(state, ru0))
+    srec = None
+    if col.body != 0.0:  # a sloping site: displacements, localisation, FS_post and the estimates
+        from .liquefaction_slope import SlopeRecorder
+
+        srec = SlopeRecorder(col, out)
+        srec.record(state)
+        srec.profile(state)
     out_times = sorted({*case["output"]["times"], col.shaking_end, b.t_end} - {0.0})
     out_times = [t for t in out_times if 0.0 < t <= b.t_end]
     profiles = {0.0: _profile(col, state, rec.peak)}
@@ -349,7 +356,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     ru_done = case["reconsolidation"]["dissipated_r_u"]
     stop = None if ru_done == 0.0 else (lambda s: float(np.max(col.excess_ratio(s))) < ru_done)
     wall0 = time.perf_counter()
-    with run_guard(b.t_end, progress, writer, ffile) as run:
+    with run_guard(b.t_end, progress, writer, ffile, *(() if srec is None else (srec,))) as run:
         for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times, stop=stop):
             s = last = step.state
             n_steps += 1
@@ -358,6 +365,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             at_mark = any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times)
             field = s.t >= next_field - 1e-12 or at_mark
             ru = rec.record(s, field, step.surface)
+            if srec is not None:
+                srec.record(s)
+                if at_mark or abs(s.t - col.shear_end) < 1e-9 * max(1.0, s.t):
+                    srec.profile(s)
             if field:
                 write_field(s, ru)
                 next_field = s.t + rep["field_interval"]
@@ -382,6 +393,9 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     if round(last.t, 9) not in profiles:
         profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
         writer.profile(last.t, profiles[round(last.t, 9)])  # the state it stopped at, in the file too
+    if srec is not None:
+        srec.profile(last)
+        srec.close()
     total = None
     if status == "completed":  # the companion run informs the simplified table only
         try:
@@ -390,6 +404,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             total = None
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
                               settle_shaking, total)
+    if srec is not None:
+        from .liquefaction_slope import slope_summary
+
+        summary["slope"] = slope_summary(case, col, b.site, rec, srec, last, extra["simplified_run"])
     write_json(out / "summary.json", summary)
     try:
         report.write_tables(out, summary, extra, rec)
