@@ -158,9 +158,10 @@ def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
     zhang = {"displacement_m": z.displacement_m, "ldi_m": z.ldi_m, "in_fitted_range": z.in_range,
              "method": "LD = (S + 0.2) LDI, LDI = sum gamma_max(FS, Dr) h over the simplified procedure's rows "
                        "(FS of the 'run' table: level-ground CRR, no K_alpha, as Zhang et al. 2004)"}
-    newmark = {"method": "one-way rigid block on the localisation element's residual strength S_r, driven by "
-                         "the run's absolute acceleration at the node below it (sampled at the vertical steps) "
-                         "from its first liquefaction on"}
+    newmark = {"method": "one-way rigid block on the localisation element's residual strength S_r (sigma_v: the "
+                         "column's weight above the element's base), driven by the run's absolute acceleration of "
+                         "the firm ground under it (the node below the band of liquefied elements that holds it; "
+                         "sampled at the vertical steps) from the element's first liquefaction on"}
     first = rec.first
     t0 = first[e_loc] if e_loc < col.n_sat else np.nan
     if not np.isfinite(t0) and np.any(np.isfinite(first)):
@@ -169,7 +170,10 @@ def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
         newmark.update(displacement_m=None, note="not evaluated: nothing liquefied while the shear wave ran")
     else:
         t = np.array(srec.acc_t)
-        a = np.array(srec.acc)[:, e_loc]
+        j = e_loc  # the firm ground: the node below the liquefied band that holds the sliding element
+        while 0 < j <= col.n_sat and rec.ever[j - 1]:
+            j -= 1
+        a = np.array(srec.acc)[:, j]
         dt = float(np.median(np.diff(t)))
         grid = np.arange(t[0], t[-1] + 0.5 * dt, dt)
         a_grid = np.interp(grid, t, a)
@@ -178,7 +182,8 @@ def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
         r = ls.newmark_infinite_slope(a_grid, dt, float(s_r[e_loc]), sigma_v, slope, t_start_s=float(t0 - t[0]))
         newmark.update(displacement_m=r.displacement_m, flow_failure=r.flow_failure, k_y_g=r.k_y,
                        fs_post=r.fs_post, triggering_time_s=float(t0), sliding_depth_m=float(
-                           col.depth_all[e_loc] + 0.5 * col.wave.h[e_loc]), message=r.message)
+                           col.depth_all[e_loc] + 0.5 * col.wave.h[e_loc]),
+                       driving_motion_depth_m=float(col.ground_surface - col.y_all[j]), message=r.message)
     youd = {"displacement_m": None,
             "note": "not evaluated: Youd et al. (2002) needs the earthquake's distance R and the layers' F15 and "
                     "D50_15 (keys not yet in the case file) and an unscaled record"}
