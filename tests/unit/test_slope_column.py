@@ -175,3 +175,26 @@ def test_determinacy_under_a_1e5_perturbation():
         c = _case(ground_motion__pga_g=pga)
         d.append(run_case(c).summary["slope"]["surface_displacement_end_m"])
     assert abs(d[1] / d[0] - 1.0) <= 0.02, d
+
+
+def test_youd_only_for_an_unscaled_record_with_its_distance():
+    """Youd et al. (2002) in the summary is youd2002_ground_slope of the case's M, R, S and the loose
+    sand's T15 (its 4 m, (N1)60cs 6 < 15), F15 and D50_15 (the only such layer); absent, with the
+    reason, for a scaled record."""
+    c = _case(ground_motion__duration=4.0, time__end=20.0, ground_motion__distance_km=12.0, output__times=[10.0])
+    c["shear_wave"]["free_vibration"] = 2.0
+    c["layers"][1]["fines_content"] = 5.0
+    c["layers"][1]["mean_grain_size"] = 2e-4
+    y = run_case(c).summary["slope"]["estimates"]["youd_2002"]
+    assert y["median_m"] is None and "scaled" in y["note"]
+    from twofluid.io import ground_motion as gm
+    from twofluid.casefile.schema_liquefaction import load_motion
+
+    c["ground_motion"]["baseline_order"] = 1
+    raw = gm.load(gm.bundled_record(c["ground_motion"]["file"]))
+    c["ground_motion"]["pga_g"] = float(np.abs(raw.acceleration[raw.time <= 4.0 + 1e-12]).max() / ls.G)
+    assert load_motion(c, "<case>") is not None
+    y = run_case(c).summary["slope"]["estimates"]["youd_2002"]
+    expected = ls.youd2002_ground_slope(c["ground_motion"]["magnitude"], 12.0, 3.0, 4.0, 5.0, 0.2)
+    assert y["median_m"] == pytest.approx(expected.median_m, rel=1e-12)
+    assert (y["t15_m"], y["f15_percent"], y["d50_15_mm"]) == pytest.approx((4.0, 5.0, 0.2), rel=1e-12)

@@ -118,6 +118,11 @@ LAYER_KEYS = [
       lo=0.0, lo_open=True, hi=1.0),
     K("liquefiable", bool, True, "-", "saturated layer: false keeps n̄ fixed under shear (no pore-pressure "
       "generation; the layer still consolidates and drains)"),
+    K("fines_content", float, 0.0, "%", "saturated layer: fines content F (per cent passing 0.075 mm), "
+      "Youd et al.'s (2002) F15 on a sloping site", lo=0.0, hi=99.0),
+    K("mean_grain_size", float, 0.0, "m", "saturated layer: mean grain size D50 (a sieve's, not the drag "
+      "law's equivalent diameter, which is D10-like and 3–10 times smaller), Youd et al.'s (2002) D50_15 "
+      "on a sloping site; 0: not given", lo=0.0, hi=0.1),
     K("n160cs", float, 0.0, "blows/0.3 m", "hysteretic model: clean-sand equivalent SPT (N1)60cs; sets CRR, "
       "the CSR–N slope b, K_σ, the residual strength and γ_lim (Idriss & Boulanger 2008, Boulanger & "
       "Idriss 2014). 0: from q_c1ncs if given, else 46 (Dr/100)²", lo=0.0, hi=46.0),
@@ -149,6 +154,10 @@ _MOTION = [
     K("magnitude", float, 6.95, "-", "moment magnitude M_w of the earthquake (the simplified procedure's "
       "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record (each bundled "
       "record's M_w: data/ground_motions/PROVENANCE.md)", lo=5.0, hi=9.0),
+    K("distance_km", float, 0.0, "km", "horizontal distance R from the site to the nearest bound of the "
+      "seismic energy source: on a sloping site with an unscaled record (pga_g the record's own PGA within "
+      "0.5 %) the summary adds Youd et al.'s (2002) estimate, which depends on M and R; 0: not given",
+      lo=0.0, hi=500.0),
     K("polarity", int, 1, "-", "sign of the record: 1 as recorded, -1 reversed (a → −a, after the scaling); on "
       "level ground the response is the mirror image (same r_u, settlement, peak strains)", choices=(1, -1)),
 ]

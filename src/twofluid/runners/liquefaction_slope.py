@@ -184,7 +184,50 @@ def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
                        fs_post=r.fs_post, triggering_time_s=float(t0), sliding_depth_m=float(
                            col.depth_all[e_loc] + 0.5 * col.wave.h[e_loc]),
                        driving_motion_depth_m=float(col.ground_surface - col.y_all[j]), message=r.message)
-    youd = {"displacement_m": None,
-            "note": "not evaluated: Youd et al. (2002) needs the earthquake's distance R and the layers' F15 and "
-                    "D50_15 (keys not yet in the case file) and an unscaled record"}
-    return {"zhang_2004": zhang, "newmark": newmark, "youd_2002": youd}
+    return {"zhang_2004": zhang, "newmark": newmark, "youd_2002": _youd(case, site, simp_run)}
+
+
+#: largest relative difference between pga_g and the record's own PGA for "unscaled"
+UNSCALED = 0.005
+
+
+def _youd(case, site, simp_run) -> dict:
+    """Youd et al. (2002), ground-slope form, with its ×/÷ 2.5 band: only for an unscaled record
+    (its M and R are the earthquake's) with ``[ground_motion] distance_km``, and the F15 and D50_15
+    of the saturated rows with (N1)60 < 15 given (``fines_content``, ``mean_grain_size``)."""
+    from ..casefile import schema_liquefaction as sl
+    from ..io import ground_motion as gm
+
+    g = case["ground_motion"]
+    out = {"median_m": None, "method": "Youd, Hansen & Bartlett (2002) ground-slope MLR, median x/÷ 2.5; "
+           "(N1)60 of the rows taken as their (N1)60cs; T15 over the saturated rows with (N1)60 < 15 "
+           "above 20 m, F15 and D50_15 their thickness-weighted fines_content and mean_grain_size"}
+    if g["distance_km"] <= 0.0:
+        return dict(out, note="not evaluated: [ground_motion] distance_km not given")
+    m = gm.load(sl._record_path(case, case.get("_source", "") or "<case>"),
+                units=g["units"] if not g["file"].lower().endswith(".at2") else None)
+    if g["duration"] > 0.0:
+        m = gm.GroundMotion(*(x[m.time <= g["duration"] + 1e-12] for x in (m.time, m.acceleration)), m.name,
+                            m.source, m.dt)
+    own = m.pga / ls.G
+    if abs(g["pga_g"] / own - 1.0) > UNSCALED:
+        return dict(out, note=f"not evaluated: the record is scaled (pga_g = {g['pga_g']:g} g, its own PGA "
+                              f"{own:.4g} g); Youd et al. depend on the earthquake's M and R, not on the record")
+    layers = case["layers"]
+    owner = np.concatenate([site.layer_of, site.crust_layer_of])
+    fines = np.array([layers[i]["fines_content"] for i in owner])
+    d50 = np.array([layers[i]["mean_grain_size"] for i in owner]) * 1e3
+    sat = np.arange(owner.size) < site.layer_of.size  # the rows below the water table (column order)
+    need = sat & (simp_run.N1_60cs < 15.0)
+    missing = sorted({layers[i]["name"] for i in owner[need & (d50 <= 0.0)]})
+    if missing:
+        return dict(out, note="not evaluated: mean_grain_size not given for " + ", ".join(missing))
+    t15, f15, d15 = ls.youd2002_site_terms(simp_run.z_top_m, simp_run.z_bottom_m, simp_run.N1_60cs, sat, fines,
+                                           np.where(d50 > 0.0, d50, 1.0))
+    if t15 == 0.0:
+        return dict(out, median_m=0.0, note="T15 = 0: no saturated granular row with (N1)60 < 15")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ls.youd2002_ground_slope(g["magnitude"], g["distance_km"], case["site"]["slope"], t15, f15, d15)
+    return dict(out, median_m=r.median_m, lower_m=r.lower_m, upper_m=r.upper_m, t15_m=t15, f15_percent=f15,
+                d50_15_mm=d15, in_verified_range=r.in_range, range_notes=list(r.notes))
