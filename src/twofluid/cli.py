@@ -223,6 +223,10 @@ def _cmd_element_test(args) -> int:
         return _element_test_hysteretic(args)
     from .models.element_test import check_options, run_element_test
 
+    if args.alpha is not None:
+        from .casefile.schema import CaseError
+
+        raise CaseError("element-test", "--alpha", "a static shear bias needs --model hysteretic")
     check_options({"--csr": args.csr, "--gamma": args.gamma, "--sigma-v0": args.sigma_v0, "--dr": args.dr,
                    "--porosity": args.porosity, "--A": args.A, "--k2max": args.k2max,
                    "--gamma-ref": args.gamma_ref, "--max-cycles": args.max_cycles,
@@ -263,12 +267,19 @@ def _element_test_hysteretic(args) -> int:
             from .casefile.schema import CaseError
 
             raise CaseError("element-test", opt, f"{value:g} is outside the valid range (0, {hi:g}]")
+    if args.alpha is not None and not 0.0 <= args.alpha <= 0.35:
+        from .casefile.schema import CaseError
+
+        raise CaseError("element-test", "--alpha", f"{args.alpha:g} is outside the valid range [0, 0.35] "
+                        "(the range of Idriss & Boulanger's K_alpha)")
     if args.out:
         from .io.folders import check_out_dir
 
         check_out_dir(args.out, "element-test --out", own=False)
     soil = dict(n160cs=args.n160cs, qc1ncs=args.qc1ncs, dr=args.dr,
                 k2max=30.0 if args.k2max is None else args.k2max)
+    if args.alpha:
+        soil["alpha"] = args.alpha
     sig = args.sigma_v0 * 1e3
     if args.curve:
         rows = csr_n_curve(sigma_v0=sig, **soil)
@@ -307,6 +318,17 @@ def _element_test_hysteretic(args) -> int:
     else:
         print(f"undrained cyclic simple shear, hysteretic model, {load}, sigma'_v0 = {args.sigma_v0:g} kPa: "
               f"not liquefied in {args.max_cycles:g} cycles (final r_u = {float(r.r_u[-1]):.3f})")
+    if args.alpha:
+        from .models.element_test_hysteretic import model_crr
+
+        base = {k: v for k, v in soil.items() if k != "alpha"}
+        r0 = model_crr(sigma_v0=sig, steps_per_cycle=args.steps_per_cycle, **base)
+        r1 = model_crr(sigma_v0=sig, steps_per_cycle=args.steps_per_cycle, **soil)
+        k_a = r.crr / element_test(csr=0.1, sigma_v0=sig, max_cycles=1, **base).crr
+        print(f"static shear alpha = {args.alpha:g} (cycles ride on tau_s; strain counted from the static "
+              f"strain): model CRR(15 cycles) {r1:.4f} / {r0:.4f} = {r1 / r0:.4f}, K_alpha of Idriss & "
+              f"Boulanger (2008) {k_a:.4f} ({100.0 * (r1 / r0 / k_a - 1.0):+.1f} %)")
+    return 0
 
 
 def _cmd_build_kernels(args) -> int:
@@ -415,6 +437,8 @@ def parser():
                     "the CRR curve of (N1)60cs)")
     et.add_argument("--n160cs", type=float, help="hysteretic: (N1)60cs (default from --dr)")
     et.add_argument("--qc1ncs", type=float, help="hysteretic: q_c1Ncs, the CPT route")
+    et.add_argument("--alpha", type=float, help="hysteretic: static shear stress ratio tau_s/sigma'_v0 "
+                    "in [0, 0.35] the cycles ride on (a slope's); prints the model's CRR ratio beside K_alpha")
     et.add_argument("--curve", action="store_true", help="hysteretic: the CSR-N curve against the "
                     "correlation (printed; csr_n.csv and csr_n.png with --out)")
     et.add_argument("--drained", action="store_true", help="drained test (P_s held, n follows n-bar)")

@@ -49,6 +49,11 @@ _SITE = [
       "saturated layers (n̄ lowered at constant n so that P_s = (1 − r_u0) σ′_v0)", lo=0.0, hi=1.0,
       hi_open=True),
     K("water_table_pressure", float, 0.0, "Pa", "liquid pressure at the water table (datum of P)"),
+    K("slope", float, 0.0, "%", "ground slope S = 100 tan α in per cent (0: level ground): an infinite "
+      "slope with the water table parallel to the ground surface and slope-parallel seepage, so the "
+      "total weight drives, τ_s = σ_v sin α cos α (a submerged slope would drive about half as hard); "
+      "thicknesses and depths are measured normal to the slope. Needs [shear_wave] model = "
+      "\"hysteretic\" and no surcharge (docs/lateral-spreading.md)", lo=0.0, hi=10.0),
 ]
 
 LAYER_KEYS = [
@@ -113,6 +118,11 @@ LAYER_KEYS = [
       lo=0.0, lo_open=True, hi=1.0),
     K("liquefiable", bool, True, "-", "saturated layer: false keeps n̄ fixed under shear (no pore-pressure "
       "generation; the layer still consolidates and drains)"),
+    K("fines_content", float, 0.0, "%", "saturated layer: fines content F (per cent passing 0.075 mm), "
+      "Youd et al.'s (2002) F15 on a sloping site", lo=0.0, hi=99.0),
+    K("mean_grain_size", float, 0.0, "m", "saturated layer: mean grain size D50 (a sieve's, not the drag "
+      "law's equivalent diameter, which is D10-like and 3–10 times smaller), Youd et al.'s (2002) D50_15 "
+      "on a sloping site; 0: not given", lo=0.0, hi=0.1),
     K("n160cs", float, 0.0, "blows/0.3 m", "hysteretic model: clean-sand equivalent SPT (N1)60cs; sets CRR, "
       "the CSR–N slope b, K_σ, the residual strength and γ_lim (Idriss & Boulanger 2008, Boulanger & "
       "Idriss 2014). 0: from q_c1ncs if given, else 46 (Dr/100)²", lo=0.0, hi=46.0),
@@ -144,6 +154,10 @@ _MOTION = [
     K("magnitude", float, 6.95, "-", "moment magnitude M_w of the earthquake (the simplified procedure's "
       "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record (each bundled "
       "record's M_w: data/ground_motions/PROVENANCE.md)", lo=5.0, hi=9.0),
+    K("distance_km", float, 0.0, "km", "horizontal distance R from the site to the nearest bound of the "
+      "seismic energy source: on a sloping site with an unscaled record (pga_g the record's own PGA within "
+      "0.5 %) the summary adds Youd et al.'s (2002) estimate, which depends on M and R; 0: not given",
+      lo=0.0, hi=500.0),
     K("polarity", int, 1, "-", "sign of the record: 1 as recorded, -1 reversed (a → −a, after the scaling); on "
       "level ground the response is the mirror image (same r_u, settlement, peak strains)", choices=(1, -1)),
 ]
@@ -316,6 +330,7 @@ def check_liquefaction(case: dict, source: str) -> None:
         raise CaseError(source, "[report] spectrum_periods", f"{periods} must be increasing periods in "
                         "(0, 100] s (or empty for the default)")
     _check_hysteretic(case, source)
+    _check_slope(case, source)
     _check_physics(case, source)
     # the files the case names, read and checked now: a bad one must not start a run
     tables = []
@@ -338,6 +353,23 @@ def check_liquefaction(case: dict, source: str) -> None:
             warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} k2max: ignored (shear_wave_velocity = "
                                       f"{la['shear_wave_velocity']:g} m/s gives G_max; k2max is used only when "
                                       "shear_wave_velocity is 0)"), stacklevel=3)
+
+
+def _check_slope(case: dict, source: str) -> None:
+    """A sloping site needs the hysteretic law (its static state and strength) and no surcharge
+    (whose downslope component the column does not carry)."""
+    slope = case["site"]["slope"]
+    if slope == 0.0:
+        return
+    if case["shear_wave"]["model"] != "hysteretic":
+        raise CaseError(source, "[site] slope", f"{slope:g} %: a sloping site needs [shear_wave] model = "
+                        "\"hysteretic\" (valid with the thesis model: 0 only)")
+    if case["site"]["surcharge"] > 0.0:
+        raise CaseError(source, "[site] surcharge", f"{case['site']['surcharge']:g} Pa on a slope of {slope:g} %: "
+                        "valid on a sloping site is 0 only (its downslope component is not modelled)")
+    if case["ground_motion"]["pga_g"] > 0.0 and case["ground_motion"]["baseline_order"] == 0:
+        raise CaseError(source, "[ground_motion] baseline_order", f"0 on a slope of {slope:g} %: valid on a "
+                        "sloping site are 1-3 (its displacements need a baseline-corrected record)")
 
 
 def _check_layers(case: dict, source: str) -> None:

@@ -97,7 +97,7 @@ import numpy as np
 from . import backbones as _bb
 
 __all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "tangent", "direction",
-           "commit", "generated_ratio", "new_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
+           "commit", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
 
 KPA = 1000.0
 
@@ -483,3 +483,65 @@ def new_state(n_elements: int, par=None) -> np.ndarray:
     if par is not None:
         st[:, S_GD] = par[:, P_GD0]
     return st
+
+
+def static_state(st, par, e, tau_static, ps):
+    """Load element ``e`` of a virgin state monotonically on its backbone to the static shear
+    stress ``tau_static`` [Pa] (a slope's, before any shaking) at effective vertical stress ``ps``
+    [Pa]; returns the static strain γ_s [-], or nan where |τ_s| is at or above the strength.
+
+    The element is left as if it had been loaded there (first loading, direction the sign of
+    τ_s, largest strain |γ_s|), with the half-cycle origin (γ_rev, τ_rev) and the centre of the
+    cycles γ_c at the static point: the damage counts the cyclic amplitude from the static state,
+    not the static stress itself, and dilation is measured from the strain the sand was
+    consolidated at. γ_s solves τ_max Φ(γ/γ_r) = τ_s by bisection (the backbone without the
+    dilation envelope, which is off at γ = γ_c).
+
+    >>> import numpy as np
+    >>> par = np.zeros((1, NPARAM)); par[0, P_K2] = 30.0; par[0, P_TANPHI] = 0.6
+    >>> par[0, P_TH3:P_TH5 + 1] = 1.0; par[0, P_SIG0] = 100e3; par[0, P_GD0] = 0.005
+    >>> st = new_state(1, par)
+    >>> g = static_state(st, par, 0, 30e3, 100e3)   # τ/τ_max = 1/2 on the hyperbola: γ = γ_r
+    >>> s, gm = strength_modulus(100e3, par, 0)
+    >>> round(float(g / (s / gm)), 9), float(st[0, S_TAU]), bool(st[0, S_GC] == g)
+    (1.0, 30000.0, True)
+    """
+    s, gmx = strength_modulus(ps, par, e)
+    if tau_static == 0.0:
+        return 0.0
+    if not abs(tau_static) < s:
+        return math.nan
+    gr = s / gmx
+    d = 1.0 if tau_static > 0.0 else -1.0
+    th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
+    target = abs(tau_static) / s
+    lo, hi = 0.0, 1.0
+    while gqh_ratio(hi, th1, th2, th3, th4, th5) < target:
+        hi *= 2.0
+        if hi > 1e12:
+            return math.nan
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid == lo or mid == hi:
+            break
+        if gqh_ratio(mid, th1, th2, th3, th4, th5) < target:
+            lo = mid
+        else:
+            hi = mid
+    g = d * hi * gr
+    tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
+    st[e, S_G] = g
+    st[e, S_T] = tau / s
+    st[e, S_TAU] = tau
+    st[e, S_DIR] = d
+    st[e, S_GM] = abs(g)
+    st[e, S_GREV] = g
+    st[e, S_TREV] = tau / s
+    st[e, S_TAUREV] = tau
+    st[e, S_GC] = g
+    st[e, S_RF] = tau  # the damage count starts at the static point
+    st[e, S_RF + 1] = g
+    st[e, S_RF + 2] = 0.0
+    st[e, S_RFN] = 1.0
+    st[e, S_RFDIR] = 0.0
+    return g

@@ -39,9 +39,10 @@ _MAX_EXPONENT = 700.0
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
-              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma):
+              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma, body):
     """Advance len(a_in) sub-steps in place; returns 0, 1 (Newton did not converge: halve the
-    sub-step) or 2 (a non-finite value)."""
+    sub-step) or 2 (a non-finite value). ``body`` [m/s²]: the downslope body force per unit mass
+    of an infinite slope, g sin α (0 on level ground; :func:`_body_force`)."""
     ne = h.size
     nv = ne + 1
     m = a_in.size
@@ -107,6 +108,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 relax = 0.5  # still alternating: damped
             _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
             _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
+            if body != 0.0:
+                _body_force(m1, body, first, res)
             for e in range(ne):
                 g = (un[e + 1] - un[e]) / h[e]
                 te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
@@ -161,18 +164,35 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     return 0
 
 
+def _body_force(m1, body, first, res):
+    """Subtract the slope's downslope weight (M 1) b, b = g sin α [m/s²], from the nodal residual;
+    on a compliant base (``first`` = 0) the bedrock carries the column's whole downslope weight as
+    a static traction at the base node (its dashpot acts on the motion only), so that the static
+    state is an equilibrium on either base."""
+    total = 0.0
+    for j in range(m1.size):
+        res[j] -= m1[j] * body
+        total += m1[j]
+    if first == 0:
+        res[0] += total * body
+
+
 def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_liq, gamma_liq,
-                    out_g, out_tau, out_ru):
+                    out_g, out_tau, out_ru, bias):
     """Undrained cyclic simple shear of element 0 of ``st``/``par``: uniform cycles of stress
     (mode 0, τ = amplitude σ′_v0 sin 2πt) or strain (mode 1, γ = amplitude sin 2πt), t in cycles;
     undrained, so P_s = σ′_v0 (1 − r_g). Fills out_* per step (len steps_per_cycle·max_cycles + 1)
-    and returns the cycles to the first r_u ≥ ``ru_liq`` or |γ| ≥ ``gamma_liq`` (−1: none; the
-    steps after it are not run). Stress control finds γ by bisection on the skeleton stress; a
-    stress the skeleton cannot carry within |γ| ≤ 1 counts as liquefaction."""
+    and returns the cycles to the first r_u ≥ ``ru_liq`` or |γ − γ_s| ≥ ``gamma_liq`` (−1: none;
+    the steps after it are not run). Stress control finds γ by bisection on the skeleton stress; a
+    stress the skeleton cannot carry within |γ| ≤ 1 counts as liquefaction. ``bias``: a static
+    shear stress ratio τ_s/σ′_v0 the cycles ride on (stress control: τ = (bias + amplitude sin 2πt)
+    σ′_v0); the element must then start from its static state (γ_s, τ_s), e.g. by
+    :func:`twofluid.closures.hysteretic.static_state`, and strain control cycles about γ_s."""
     sig0 = par[0, P_SIG0]
     nsteps = steps_per_cycle * max_cycles
-    out_g[0] = 0.0
-    out_tau[0] = 0.0
+    g_s = st[0, 0]  # the static strain the test starts from (0 without a bias)
+    out_g[0] = g_s
+    out_tau[0] = st[0, 2]
     out_ru[0] = 0.0
     for k in range(1, nsteps + 1):
         t = k / steps_per_cycle
@@ -181,11 +201,11 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
         gr = s / gmx
         g_old = st[0, 0]
         if mode == 1:
-            g = amplitude * math.sin(2.0 * math.pi * t)
+            g = g_s + amplitude * math.sin(2.0 * math.pi * t)
             d = _law.direction(g, st, 0)
             tau = _law.skeleton_stress(g, d, st, par, 0, s, gr)
         else:
-            target = amplitude * sig0 * math.sin(2.0 * math.pi * t)
+            target = (bias + amplitude * math.sin(2.0 * math.pi * t)) * sig0
             d = 1.0 if target > st[0, 1] * s else -1.0  # from the committed stress τ/τ_max · τ_max
             lo = g_old
             step = 1e-6
@@ -215,7 +235,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
         out_g[k] = g
         out_tau[k] = tau
         out_ru[k] = st[0, S_RG]
-        if st[0, S_RG] >= ru_liq or abs(g) >= gamma_liq:
+        if st[0, S_RG] >= ru_liq or abs(g - g_s) >= gamma_liq:
             return t
     return -1.0
 
@@ -223,13 +243,14 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 #: argument types for the ahead-of-time build (C-contiguous float64 arrays, floats, integers)
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
-             "f8[::1], f8[::1], f8, f8)")
-_HELPERS = _nb.HELPERS + (_law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope, _law._branch,
-                          _law._mrdf, _law._from, _law._open_count, _law._open_point, _law._open_stress,
-                          _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
-                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.seed_booker, _law.generated_ratio)
+             "f8[::1], f8[::1], f8, f8, f8)")
+_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope,
+                          _law._branch, _law._mrdf, _law._from, _law._open_count, _law._open_point,
+                          _law._open_stress, _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
+                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.seed_booker,
+                          _law.generated_ratio)
 
-ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1])"
+ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
 
 _COMPILED = None
 _TRIED = False
@@ -253,14 +274,18 @@ def compiled():
     return None if _COMPILED is None else _COMPILED["substeps"]
 
 
-def element_cycles(*args, jit: bool = True) -> float:
-    """Run the element test (arguments as :func:`_element_cycles`), compiled where possible."""
+def element_cycles(*args, jit: bool = True, bias: float = 0.0) -> float:
+    """Run the element test (arguments as :func:`_element_cycles` but ``bias``, the static shear
+    ratio, a keyword: 0 by default), compiled where possible."""
+    args = args + (float(bias),)
     if jit and compiled() is not None:
         return float(_COMPILED["element_cycles"](*args))
     return float(_element_cycles(*args))
 
 
-def substeps(*args, jit: bool = True) -> int:
-    """Run the sub-steps (arguments as :func:`_substeps`), compiled where possible."""
+def substeps(*args, jit: bool = True, body: float = 0.0) -> int:
+    """Run the sub-steps (arguments as :func:`_substeps` but ``body``, the slope's g sin α [m/s²],
+    a keyword: 0 on level ground), compiled where possible."""
+    args = args + (float(body),)
     k = compiled() if jit else None
     return int(k(*args)) if k is not None else int(_substeps(*args))

@@ -15,6 +15,8 @@ and the simplified table share CRR, K_σ and the slope b:
 * residual strength S_r/σ′_v0 of Idriss & Boulanger (2008), void redistribution negligible,
   ≤ tan φ′ (:func:`twofluid.geotech.correlations.residual_strength_ratio_ib2008`), with
   (N1)60cs-Sr = (N1)60cs (clean sand: no fines adjustment);
+* under a static shear stress τ_s (a slope), α = τ_s/σ′_v0 > 0: CRR·K_α(α, ξ_R) of Idriss &
+  Boulanger (2008) (:func:`apply_k_alpha`; ξ_R at p′ = σ′_v0 (1 + 2 K0)/3);
 * γ_lim = 1.859 (1.1 − Dr)³ (Yoshimine et al. 2006), Dr = √((N1)60cs/46);
 * φ′ = 33° + 3 I_R, I_R = Dr (10 − ln p′/kPa) − 1 clipped to [0, 4] (Bolton 1986, triaxial form;
   p′ = σ′_v0 (1 + 2 K0)/3 with K0 = 0.5), unless given.
@@ -35,7 +37,7 @@ from ..geotech import correlations as co
 from ..geotech.correlations import csr_slope_b, residual_strength_ratio_ib2008
 from ..geotech.simplified import crr_75, k_sigma
 
-__all__ = ["derive", "parameters", "menq_fit", "bolton_friction_angle", "DEFAULTS", "K0"]
+__all__ = ["derive", "parameters", "menq_fit", "bolton_friction_angle", "apply_k_alpha", "DEFAULTS", "K0"]
 
 K0 = 0.5  # at-rest earth pressure coefficient of the element tests and of σ′_m [-]
 
@@ -142,6 +144,27 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
     par[:, law.P_RCAP] = opts["r_cap"]
     par[:, law.P_GD0] = opts["gamma_d0"]
     return np.ascontiguousarray(par)
+
+
+def apply_k_alpha(par: np.ndarray, alpha) -> np.ndarray:
+    """The parameter array ``par`` with each element's CRR multiplied by K_α of Idriss & Boulanger
+    (2008) at its static shear ratio ``alpha`` = τ_s/σ′_v0 [-] (scalar or per element; elements
+    with α = 0 or that generate no pore pressure unchanged) and its relative state parameter
+    ξ_R(Dr, p′), p′ = σ′_v0 (1 + 2 K0)/3 (:func:`twofluid.geotech.correlations.k_alpha_ib2003`;
+    α held at 0.35 and ξ_R in [−0.6, 0.1] beyond the fit). Returns a new array.
+
+    >>> p = parameters(sigma_v0=[100e3], n160cs=10.0)
+    >>> q = apply_k_alpha(p, 0.1)   # ξ_R = 1/(10 − ln 65.79) − 0.4663 = −0.2942: 0.8244 + 0.01828 e^1.9216
+    >>> round(float(q[0, law.P_CRR] / p[0, law.P_CRR]), 4)
+    0.9493
+    """
+    out = np.array(par, dtype=float)
+    a = np.broadcast_to(np.asarray(alpha, dtype=float), (out.shape[0],))
+    use = (a > 0.0) & (out[:, law.P_LIQ] > 0.0)
+    if np.any(use):
+        p_mean = out[use, law.P_SIG0] * (1.0 + 2.0 * K0) / 3.0
+        out[use, law.P_CRR] *= co.k_alpha_ib2003(a[use], 100.0 * out[use, law.P_DR], p_mean)
+    return out
 
 
 @functools.lru_cache(maxsize=256)

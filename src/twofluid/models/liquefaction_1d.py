@@ -63,6 +63,24 @@ model's drag diameter, A and p_ref are arrays of its materials and closures). A
 the shear column only: its mass and fixed G_max shear with the column, its weight reaches the
 vertical model as the surcharge at the water table, and it has no pore pressure.
 
+Infinite slope (``slope_percent`` S > 0, tan α = S/100; hysteretic law only): the column stands
+normal to the ground surface (its y, thicknesses and depths are measured normal to the slope;
+cos α > 0.999 up to S = 4.5 %), the vertical two-fluid model sees g cos α (the runner gives its
+mesh the inclination α and multiplies the surcharge by cos α), and the shear wave, now along the
+slope, carries the downslope body force ρ̄ g sin α of the *total* mixture weight: the water table
+is parallel to the ground surface and the groundwater seeps parallel to the slope, so the pore
+pressure does not vary along the slope and the seepage force carries the water's share of the
+driving weight (τ_s = σ_v sin α cos α with the total σ_v; under still open water, a submerged
+slope, only the buoyant weight would drive, about half). On a compliant base the bedrock carries
+the column's downslope weight as a static traction. The run starts from the static equilibrium
+under that shear: each element is loaded monotonically on its backbone to τ_s
+(:meth:`LiquefactionColumn.static_shear`, :func:`twofluid.closures.hysteretic.static_state`),
+with its static strain, and the displacements reported are measured from that state
+(:meth:`LiquefactionColumn.lateral_displacement`). Below its strength the skeleton's stress is the
+rate-independent backbone with a finite tangent, and every rate term (η γ̇, Rayleigh) vanishes at
+zero rate, so rest is an exact solution of the discrete equations: no regularisation of the
+strength at zero rate is needed or used.
+
 Liquefied-soil viscosity: ``Sand.viscosity`` η_s (1 000 Pa·s by default; Chen et al. 2019
 measured 0.8–1.7 kPa·s in falling-ball tests on liquefied soil) is added to the mixture
 viscosity of the shear wave, Newtonian, or a power law η_s (|γ̇|/γ̇_ref)^(m − 1) capped at
@@ -267,7 +285,8 @@ class LiquefactionColumn:
                  free_vibration: float = 5.0, settings: PicardSettings = PicardSettings(),
                  base_impedance: float | None = None, crust: Crust | None = None,
                  fast_shear: bool = True, base_acceleration_at: Callable | None = None,
-                 hysteretic: np.ndarray | None = None, numerical_damping: float = 0.0):
+                 hysteretic: np.ndarray | None = None, numerical_damping: float = 0.0,
+                 slope_percent: float = 0.0):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand, self.crust = vertical, sand, crust
@@ -317,6 +336,12 @@ class LiquefactionColumn:
         #: skip the vertical model (a total-stress run: no layer generates pore pressure, so the
         #: column stays in its geostatic state; :func:`twofluid.runners.liquefaction.total_stress_surface`)
         self.shear_only = False
+        #: infinite slope (module docstring, "Infinite slope"): the downslope body force g sin α [m/s²]
+        self.slope_percent = float(slope_percent)
+        self.body = vertical.mat.g * math.sin(math.atan(self.slope_percent / 100.0))
+        if self.body != 0.0 and self.hysteretic is None:
+            raise ValueError("a sloping column needs the hysteretic shear law")
+        self.u_static = np.zeros(nt + 1)  # the static displacement profile the run starts from [m]
 
     # ------------------------------------------------------------ state
     def initial_state(self, porosity, excess_ratio: float = 0.0) -> ColumnState:
@@ -337,8 +362,50 @@ class LiquefactionColumn:
         s = State(0.0, np.zeros(v.nv), np.zeros(v.nv), P, n, n_bar)
         self.sigma_v0, self.n0 = sig0, n.copy()
         if self.hysteretic is not None:
-            return ColumnState(s, self.wave.rest(), _hyst_law.new_state(self.hysteretic.shape[0], self.hysteretic))
+            st = _hyst_law.new_state(self.hysteretic.shape[0], self.hysteretic)
+            if self.body == 0.0:
+                return ColumnState(s, self.wave.rest(), st)
+            return ColumnState(s, self._static_wave(n, self.v.solids_pressure(n, n_bar), st), st)
         return ColumnState(s, self.wave.rest(), ShearState.zeros(ne))
+
+    def static_shear(self, n) -> np.ndarray:
+        """Static shear stress of every shear-column element on a slope [Pa] (0 on level ground):
+        τ_s = g sin α (Σ_above ρ h + ρ_e h_e/2), the downslope weight of the column above the
+        element's centre with the mixture density ρ̄(n) of the saturated elements and the crust's
+        — the total weight: the water table parallel to the ground surface with slope-parallel
+        seepage (module docstring, "Infinite slope"). It is the discrete static equilibrium of the
+        shear sub-steps (consistent mass: each node carries half of each element next to it)."""
+        rho = np.array(self.wave.rho, dtype=float)
+        rho[:self.n_sat] = self.mixture_density(np.asarray(n, dtype=float))
+        w = rho * self.wave.h
+        above = np.cumsum(w[::-1])[::-1] - w
+        return self.body * (above + 0.5 * w)
+
+    def _static_wave(self, n, ps, st) -> WaveState:
+        """The static state on a slope: each element loaded monotonically on its backbone to its
+        static shear (:func:`twofluid.closures.hysteretic.static_state`, ``st`` updated), the
+        displacement the sum of the static strains from the base; ValueError naming the first
+        element whose strength cannot carry it."""
+        tau = self.static_shear(n)
+        ne = tau.size
+        gam = np.zeros(ne)
+        for e in range(ne):
+            p = float(ps[e]) if e < self.n_sat else 0.0
+            gam[e] = _hyst_law.static_state(st, self.hysteretic, e, float(tau[e]), p)
+            if not np.isfinite(gam[e]):
+                s_e = _hyst_law.strength_modulus(p, self.hysteretic, e)[0]
+                raise ValueError(f"element {e} (depth {self.depth_all[e]:.3g} m): the static shear "
+                                 f"{tau[e]:.4g} Pa is at or above its strength {s_e:.4g} Pa (static FS "
+                                 f"{s_e / tau[e]:.3f} <= 1)")
+        u = np.concatenate([[0.0], np.cumsum(gam * self.wave.h)])
+        self.u_static = u.copy()
+        return WaveState(0.0, u, np.zeros(ne + 1), np.zeros(ne + 1), gam, tau)
+
+    def lateral_displacement(self, s: ColumnState) -> np.ndarray:
+        """Downslope displacement of every node of the shear column relative to the base, from the
+        static state the run started at [m] (never baseline-corrected): u − u_base − (u_s − u_s,base)."""
+        u = s.wave.u
+        return (u - u[0]) - (self.u_static - self.u_static[0])
 
     # ------------------------------------------------------- diagnostics
     def granular_pressure(self, s: ColumnState) -> np.ndarray:
@@ -389,8 +456,9 @@ class LiquefactionColumn:
         return s.wave.gamma
 
     def surface_displacement(self, s: ColumnState) -> float:
-        """Horizontal displacement of the surface relative to the base [m]."""
-        return float(s.wave.u[-1] - s.wave.u[0])
+        """Horizontal (on a slope: downslope) displacement of the surface relative to the base [m],
+        from the static state the run started at (:meth:`lateral_displacement`; level ground: 0)."""
+        return float(s.wave.u[-1] - s.wave.u[0]) - float(self.u_static[-1] - self.u_static[0])
 
     def base_acceleration(self, s: ColumnState) -> float:
         """Absolute horizontal acceleration of the base [m/s²] while the shear wave runs (else 0):
@@ -489,7 +557,7 @@ class LiquefactionColumn:
                 u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
                 wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
                 0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
-                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1])
+                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1], body=self.body)
             if code != 1:
                 break
             m *= 2

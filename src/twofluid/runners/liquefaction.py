@@ -103,15 +103,20 @@ def build_column(case: dict, reference: bool = False) -> Built:
     settings = PicardSettings(tol=tm["picard_tol"], max_iter=tm["picard_max_iter"],
                               dt_min=min(1e-7, tm["step"] * 1e-4))
     model = VerticalColumn if reference else ReducedVerticalColumn
+    slope = st["slope"]
+    cos_a = float(np.cos(np.arctan(slope / 100.0))) if slope > 0.0 else 1.0
     vertical = model(site.mesh, site.mat, site.clo, Boundary("wall"),
                      Boundary("outlet", pressure=st["water_table_pressure"]),
-                     surcharge=st["surcharge"] + site.crust_weight)
+                     surcharge=(st["surcharge"] + site.crust_weight) * cos_a)
     sigma_v0 = vertical.settled_solids_pressure(site.porosity) + vertical.surcharge
     sand = sand_for(case, source, site, sigma_v0)
     crust = crust_for(case, source, site)
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
     accel_at = None if motion is None else (lambda t, m=motion: gm.value_at(m, t))
+    if motion is not None and slope > 0.0:  # the record's component along the slope (the normal one, sin α of it, is left out)
+        accel = (lambda t, m=motion: cos_a * float(gm.value_at(m, t)))
+        accel_at = (lambda t, m=motion: cos_a * gm.value_at(m, t))
     column = LiquefactionColumn(vertical, sand, accel, shaking_end=0.0 if motion is None else motion.duration,
                                 shear_step=sw["step"], damping_ratio=sw["damping_ratio"],
                                 damping_frequencies=tuple(sw["damping_frequencies"]),
@@ -121,8 +126,11 @@ def build_column(case: dict, reference: bool = False) -> Built:
                                 base_acceleration_at=accel_at,
                                 hysteretic=hysteretic_parameters(case, site, sigma_v0, crust,
                                                                  np.broadcast_to(sand.k2max, sigma_v0.shape)),
-                                numerical_damping=sw["numerical_damping"])
-    state = column.initial_state(site.porosity, st["initial_excess_ratio"])
+                                numerical_damping=sw["numerical_damping"], slope_percent=slope)
+    if slope > 0.0:
+        state = _sloping_start(case, source, column, site)
+    else:
+        state = column.initial_state(site.porosity, st["initial_excess_ratio"])
     nb = state.vertical.n_bar
     if not (np.all(np.isfinite(nb)) and np.all((nb > 0.0) & (nb < 1.0))
             and np.all(np.isfinite(column.sigma_v0)) and np.all(column.sigma_v0 > 0.0)):
@@ -133,6 +141,28 @@ def build_column(case: dict, reference: bool = False) -> Built:
                         f"{la['compressibility']:g} with p_ref = {la['p_ref']:g} Pa gives an initial reference "
                         f"porosity outside (0, 1) ({nb[bad]:.4g}); lower A or p_ref")
     return Built(column, state, motion, tm["end"], tm["step"], case["reconsolidation"]["step"], site)
+
+
+def _sloping_start(case: dict, source: str, column: LiquefactionColumn, site) -> ColumnState:
+    """The static start of a sloping column: each element's CRR times K_α at its static shear ratio
+    α = τ_s/σ′_v0 (:func:`twofluid.models.hysteretic_sand.apply_k_alpha`), then the static state
+    (:meth:`LiquefactionColumn.initial_state`); CaseError naming the layer where the static shear
+    exceeds the strength."""
+    from ..closures import hysteretic as law
+    from ..models.hysteretic_sand import apply_k_alpha
+
+    par = column.hysteretic
+    alpha = column.static_shear(site.porosity) / np.maximum(par[:, law.P_SIG0], 1e-300)
+    column.hysteretic = np.ascontiguousarray(apply_k_alpha(par, alpha))
+    try:
+        return column.initial_state(site.porosity, case["site"]["initial_excess_ratio"])
+    except ValueError as exc:
+        e = int(str(exc).split()[1])
+        owner = np.concatenate([site.layer_of, site.crust_layer_of])
+        i = int(owner[e])
+        raise CaseError(source, "[site] slope", f"{case['site']['slope']:g} % is too steep for "
+                        f"{schema_liquefaction.layer_label(case, i)}: {str(exc).split(': ', 1)[1]}; valid "
+                        "are slopes the site stands on before shaking") from None
 
 
 def total_stress_surface(case: dict):
@@ -307,6 +337,13 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
 
     write_field(state, ru0)
     writer.probe_row(state.t, rec.probe_row(state, ru0))
+    srec = None
+    if col.body != 0.0:  # a sloping site: displacements, localisation, FS_post and the estimates
+        from .liquefaction_slope import SlopeRecorder
+
+        srec = SlopeRecorder(col, out)
+        srec.record(state)
+        srec.profile(state)
     out_times = sorted({*case["output"]["times"], col.shaking_end, b.t_end} - {0.0})
     out_times = [t for t in out_times if 0.0 < t <= b.t_end]
     profiles = {0.0: _profile(col, state, rec.peak)}
@@ -319,7 +356,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     ru_done = case["reconsolidation"]["dissipated_r_u"]
     stop = None if ru_done == 0.0 else (lambda s: float(np.max(col.excess_ratio(s))) < ru_done)
     wall0 = time.perf_counter()
-    with run_guard(b.t_end, progress, writer, ffile) as run:
+    with run_guard(b.t_end, progress, writer, ffile, *(() if srec is None else (srec,))) as run:
         for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times, stop=stop):
             s = last = step.state
             n_steps += 1
@@ -328,6 +365,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             at_mark = any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times)
             field = s.t >= next_field - 1e-12 or at_mark
             ru = rec.record(s, field, step.surface)
+            if srec is not None:
+                srec.record(s)
+                if at_mark or abs(s.t - col.shear_end) < 1e-9 * max(1.0, s.t):
+                    srec.profile(s)
             if field:
                 write_field(s, ru)
                 next_field = s.t + rep["field_interval"]
@@ -352,6 +393,9 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     if round(last.t, 9) not in profiles:
         profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
         writer.profile(last.t, profiles[round(last.t, 9)])  # the state it stopped at, in the file too
+    if srec is not None:
+        srec.profile(last)
+        srec.close()
     total = None
     if status == "completed":  # the companion run informs the simplified table only
         try:
@@ -360,6 +404,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             total = None
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
                               settle_shaking, total)
+    if srec is not None:
+        from .liquefaction_slope import slope_summary
+
+        summary["slope"] = slope_summary(case, col, b.site, rec, srec, last, extra["simplified_run"])
     write_json(out / "summary.json", summary)
     try:
         report.write_tables(out, summary, extra, rec)

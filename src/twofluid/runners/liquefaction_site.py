@@ -81,7 +81,8 @@ def site_arrays(case: dict) -> Site:
     dry = [i for i, s in enumerate(sat) if not s]
     y, owner = _mesh_of(layers, wet)
     yc, crust_owner = _mesh_of(layers, dry)
-    mesh = LineMesh(y, np.ones_like(y))
+    # on a slope the column stands normal to the ground surface: gravity along it is g cos α
+    mesh = LineMesh(y, np.ones_like(y), float(np.arctan(case["site"].get("slope", 0.0) / 100.0)))
     n_layer = {i: sl.layer_porosity(layers[i]) for i in wet}
     n = np.array([n_layer[i] for i in owner])
     # closures of the case with the first saturated layer's numbers, then per-element arrays
@@ -179,6 +180,9 @@ def crust_for(case: dict, source: str, site: Site) -> Crust | None:
     load = gam * h
     above = np.cumsum(load[::-1])[::-1] - load  # elements are bottom first
     sig = case["site"]["surcharge"] + above + 0.5 * load
+    slope = case["site"].get("slope", 0.0)
+    if slope > 0.0:  # the normal stress on a slope-parallel plane: the weight's component cos α
+        sig = sig * float(np.cos(np.arctan(slope / 100.0)))
     vs = np.array([layers[i]["shear_wave_velocity"] for i in owner])
     k2 = np.array([layers[i]["k2max"] for i in owner])
     rho = gam / g

@@ -1,0 +1,76 @@
+"""The bundled sloping site's surface displacement under the issue-22 checks, measured (not timed).
+
+Runs ``sloping-site`` as shipped and with, one at a time: the PGA moved by ±1e-5 (relative), the
+steps (vertical and shear) halved and quartered, the loose layer's elements halved and quartered,
+the record reversed (polarity −1), and a PGA sweep; prints the surface displacement at the end,
+its relative change from the shipped case, the Zhang et al. (2004) and Newmark estimates beside
+it. Numbers in data/cases/sloping-site/README.md.
+
+    python scripts/slope_determinacy.py
+"""
+from __future__ import annotations
+
+import copy
+import warnings
+
+from twofluid.casefile.loader import load_case
+from twofluid.runners.common import run_case
+
+
+def _run(case, edit):
+    c = copy.deepcopy(case)
+    edit(c)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = run_case(c)
+    s = r.summary["slope"]
+    return (s["surface_displacement_end_m"], s["share_after_shaking"], r.summary["liquefied_depth_range_m"],
+            s["estimates"]["zhang_2004"]["displacement_m"], s["estimates"]["newmark"].get("displacement_m"),
+            s["localisation"]["depth_m"])
+
+
+def _set(section, key, value):
+    def edit(c):
+        c[section][key] = value(c[section][key]) if callable(value) else value
+    return edit
+
+
+def _steps(f):
+    def edit(c):
+        c["shear_wave"]["step"] *= f
+        c["time"]["step"] *= f
+    return edit
+
+
+def _elements(f):
+    def edit(c):
+        c["layers"][1]["element_size"] *= f
+    return edit
+
+
+def main() -> None:
+    case = load_case("sloping-site")
+    case["output"]["plots"] = False
+    d0 = _run(case, lambda c: None)
+    rows = [("as shipped", d0)]
+    for label, edit in [("PGA x (1 + 1e-5)", _set("ground_motion", "pga_g", lambda v: v * (1 + 1e-5))),
+                        ("PGA x (1 - 1e-5)", _set("ground_motion", "pga_g", lambda v: v * (1 - 1e-5))),
+                        ("steps / 2", _steps(0.5)), ("steps / 4", _steps(0.25)),
+                        ("loose elements / 2", _elements(0.5)), ("loose elements / 4", _elements(0.25)),
+                        ("polarity -1", _set("ground_motion", "polarity", -1)),
+                        ("PGA 0.10 g", _set("ground_motion", "pga_g", 0.10)),
+                        ("PGA 0.15 g", _set("ground_motion", "pga_g", 0.15)),
+                        ("PGA 0.20 g", _set("ground_motion", "pga_g", 0.20)),
+                        ("PGA 0.30 g", _set("ground_motion", "pga_g", 0.30)),
+                        ("PGA 0.35 g", _set("ground_motion", "pga_g", 0.35))]:
+        rows.append((label, _run(case, edit)))
+    print("| run | surface displacement [m] | change | share after shaking | liquefied [m] | localised at [m] "
+          "| Zhang 2004 [m] | Newmark [m] |")
+    print("|---|---|---|---|---|---|---|---|")
+    for label, (d, share, liq, z, nm, loc) in rows:
+        nm_s = "flow failure" if nm is None else f"{nm:.3f}"
+        print(f"| {label} | {d:.4f} | {100 * (d / d0[0] - 1):+.1f} % | {share:+.3f} | {liq} | {loc:.3f} | {z:.2f} | {nm_s} |")
+
+
+if __name__ == "__main__":
+    main()
