@@ -106,28 +106,26 @@ S_G = 0  # committed shear strain γ [-]
 S_T = 1  # committed skeleton stress over τ_max at commit, τ/τ_max [-]
 S_TAU = 2  # committed skeleton stress [Pa]
 S_GREV = 3  # strain at the last reversal [-]
-S_TREV = 4  # stress at the last reversal over τ_max then [-]
-S_TAUREV = 5  # stress at the last strain reversal [Pa]
-S_DIR = 6  # direction of the last strain increment (−1, 0, +1)
-S_NREV = 7  # number of reversals so far
-S_GM = 8  # largest |γ| so far [-]
-S_D = 9  # damage of the completed half cycles [-]
-S_DPART = 10  # damage of the current half cycle so far [-]
-S_RG = 11  # generated excess pore-pressure ratio applied so far [-]
-S_EPS = 12  # volumetric strain made through n̄ so far, ln((1 − n̄)/(1 − n̄0)) [-]
-S_LIQ = 13  # 1 once the element has liquefied (D ≥ 1)
-S_GC = 14  # centre of the cycles γ_c [-]
-S_GD = 15  # half-width of the zone without dilation γ_d [-]
-S_TLIQ = 16  # time of liquefaction [s] (−1: not yet)
-S_RFDIR = 17  # direction of the last change of the stress, for the damage count (−1, 0, +1)
-S_RFN = 18  # number of turning points on the damage count's stack (≥ 1: its start)
-S_RF = 19  # the stack: RF_SIZE rows of (τ [Pa], γ [-], damage of the half cycle that ended there)
+S_DIR = 4  # direction of the last strain increment (−1, 0, +1)
+S_NREV = 5  # number of reversals so far
+S_GM = 6  # largest |γ| so far [-]
+S_D = 7  # damage of the completed half cycles [-]
+S_DPART = 8  # damage of the current half cycle so far [-]
+S_RG = 9  # generated excess pore-pressure ratio applied so far [-]
+S_EPS = 10  # volumetric strain made through n̄ so far, ln((1 − n̄)/(1 − n̄0)) [-]
+S_LIQ = 11  # 1 once the element has liquefied (D ≥ 1)
+S_GC = 12  # centre of the cycles γ_c [-]
+S_GD = 13  # half-width of the zone without dilation γ_d [-]
+S_TLIQ = 14  # time of liquefaction [s] (−1: not yet)
+S_RFDIR = 15  # direction of the last change of the stress, for the damage count (−1, 0, +1)
+S_RFN = 16  # number of turning points on the damage count's stack (≥ 1: its start)
+S_RF = 17  # the stack: RF_SIZE rows of (τ [Pa], γ [-], damage of the half cycle that ended there)
 RF_SIZE = 16  # turning points kept by the damage count (rainflow); the oldest is dropped beyond
 S_NSTK = S_RF + 3 * RF_SIZE  # number of open strain-reversal points of the stress–strain law (0: on the backbone)
 S_STK = S_NSTK + 1  # those points, oldest first: (γ_k [-], τ_k/τ_max [-]) at S_STK + 2k, S_STK + 2k + 1
 NSTACK = 16  # open reversal points kept (module docstring, "Unloading and reloading")
 NSTATE = S_STK + 2 * NSTACK
-STATE_COLUMNS = (("gamma", "tau_ratio", "tau", "gamma_rev", "tau_ratio_rev", "tau_rev", "direction",
+STATE_COLUMNS = (("gamma", "tau_ratio", "tau", "gamma_rev", "direction",
                   "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
                   "liquefied", "gamma_centre", "gamma_d", "t_liquefied", "count_direction", "count_points")
                  + tuple(f"{q}_{j}" for j in range(RF_SIZE) for q in ("count_tau", "count_gamma", "count_damage"))
@@ -447,8 +445,6 @@ def commit(g, d, tau, st, par, e, s, t, gr):
         if st[e, S_LIQ] > 0.0 and 0.5 * abs(g_old - st[e, S_GREV]) > par[e, P_GT]:
             st[e, S_GD] = min(par[e, P_GLIM], st[e, S_GD] + par[e, P_DGD])
         st[e, S_GREV] = g_old
-        st[e, S_TREV] = st[e, S_T]
-        st[e, S_TAUREV] = st[e, S_TAU]
         st[e, S_NREV] += 1.0
     st[e, S_DIR] = d
     st[e, S_G] = g
@@ -475,7 +471,7 @@ def new_state(n_elements: int, par=None) -> np.ndarray:
     """A virgin state array (no shear history) for ``n_elements`` elements; γ_d from ``par``.
 
     >>> new_state(2).shape
-    (2, 100)
+    (2, 98)
     """
     st = np.zeros((n_elements, NSTATE))
     st[:, S_TLIQ] = -1.0
@@ -491,7 +487,7 @@ def static_state(st, par, e, tau_static, ps):
     [Pa]; returns the static strain γ_s [-], or nan where |τ_s| is at or above the strength.
 
     The element is left as if it had been loaded there (first loading, direction the sign of
-    τ_s, largest strain |γ_s|), with the half-cycle origin (γ_rev, τ_rev) and the centre of the
+    τ_s, largest strain |γ_s|), with the damage count's start, the last reversal and the centre of the
     cycles γ_c at the static point: the damage counts the cyclic amplitude from the static state,
     not the static stress itself, and dilation is measured from the strain the sand was
     consolidated at. γ_s solves τ_max Φ(γ/γ_r) = τ_s by bisection (the backbone without the
@@ -536,8 +532,6 @@ def static_state(st, par, e, tau_static, ps):
     st[e, S_DIR] = d
     st[e, S_GM] = abs(g)
     st[e, S_GREV] = g
-    st[e, S_TREV] = tau / s
-    st[e, S_TAUREV] = tau
     st[e, S_GC] = g
     st[e, S_RF] = tau  # the damage count starts at the static point
     st[e, S_RF + 1] = g
