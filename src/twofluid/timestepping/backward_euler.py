@@ -3,7 +3,8 @@
 ``integrate`` yields a :class:`Step` after every converged time step; output,
 probes, progress bars and plots consume the stream. The step size shrinks
 (halves) when the Picard loop does not converge or the model rejects the state
-(e.g. porosity leaving (0, 1]) and grows back (×1.5) after easy steps; it lands
+(e.g. porosity leaving (0, 1]), or an iterate is non-finite or divides by zero (a diverging
+Newton iterate in scalar code, compiled or plain, raises ZeroDivisionError), and grows back (×1.5) after easy steps; it lands
 exactly on the requested ``stops`` (output times). A step that cannot be made
 even at ``dt_min`` raises :class:`StepFailure`, which says where and why.
 
@@ -116,10 +117,14 @@ def _step(model, old, dt, settings, accept_unconverged=False):
         for it in range(1, settings.max_iter + 1):
             if hook:
                 hook(it, k)
-            done = whole(k, old, dt, t_new) if whole is not None else None
-            if done is None:
-                S = model.assemble(k, old, dt, t_new)
-                a = solve(S, t_new) if solve is not None else _solve(model, S, t_new)
+            try:
+                done = whole(k, old, dt, t_new) if whole is not None else None
+                if done is None:
+                    S = model.assemble(k, old, dt, t_new)
+                    a = solve(S, t_new) if solve is not None else _solve(model, S, t_new)
+            except ZeroDivisionError:  # a diverging iterate in scalar (compiled or plain) code
+                close(None)
+                return None, "an iterate divided by zero", False
             if done is not None:
                 new, finite, dn, dv = done
             else:

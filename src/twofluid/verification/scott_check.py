@@ -60,14 +60,11 @@ reports r_u = 2.0 in the liquefied state (the upwind bed-force test functions, Î
 settling suspension, put the element's whole buoyant weight on its top vertex; r_u = 1 with
 ``bed_forces = "galerkin"``).
 
-Compiled iterates: a Newton iterate that diverges (the deposit's first elements at small A)
-raises ZeroDivisionError in the compiled closure points instead of giving the non-finite
-values after which the stepper halves the step (the NumPy path's behaviour); the check's
-models turn that exception into such an iterate (:func:`guarded`).
+A Newton iterate that diverges (the deposit's first elements at small A) raises
+ZeroDivisionError in the compiled closure points; the stepper takes it as a failed iterate and
+halves the step, as after non-finite values.
 """
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -77,7 +74,7 @@ from ..models.data_1d import Boundary
 from . import scott
 from .runs import case_from, run_history
 
-__all__ = ["N_L", "N_BAR", "HEIGHT", "COURANT", "case_for", "theory", "guarded", "eulerian_run",
+__all__ = ["N_L", "N_BAR", "HEIGHT", "COURANT", "case_for", "theory", "eulerian_run",
            "column_run", "solidification_rows", "liquefaction_column_rows"]
 
 N_L, N_BAR, HEIGHT = 0.46, 0.42, 1.0
@@ -114,20 +111,6 @@ def theory(model, A: float) -> scott.ScottColumn:
     return scott.ScottColumn(HEIGHT, N_L, N_BAR, A, vs, (rho_s - rho_f) * G, float(np.asarray(clo.p_ref)))
 
 
-def guarded(model):
-    """``model`` whose whole compiled iterate reports a ZeroDivisionError as a non-finite iterate
-    (the stepper then halves the step; module docstring). Returns the model."""
-    whole = getattr(model, "iterate", None)
-    if whole is not None:
-        def iterate(k, old, dt, t_new):
-            try:
-                return whole(k, old, dt, t_new)
-            except ZeroDivisionError:
-                return k, False, math.nan, math.nan
-        model.iterate = iterate
-    return model
-
-
 def front_height(y: np.ndarray, n: np.ndarray, level: float = 0.5 * (N_L + N_BAR)) -> float:
     """Lowest height [m] where n, scanned upward from the base, exceeds ``level`` (linear between
     element centres); NaN where the lowest element is already above it (no deposit yet).
@@ -161,7 +144,7 @@ def eulerian_run(A: float = A_CHECK, elements: int = 80, courant: float = COURAN
     hist = run_history(case, {
         "front": lambda m, s: front_height(m.mesh.centres, s.n),
         "surface": lambda m, s: pp.surface_height(m.mesh.centres, s.n, thr, m.mesh.y[0]),
-        "u_base": _excess_base}, model=guarded(b.model), t_end=stops[-1], stops=stops)
+        "u_base": _excess_base}, model=b.model, t_end=stops[-1], stops=stops)
     at = [int(np.argmin(np.abs(hist.t - t))) for t in stops]
     return {"theory": th, "t": hist.t[at], "front": hist.values["front"][at],
             "surface": hist.values["surface"][at], "u_base": hist.values["u_base"][at], "h": h, "dt": dt,
@@ -178,7 +161,7 @@ def column_run(A: float = A_CHECK, elements: int = 100, courant: float = COURANT
     b = build(case_for(A, elements))
     m = b.model
     th = theory(m, A)
-    vertical = guarded(ReducedVerticalColumn(m.mesh, m.mat, m.clo, Boundary("wall"), Boundary("outlet", pressure=0.0)))
+    vertical = ReducedVerticalColumn(m.mesh, m.mat, m.clo, Boundary("wall"), Boundary("outlet", pressure=0.0))
     col = LiquefactionColumn(vertical)
     s = col.initial_state(N_L, excess_ratio=0.99)
     s.vertical.n_bar[:] = N_BAR  # the liquefied skeleton (r_u = 1 once the first step has set P)
