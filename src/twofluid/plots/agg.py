@@ -22,12 +22,44 @@ import matplotlib
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 from PIL import Image, PngImagePlugin
 
-__all__ = ["new_figure", "write_png"]
+__all__ = ["few_ticks", "new_figure", "tick_locator", "write_png"]
 
 #: zlib level of the PNGs: level 3 compresses these line figures as well as the default 6, faster
 PNG_COMPRESS_LEVEL = 3
+
+#: at most this many intervals between the labelled ticks of a linear axis. matplotlib's default
+#: fits up to about ten on these figures' axes, and each tick is five artists (two marks, a grid
+#: line, two labels) made and a label laid out and drawn: the ticks and their labels are most of
+#: a figure's CPU (docs/benchmarks.md, "Start-up and plots")
+NBINS = 5
+
+
+def tick_locator(nbins: int = NBINS) -> MaxNLocator:
+    """matplotlib's automatic tick locator (steps of 1, 2, 2.5 or 5 × 10^k) with at most ``nbins``
+    intervals.
+
+    >>> tick_locator().tick_values(0.0, 80.0)
+    array([ 0., 20., 40., 60., 80.])
+    """
+    return MaxNLocator(nbins=nbins, steps=[1, 2, 2.5, 5, 10])
+
+
+def few_ticks(*axes, nbins: int = NBINS) -> None:
+    """Give every linear x and y axis of ``axes`` :func:`tick_locator` (log and symlog axes keep
+    theirs). Call it after the scales are set: setting a scale resets the locator.
+
+    >>> ax = new_figure((6.0, 4.0), dpi=50).subplots()
+    >>> _ = ax.plot([0.0, 0.71], [0.65, 1.0]); few_ticks(ax)
+    >>> len(ax.get_xticks()) <= NBINS + 3, len(ax.get_yticks()) <= NBINS + 3
+    (True, True)
+    """
+    for ax in axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            if axis.get_scale() == "linear":
+                axis.set_major_locator(tick_locator(nbins))
 
 
 def new_figure(figsize: tuple[float, float], dpi: float, **kwargs) -> Figure:
@@ -60,9 +92,10 @@ def write_png(fig: Figure, path: str | Path) -> Path:
     path = Path(path)
     fig.canvas.draw()
     rgba = np.asarray(fig.canvas.buffer_rgba())
-    pixels = rgba[..., :3] if (rgba[..., 3] == 255).all() else rgba
+    image = Image.frombuffer("RGBA", (rgba.shape[1], rgba.shape[0]), rgba, "raw", "RGBA", 0, 1)
+    if (rgba[..., 3] == 255).all():  # opaque: RGB, converted by Pillow (a strided NumPy copy costs 3x more)
+        image = image.convert("RGB")
     info = PngImagePlugin.PngInfo()
     info.add_text("Software", f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/")
-    Image.fromarray(np.ascontiguousarray(pixels)).save(
-        path, format="png", dpi=(fig.dpi, fig.dpi), pnginfo=info, compress_level=PNG_COMPRESS_LEVEL)
+    image.save(path, format="png", dpi=(fig.dpi, fig.dpi), pnginfo=info, compress_level=PNG_COMPRESS_LEVEL)
     return path

@@ -15,9 +15,9 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
-from matplotlib.ticker import FuncFormatter, MaxNLocator
+from matplotlib.ticker import FuncFormatter
 
-from .agg import new_figure, write_png
+from .agg import few_ticks, new_figure, tick_locator, write_png
 
 __all__ = ["profile_plots", "history_plot"]
 
@@ -53,7 +53,7 @@ def _edges(y: np.ndarray) -> np.ndarray:
 def _time_bar(fig, ax, cmap, norm):
     """A colour bar for the output time of the curves [s]."""
     sm = ScalarMappable(cmap=cmap, norm=norm)
-    fig.colorbar(sm, ax=ax, label="time t [s]")
+    fig.colorbar(sm, ax=ax, label="time t [s]", ticks=tick_locator())
 
 
 def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> list[Path]:
@@ -72,6 +72,7 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
     ax.set_ylabel("height y [m]")
     ax.set_title(title, y=1.0)  # at the top of the axes: not placed anew at each drawing
     ax.grid(alpha=0.3)
+    few_ticks(ax)
     fig.subplots_adjust(left=0.15, right=0.96, bottom=0.09, top=0.94)  # fixed margins: tight_layout is slow
     _time_bar(fig, ax, cmap, norm)
     out.append(write_png(fig, Path(out_dir) / "porosity.png"))
@@ -84,8 +85,8 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
         a2.plot(f["Ps_Pa"], f["y_m"], color=c)
     a1.set_xlabel("liquid pressure P [Pa]")
     a2.set_xlabel("granular pressure P_s [Pa]")
-    for a in (a1, a2):  # at most 5 ticks, grouped digits: "10000120001400" no longer runs together
-        a.xaxis.set_major_locator(MaxNLocator(nbins=5))
+    few_ticks(a1, a2)  # at most 5 intervals (the y axis is shared)
+    for a in (a1, a2):  # grouped digits: "10000120001400" no longer runs together
         a.xaxis.set_major_formatter(FuncFormatter(_grouped))
     a1.set_ylabel("height y [m]")
     for a in (a1, a2):
@@ -126,6 +127,7 @@ def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, t
     ax.set_ylabel(ylabel)
     ax.set_title(title, y=1.0)  # at the top of the axes: not placed anew at each drawing
     ax.grid(alpha=0.3)
+    few_ticks(ax)
     ax.legend(fontsize=8)
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)
     return write_png(fig, out_path)
