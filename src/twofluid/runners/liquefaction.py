@@ -33,6 +33,7 @@ so Ctrl-C or a failed step (including a non-finite shear step) leaves readable f
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -165,12 +166,19 @@ def _sloping_start(case: dict, source: str, column: LiquefactionColumn, site) ->
                         "are slopes the site stands on before shaking") from None
 
 
-def total_stress_surface(case: dict):
+def total_stress_surface(case: dict, one_call: bool = True):
     """(t [s], absolute surface acceleration [m/s²]) of the same column without pore-pressure
     generation (every layer ``liquefiable = false``: n̄ held, total stress), run to the end of the
     shear wave; None without shaking. Its low-passed peak is the a_max of the simplified
     procedure's "run" column, so that the procedure's CSR comes from the site's response as a
-    total-stress analysis gives it, as the procedure's r_d assumes."""
+    total-stress analysis gives it, as the procedure's r_d assumes.
+
+    Nothing moves vertically in such a run (``LiquefactionColumn.shear_only``), so the column's
+    vertical steps only cut the shear wave into pieces. With ``one_call`` (the default) the whole
+    shear wave is one step, one call of the compiled sub-steps, where that gives the same sub-steps
+    as the run's vertical steps (:func:`_whole_wave`): the same accelerations to round-off (the
+    sub-steps' times are summed differently; tests/unit/test_total_stress_surface.py). Otherwise, or
+    with ``one_call=False``, the column runs step by step as the two-fluid run does."""
     import copy
 
     if case["ground_motion"]["pga_g"] == 0.0:
@@ -181,11 +189,44 @@ def total_stress_surface(case: dict):
     b = build_column(c)
     col = b.column
     col.shear_only = True
+    whole = _whole_wave(b) if one_call else None
+    if whole is not None:
+        return whole
     t, a = [], []
     for step in col.run(b.state, col.shear_end, b.dt, b.dt_after):
         for ti, ai in step.surface:
             t.append(ti)
             a.append(ai)
+    return np.array(t), np.array(a)
+
+
+def _whole_wave(b: Built):
+    """The shear wave of a total-stress column (``b``, built with ``shear_only``) as one step of
+    ``LiquefactionColumn.step``, or None where that would not repeat the sub-steps of its run.
+
+    The run (:meth:`LiquefactionColumn.run`) takes steps of ``b.dt`` to the end of the shaking and
+    on to the end of the shear wave, each cut into m = ⌈Δt/shear_step⌉ sub-steps of Δt/m. Where both
+    stretches are whole numbers of steps, those are N·m equal sub-steps, which one step of the whole
+    wave with the sub-step Δt/m takes as well (the same sub-steps, their times summed from the start
+    instead of from each step's; no vertical model in between). Where they are not, or a sub-step
+    would be halved (a Newton failure: the run halves that step only), None."""
+    col, s0, dt = b.column, b.state, b.dt
+    if not (dt > 0.0 and s0.t == 0.0 and col.shear_end > 0.0):
+        return None
+    for stretch in (col.shaking_end, col.shear_end - col.shaking_end):
+        k = round(stretch / dt)
+        if abs(k * dt - stretch) > 1e-9 * max(stretch, dt):
+            return None
+    steps = round(col.shear_end / dt)
+    per_step = max(1, math.ceil(dt / col.shear_step - 1e-9))
+    col.shear_step = dt / per_step
+    try:
+        step = col.step(s0, col.shear_end)
+    except StepFailure:
+        return None
+    if step.substeps != steps * per_step:
+        return None
+    t, a = zip(*step.surface)
     return np.array(t), np.array(a)
 
 

@@ -1,0 +1,59 @@
+"""The total-stress companion run (``runners.liquefaction.total_stress_surface``), whose low-passed
+peak surface acceleration is the simplified procedure's "run" a_max: the whole shear wave in one
+call of the sub-steps gives the accelerations of the step-by-step run.
+
+Both take the same sub-steps with the same law; only the sub-steps' times are summed differently
+(from the start of the wave instead of from each vertical step's start), so they agree to
+round-off: asserted 1e-9 s on the times, 1e-9 of the peak on the accelerations and 1e-12 relative
+on the low-passed peak (measured on the bundled cases and the OpenSees peer column: 6e-13 s,
+1e-11 and 4e-14).
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from twofluid.casefile.loader import load_case
+from twofluid.geotech import filtering
+from twofluid.runners import liquefaction as rl
+
+
+def _case(name, duration, changes=()):
+    c = load_case(name)
+    if name == "liquefaction-layered-site":  # coarse: a few seconds
+        for la, size in zip(c["layers"], (1.0, 0.5, 1.0)):
+            la["element_size"] = size
+    c["ground_motion"]["duration"] = duration
+    c["shear_wave"]["free_vibration"] = 1.0
+    for section, key, value in changes:
+        c[section][key] = value
+    return c
+
+
+@pytest.mark.parametrize("name, changes", [
+    ("liquefaction-layered-site", ()),  # hysteretic law, crust, water table at 2 m
+    ("liquefaction-elcentro", ()),  # the thesis's laws (their compiled kernel)
+    ("liquefaction-layered-site", (("shear_wave", "step", 0.003),)),  # 7 sub-steps of 0.02/7 s a step
+])
+def test_the_whole_wave_in_one_call_repeats_the_run_step_by_step(name, changes):
+    c = _case(name, 2.0, changes)
+    t1, a1 = rl.total_stress_surface(c)
+    t0, a0 = rl.total_stress_surface(c, one_call=False)
+    assert t1.shape == t0.shape and t0.size > 100
+    assert np.max(np.abs(t1 - t0)) <= 1e-9
+    assert np.max(np.abs(a1 - a0)) <= 1e-9 * np.max(np.abs(a0))
+    p1, p0 = filtering.low_passed_peak(t1, a1), filtering.low_passed_peak(t0, a0)
+    assert p1 == pytest.approx(p0, rel=1e-12)
+
+
+def test_a_wave_that_is_not_whole_steps_runs_step_by_step():
+    """Shaking of 2.01 s with steps of 0.02 s: the run's last step before the end of the shaking is
+    cut short (other sub-steps), so the companion runs step by step, as the run does."""
+    c = _case("liquefaction-layered-site", 2.01)
+    b = rl.build_column(c)
+    b.column.shear_only = True
+    assert rl._whole_wave(b) is None
+    t1, a1 = rl.total_stress_surface(c)
+    t0, a0 = rl.total_stress_surface(c, one_call=False)
+    np.testing.assert_array_equal(t1, t0)
+    np.testing.assert_array_equal(a1, a0)
