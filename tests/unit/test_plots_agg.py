@@ -22,10 +22,16 @@ def _figure(face_alpha=1.0):
 
 @pytest.mark.parametrize("face_alpha, mode", [(1.0, "RGB"), (0.0, "RGBA")])
 def test_same_pixels_as_savefig(tmp_path, face_alpha, mode):
-    """Pixel for pixel what savefig writes at the figure's dpi; RGB only when every pixel is opaque."""
+    """Pixel for pixel what savefig writes at the figure's dpi with the figures' settings (text
+    unhinted); RGB only when every pixel is opaque."""
+    import matplotlib
+
+    from twofluid.plots.agg import DRAW_RC
+
     fig = _figure(face_alpha)
     ours = write_png(fig, tmp_path / "ours.png")
-    fig.savefig(tmp_path / "savefig.png", dpi=fig.dpi)
+    with matplotlib.rc_context(DRAW_RC):
+        fig.savefig(tmp_path / "savefig.png", dpi=fig.dpi)
     with Image.open(ours) as a, Image.open(tmp_path / "savefig.png") as b:
         assert a.mode == mode and b.mode == "RGBA"
         assert a.size == b.size == (240, 160)
