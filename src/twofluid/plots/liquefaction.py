@@ -19,7 +19,7 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.ticker import Formatter, LogFormatter, LogLocator, NullLocator
 
-from .agg import few_ticks, new_figure, tick_locator, write_png
+from .agg import drawn_ticks, new_figure, tick_locator, write_png
 
 __all__ = ["liquefaction_plots"]
 
@@ -156,8 +156,9 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
     axes[1].set_xlabel("time [s]")
     _shade(axes[1], col)
     axes[0].set_title(f"{title}: excess pore-pressure ratio", y=1.0)
-    few_ticks(*axes)
     _margins(fig, hspace=0.1)
+    drawn_ticks(axes[0], xlabels=False, grid=False)  # (the time axis is shared)
+    drawn_ticks(axes[1], grid=False)
     paths.append(write_png(fig, out / "ru_histories.png"))
 
     if len(rec.field_t) > 1:
@@ -186,9 +187,9 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
         if len(ft) > 1 and ft[-1] / max(ft[1] - ft[0], 1e-12) > 200:
             ax.set_xscale("symlog", linthresh=max(col.shear_end, 1.0))
             _plain_log(ax)
-        few_ticks(ax)
         _margins(fig, right=0.2)  # before the colour bar, which takes its room from the axes
         fig.colorbar(pc, ax=ax, label="r_u [-]", ticks=tick_locator())
+        drawn_ticks(ax, grid=False)  # (a symlog time axis keeps matplotlib's ticks)
         paths.append(write_png(fig, out / "ru_map.png"))
 
     fig = new_figure((8, 6), DPI)
@@ -202,8 +203,9 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
     axes[1].set_ylabel("base excess pore pressure [kPa]")
     axes[1].set_xlabel("time [s]")
     _shade(axes[1], col)
-    few_ticks(*axes)
     _margins(fig, hspace=0.1)
+    drawn_ticks(axes[0], xlabels=False, grid=False)  # (the time axis is shared)
+    drawn_ticks(axes[1], grid=False)
     paths.append(write_png(fig, out / "settlement.png"))
     if case is not None and summary is not None and extra is not None:
         paths.append(_profile_plot(rec, col, out, title, ru_liq, summary, extra))
@@ -246,11 +248,12 @@ def _profile_plot(rec, col, out: Path, title: str, ru_liq: float, summary: dict,
     axes[0].annotate("water table", xy=(0.02, zw), va="bottom", color="c", fontsize=7)
     axes[0].set_ylim(col.ground_surface, 0.0)
     axes[0].set_ylabel("depth below the ground surface [m]")
-    few_ticks(*axes)  # (the shared depth axis and the linear x axes)
     _log_axis(axes[1], "x")
     fig.suptitle(f"{title}: profile (settlement {100 * summary['settlement_end_m']:.2f} cm two-fluid, "
                  f"{100 * run.total_settlement_m:.2f} cm simplified)", fontsize=10)
     _margins(fig, right=0.3, top=0.55, wspace=0.12)
+    for ax in axes:  # the depth axis is shared: labelled once; the strain axis is logarithmic (its own ticks)
+        drawn_ticks(ax, ylabels=ax is axes[0])
     return write_png(fig, out / "profile.png")
 
 
@@ -267,11 +270,11 @@ def _spectra_plot(out: Path, title: str, spec: dict) -> Path:
     axes[1].axhline(1.0, color="k", lw=0.6)
     axes[1].set_ylabel("amplification S_a,surface / S_a,input [-]")
     axes[1].set_xlabel("period [s]")
-    few_ticks(axes[1])  # the amplification's linear axis
     for ax in axes:
         ax.grid(alpha=0.3)
     _log_axis(axes[0], "x", grid=True)  # (the period axis is shared)
     _log_axis(axes[0], "y", grid=True)
     _log_axis(axes[1], "x", grid=True)
     _margins(fig, hspace=0.1)
+    drawn_ticks(axes[1], x=False)  # the amplification's linear axis
     return write_png(fig, out / "spectra.png")

@@ -17,7 +17,7 @@ from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 from matplotlib.ticker import FuncFormatter
 
-from .agg import few_ticks, new_figure, tick_locator, write_png
+from .agg import drawn_ticks, new_figure, tick_locator, write_png
 
 __all__ = ["profile_plots", "history_plot"]
 
@@ -92,9 +92,8 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
     ax.set_xlabel("porosity n [-]")
     ax.set_ylabel("height y [m]")
     ax.set_title(title, y=1.0)  # at the top of the axes: not placed anew at each drawing
-    ax.grid(alpha=0.3)
-    few_ticks(ax)
     fig.subplots_adjust(left=0.15, right=0.798, bottom=0.09, top=0.94)  # fixed margins: tight_layout is slow
+    drawn_ticks(ax)
     _time_bar(fig, (0.8385, 0.09, 0.0411, 0.85), cmap, norm)
     out.append(write_png(fig, Path(out_dir) / "porosity.png"))
 
@@ -104,13 +103,10 @@ def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> lis
         _curves(a, [np.column_stack([f[key], f["y_m"]]) for _, f in items], colors, 1.5)
     a1.set_xlabel("liquid pressure P [Pa]")
     a2.set_xlabel("granular pressure P_s [Pa]")
-    few_ticks(a1, a2)  # at most 5 intervals (the y axis is shared)
-    for a in (a1, a2):  # grouped digits: "10000120001400" no longer runs together
-        a.xaxis.set_major_formatter(FuncFormatter(_grouped))
     a1.set_ylabel("height y [m]")
-    for a in (a1, a2):
-        a.grid(alpha=0.3)
     fig.subplots_adjust(left=0.09, right=0.802, bottom=0.1, top=0.92, wspace=0.06)
+    for a in (a1, a2):  # grouped digits: "10000120001400" no longer runs together; the height labelled once
+        drawn_ticks(a, xformatter=FuncFormatter(_grouped), ylabels=a is a1)
     _time_bar(fig, (0.8465, 0.1, 0.02255, 0.82), cmap, norm)
     fig.suptitle(title)
     out.append(write_png(fig, Path(out_dir) / "pressure.png"))
@@ -145,10 +141,9 @@ def history_plot(t: np.ndarray, series: dict[str, np.ndarray], out_path: Path, t
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(ylabel)
     ax.set_title(title, y=1.0)  # at the top of the axes: not placed anew at each drawing
-    ax.grid(alpha=0.3)
-    few_ticks(ax)
     ax.legend(fontsize=8)
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)
+    drawn_ticks(ax)
     return write_png(fig, out_path)
 
 
