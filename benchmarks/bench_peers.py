@@ -24,8 +24,17 @@ twofluid's bytecode is written before the runs (``compile_bytecode``), as an ins
 has it. Plots are switched off in the twofluid case files (``[output] plots = false``, what
 ``twofluid run --no-plots`` does), so that ``--src`` can also time older versions.
 
+``--as-installed`` adds the column as a user runs it: this environment's ``twofluid`` console
+script (``pip install .``, kernels built), with its default plots and with ``--no-plots``.
+``--parts`` times the parts of that process instead (no peer): the CPU of the process when the
+column's run starts, of the run, of the total-stress companion run, of the summary and tables and
+of the figures (matplotlib's import included), each process the console script's own ``main``
+with timers around the runner's calls.
+
     python benchmarks/bench_peers.py                       # all works, 3 rounds
     python benchmarks/bench_peers.py --only openfoam-sedimentation --rounds 5
+    python benchmarks/bench_peers.py --only opensees-column --as-installed --rounds 5
+    python benchmarks/bench_peers.py --parts --rounds 7
 """
 from __future__ import annotations
 
@@ -161,13 +170,89 @@ def works(tmp: Path, coarse: bool = True, as_installed: bool = False) -> dict:
         peer = [sys.executable, "column.py", "--perm", "1e-4", "--quiet", "--out", "out", "--motion", str(MOTION)]
         label = "twofluid liquefaction_1d, 20 elements, 30 s shaking, to 180 s"
         cfg = {label: twofluid_cmd(path, peer_dir / "out-tf")}
-        if as_installed:  # the console script with the default plots, as a user runs it
+        if as_installed:  # the console script with the default plots, as a user runs it, and without them
             plotted = column_case(peer_dir / "column-20-plots.toml", elements=20, shaking=30.0, end=180.0,
                                   plots=True)
             cfg[label + ", as installed (`twofluid run`, default plots)"] = installed_cmd(plotted,
                                                                                        peer_dir / "out-inst")
+            cfg[label + ", as installed, `--no-plots`"] = installed_cmd(plotted, peer_dir / "out-inst-np") \
+                + ["--no-plots"]
         out[name] = ("OpenSeesPy PDMY02 u-p column (`column.py --perm 1e-4`)", peer, peer_dir, cfg)
     return out
+
+
+PARTS = ("process start and imports", "the case, the record, the column's build", "the column's run",
+         "the total-stress companion run", "the summary, spectra and tables", "the figures (matplotlib's import included)")
+
+
+def parts_child(case_path: str, out: str) -> dict:
+    """In this process, ``twofluid run CASE --out OUT --quiet`` as the console script runs it (its
+    ``main``, the command's process), with the CPU time (``time.process_time``) read around the
+    runner's calls; returns {part: CPU [s]} (``PARTS``) and the whole."""
+    import time
+
+    clock = time.process_time
+    from twofluid import cli
+
+    cli.one_blas_thread()
+    from twofluid.plots import command_process
+
+    command_process()
+    import twofluid.runners.liquefaction as rl
+    from twofluid.models import liquefaction_1d
+
+    marks = {}
+    run, companion, tables = liquefaction_1d.LiquefactionColumn.run, rl.total_stress_surface, rl.report.write_tables
+
+    def timed_run(self, *a, **kw):
+        marks.setdefault("run", clock())
+        yield from run(self, *a, **kw)
+
+    def timed_companion(*a, **kw):
+        marks["companion"] = clock()
+        out = companion(*a, **kw)
+        marks["summary"] = clock()
+        return out
+
+    def timed_tables(*a, **kw):
+        out = tables(*a, **kw)
+        marks["figures"] = clock()
+        return out
+
+    marks["build"] = clock()  # (the imports: what the command imports before it reads the case)
+    liquefaction_1d.LiquefactionColumn.run = timed_run
+    rl.total_stress_surface, rl.report.write_tables = timed_companion, timed_tables
+    assert cli._main(["run", case_path, "--out", out, "--quiet"]) == 0
+    end = clock()
+    order = ["build", "run", "companion", "summary", "figures"]
+    values = [marks["build"]] + [marks[b] - marks[a] for a, b in zip(order, order[1:])] + [end - marks["figures"]]
+    return {**dict(zip(PARTS, values)), "whole": end}
+
+
+def parts(rounds: int) -> int:
+    """The median CPU of each part of the peer column as installed (``parts_child``), ``rounds``
+    processes."""
+    import json
+
+    from twofluid.verification.suite import machine
+
+    compile_bytecode()
+    load0 = os.getloadavg()[0]
+    started = datetime.datetime.now(datetime.timezone.utc)
+    runs = []
+    with tempfile.TemporaryDirectory(prefix="twofluid-parts-") as td:
+        case = column_case(Path(td) / "column-20-plots.toml", elements=20, shaking=30.0, end=180.0, plots=True)
+        for r in range(rounds):
+            out = subprocess.run([sys.executable, __file__, "--parts-child", str(case), str(Path(td) / f"out{r}")],
+                                 check=True, capture_output=True, text=True).stdout
+            runs.append(json.loads(out.strip().splitlines()[-1]))
+    print(f"{started:%Y-%m-%d %H:%M} UTC; {machine()}; load average (1 min) {load0:.2f} before, "
+          f"{os.getloadavg()[0]:.2f} after; {rounds} processes, medians")
+    print("\n| part | CPU [s] (median, min–max) |\n|---|---|")
+    for key in (*PARTS, "whole"):
+        v = sorted(r[key] for r in runs)
+        print(f"| {key} | {statistics.median(v):.3f} ({v[0]:.3f}–{v[-1]:.3f}) |")
+    return 0
 
 
 def main(argv=None) -> int:
@@ -180,7 +265,17 @@ def main(argv=None) -> int:
     p.add_argument("--as-installed", action="store_true", help="also time the column as a user runs it: "
                    "this environment's `twofluid` console script with the default plots (install with "
                    "`pip install .` and run `twofluid build-kernels` first)")
+    p.add_argument("--parts", action="store_true", help="the CPU of the parts of the column's process as installed "
+                   "(no peer; --rounds processes)")
+    p.add_argument("--parts-child", nargs=2, metavar=("CASE", "OUT"), help=argparse.SUPPRESS)
     a = p.parse_args(argv)
+    if a.parts_child:
+        import json
+
+        print(json.dumps(parts_child(*a.parts_child)))
+        return 0
+    if a.parts:
+        return parts(a.rounds)
     env = None
     if a.src:
         env = dict(os.environ, PYTHONPATH=str(Path(a.src).resolve()))
