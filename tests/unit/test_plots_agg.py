@@ -80,3 +80,38 @@ def test_1d_figures_keep_their_size_and_resolution(tmp_path):
     assert sizes == {"porosity.png": ((744, 720), "RGB", (120, 120)),
                      "pressure.png": ((1200, 660), "RGB", (120, 120)),
                      "heights.png": ((780, 540), "RGB", (120, 120))}
+
+
+@pytest.mark.parametrize("xs, ys, invert", [((0.0, 80.0), (0.65, 0.71), False),
+                                            ((-2.5e6, 3.0e6), (10.0, 0.0), True),
+                                            ((1e-5, 4e-5), (-0.002, 0.001), False)])
+def test_drawn_ticks_are_labelled_inside_the_axes_span_and_clear_of_the_axis_labels(xs, ys, invert):
+    """drawn_ticks: every label at a tick inside the limits, the axis labels beyond the tick labels
+    (not on them), whatever the magnitudes or the direction of the axis; no matplotlib ticks."""
+    import matplotlib
+
+    from twofluid.plots.agg import DRAW_RC, drawn_ticks
+
+    fig = new_figure((5.0, 3.5), dpi=80)
+    ax = fig.subplots()
+    ax.plot(xs, ys)
+    if invert:
+        ax.invert_yaxis()
+    ax.set_xlabel("an x label [unit]")
+    ax.set_ylabel("a y label [unit]")
+    fig.subplots_adjust(left=0.22, right=0.95, bottom=0.2, top=0.95)
+    drawn_ticks(ax)
+    with matplotlib.rc_context(DRAW_RC):
+        fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    labels = [t for t in ax.texts]
+    assert len(ax.get_xticks()) == 0 and len(ax.get_yticks()) == 0 and 6 <= len(labels) <= 14
+    box = ax.get_window_extent(r)
+    xl, yl = ax.xaxis.label.get_window_extent(r), ax.yaxis.label.get_window_extent(r)
+    below = [t.get_window_extent(r) for t in labels if t.get_va() == "top"]
+    left = [t.get_window_extent(r) for t in labels if t.get_ha() == "right"]
+    assert below and left
+    assert all(b.x1 >= box.x0 - 1 and b.x0 <= box.x1 + 1 and b.y1 < box.y0 for b in below)
+    assert all(b.y1 >= box.y0 - 1 and b.y0 <= box.y1 + 1 and b.x1 < box.x0 for b in left)
+    assert xl.y1 < min(b.y0 for b in below) and yl.x1 < min(b.x0 for b in left)
+    assert all(t.get_text() and "e" not in t.get_text() for t in labels)  # plain numbers, no offset
