@@ -3,10 +3,12 @@
 
 Drawn for their CPU (docs/benchmarks.md, "Start-up and plots"): margins fixed in inches
 (:func:`_margins`) rather than computed by ``tight_layout``, which lays out every text of a
-figure once more; log axes labelled with plain numbers (0.1, 1, 10, 1e-05;
-:func:`_plain_log`) rather than matplotlib's 10^x, whose mathtext parser costs about 0.1 s
-to build; titles placed at the top of their axes (``y=1.0``) rather than placed anew at each
-drawing above whatever might stick out there (none of these axes has ticks on top).
+figure once more; the ticks of linear axes drawn as collections and texts
+(:func:`twofluid.plots.agg.drawn_ticks`); log axes without minor ticks (:func:`_log_axis`) and
+labelled with plain numbers (0.1, 1, 10, 1e-05; :func:`_plain_log`) rather than matplotlib's
+10^x, whose mathtext parser costs about 0.1 s to build; titles placed at the top of their axes
+(``y=1.0``) rather than placed anew at each drawing above whatever might stick out there (none
+of these axes has ticks on top).
 """
 from __future__ import annotations
 

@@ -1,9 +1,10 @@
 """Figures of 1D runs: porosity and pressure profiles, bed height or interfaces in time.
 
-Margins are fixed (``subplots_adjust``) rather than computed by ``tight_layout``,
-which lays out each figure's text once more: ~60 ms a figure, a fifth of the plotting
-time of a 1D run (docs/benchmarks.md). Figures are drawn and written by
-:mod:`twofluid.plots.agg` (no pyplot).
+Margins are fixed (``subplots_adjust``) rather than computed by ``tight_layout``, which lays
+out each figure's text once more; the colour bars sit in fixed rectangles beside them; the
+curves of a profile figure are one line collection; the ticks are drawn as collections and texts
+(:func:`twofluid.plots.agg.drawn_ticks`). Figures are drawn and written by
+:mod:`twofluid.plots.agg` (no pyplot). CPU: docs/benchmarks.md, "Start-up and plots".
 """
 from __future__ import annotations
 
