@@ -115,3 +115,25 @@ def test_drawn_ticks_are_labelled_inside_the_axes_span_and_clear_of_the_axis_lab
     assert all(b.y1 >= box.y0 - 1 and b.y0 <= box.y1 + 1 and b.x1 < box.x0 for b in left)
     assert xl.y1 < min(b.y0 for b in below) and yl.x1 < min(b.x0 for b in left)
     assert all(t.get_text() and "e" not in t.get_text() for t in labels)  # plain numbers, no offset
+
+
+def test_drawn_ticks_of_a_colour_bar_on_its_right_clear_of_its_label():
+    import matplotlib
+    from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
+    from twofluid.plots.agg import DRAW_RC, drawn_ticks
+
+    fig = new_figure((4.0, 3.0), dpi=80)
+    bar = fig.colorbar(ScalarMappable(Normalize(0.0, 80.0), colormaps["viridis"]),
+                       cax=fig.add_axes((0.7, 0.1, 0.05, 0.8)), label="time t [s]")
+    drawn_ticks(bar.ax, x=False, grid=False, yside="right")
+    with matplotlib.rc_context(DRAW_RC):
+        fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    box, label = bar.ax.get_window_extent(r), bar.ax.yaxis.label.get_window_extent(r)
+    texts = sorted(bar.ax.texts, key=lambda t: t.get_position()[1])
+    assert [t.get_text() for t in texts] == ["0", "20", "40", "60", "80"]
+    assert all(box.x1 < t.get_window_extent(r).x0 < label.x0 for t in texts)
+    assert len(bar.ax.get_yticks()) == 0

@@ -109,7 +109,8 @@ def _tick_labels(locs, lo: float, hi: float, formatter) -> list[str]:
 
 
 def drawn_ticks(ax, x: bool = True, y: bool = True, xlabels: bool = True, ylabels: bool = True,
-                xformatter=None, yformatter=None, grid: bool = True, nbins: int = NBINS) -> None:
+                xformatter=None, yformatter=None, grid: bool = True, nbins: int = NBINS,
+                yside: str = "left") -> None:
     """Ticks of the linear x and y axes of ``ax`` as matplotlib draws them — marks 3.5 pt long
     outside, labels 3.5 pt beyond, a light grid (``grid``), the axis label below or beside the tick
     labels — but drawn as three artists per axis (a line collection of the marks, one of the grid
@@ -117,7 +118,8 @@ def drawn_ticks(ax, x: bool = True, y: bool = True, xlabels: bool = True, ylabel
     every drawing. Locations by :func:`tick_locator`; labels by the formatters (None: matplotlib's
     default, without an offset). Call it last: after the data, the limits and the margins
     (``subplots_adjust``) are final. ``xlabels``/``ylabels`` False: marks only (an axis shared
-    with a labelled one).
+    with a labelled one). ``yside="right"``: the y ticks on the right (a colour bar's, once
+    ``fig.colorbar`` has made it: it sets its locator when it is made, not when it is drawn).
 
     On a figure of one axes this halves the CPU of its ticks: about a third of the figure's
     (docs/benchmarks.md, "Start-up and plots").
@@ -158,10 +160,12 @@ def drawn_ticks(ax, x: bool = True, y: bool = True, xlabels: bool = True, ylabel
             place = dict(ha="center", va="top")
         else:
             trans, frac = ax.get_yaxis_transform(), size / 72.0 / (box.width * w_in)
-            marks = [[(0.0, v), (-frac, v)] for v in locs]
+            side = 1.0 if yside == "right" else -1.0
+            edge = 1.0 if yside == "right" else 0.0
+            marks = [[(edge, v), (edge + side * frac, v)] for v in locs]
             lines = [[(0.0, v), (1.0, v)] for v in locs]
-            shift = ScaledTranslation(-(size + pad) / 72.0, 0.0, fig.dpi_scale_trans)
-            place = dict(ha="right", va="center_baseline")
+            shift = ScaledTranslation(side * (size + pad) / 72.0, 0.0, fig.dpi_scale_trans)
+            place = dict(ha="left" if yside == "right" else "right", va="center_baseline")
         ax.add_collection(LineCollection(marks, transform=trans, colors=color, linewidths=width, clip_on=False,
                                          zorder=2.5), autolim=False)
         if grid:
@@ -172,7 +176,7 @@ def drawn_ticks(ax, x: bool = True, y: bool = True, xlabels: bool = True, ylabel
             continue
         extent = 0.0  # the labels' height (x) or width (y) [points]: where the axis label goes
         for v, text in zip(locs, _tick_labels(locs, lo, hi, formatter)):
-            xy = (v, 0.0) if which == "x" else (0.0, v)
+            xy = (v, 0.0) if which == "x" else (1.0 if yside == "right" else 0.0, v)
             label = ax.text(*xy, text, transform=trans + shift, fontsize=rc[f"{which}tick.labelsize"],
                             color=rc[f"{which}tick.labelcolor"] if rc[f"{which}tick.labelcolor"] != "inherit"
                             else color, clip_on=False, **place)

@@ -21,7 +21,7 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.ticker import Formatter, LogFormatter, LogLocator, NullLocator
 
-from .agg import drawn_ticks, new_figure, tick_locator, write_png
+from .agg import drawn_ticks, new_figure, write_png
 
 __all__ = ["liquefaction_plots"]
 
@@ -190,8 +190,9 @@ def liquefaction_plots(rec, col, out: Path, title: str, ru_liq: float = 0.95, ca
             ax.set_xscale("symlog", linthresh=max(col.shear_end, 1.0))
             _plain_log(ax)
         _margins(fig, right=0.2)  # before the colour bar, which takes its room from the axes
-        fig.colorbar(pc, ax=ax, label="r_u [-]", ticks=tick_locator())
+        bar = fig.colorbar(pc, ax=ax, label="r_u [-]")
         drawn_ticks(ax, grid=False)  # (a symlog time axis keeps matplotlib's ticks)
+        drawn_ticks(bar.ax, x=False, grid=False, yside="right")
         paths.append(write_png(fig, out / "ru_map.png"))
 
     fig = new_figure((8, 6), DPI)

@@ -18,7 +18,7 @@ from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 from matplotlib.ticker import FuncFormatter
 
-from .agg import drawn_ticks, new_figure, tick_locator, write_png
+from .agg import drawn_ticks, new_figure, write_png
 
 __all__ = ["profile_plots", "history_plot"]
 
@@ -76,7 +76,8 @@ def _time_bar(fig, box: tuple[float, float, float, float], cmap, norm):
     width, height as fractions of the figure): placed where ``fig.colorbar(..., ax=...)`` puts it
     beside the fixed margins, without the new grid of subplots that call lays out for it."""
     sm = ScalarMappable(cmap=cmap, norm=norm)
-    fig.colorbar(sm, cax=fig.add_axes(box), label="time t [s]", ticks=tick_locator())
+    bar = fig.colorbar(sm, cax=fig.add_axes(box), label="time t [s]")
+    drawn_ticks(bar.ax, x=False, grid=False, yside="right")
 
 
 def profile_plots(profiles: dict[float, dict], out_dir: Path, title: str) -> list[Path]:
