@@ -182,7 +182,8 @@ def works(tmp: Path, coarse: bool = True, as_installed: bool = False) -> dict:
 
 
 PARTS = ("process start and imports", "the case, the record, the column's build", "the column's run",
-         "the total-stress companion run", "the summary, spectra and tables", "the figures (matplotlib's import included)")
+         "the total-stress companion run", "the summary, spectra and tables",
+         "the figures (matplotlib's import included)")
 
 
 def parts_child(case_path: str, out: str) -> dict:
