@@ -49,7 +49,7 @@ from ..io import ground_motion as gm
 from ..io.folders import default_out_dir
 from ..io.results import (CsvStream, NonFiniteOutput, ResultWriter, check_finite, write_json,
                           write_resolved_case)
-from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalColumn
+from ..models.liquefaction_1d import ColumnState, FlowStop, LiquefactionColumn, VerticalColumn
 from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings, StepFailure
@@ -126,7 +126,9 @@ def build_column(case: dict, reference: bool = False) -> Built:
                                 base_acceleration_at=accel_at,
                                 hysteretic=hysteretic_parameters(case, site, sigma_v0, crust,
                                                                  np.broadcast_to(sand.k2max, sigma_v0.shape)),
-                                numerical_damping=sw["numerical_damping"], slope_percent=slope)
+                                numerical_damping=sw["numerical_damping"], slope_percent=slope,
+                                flow=FlowStop(sw["flow_velocity"], sw["flow_window"], sw["flow_max"],
+                                              sw["flow_step"]))
     if slope > 0.0:
         state = _sloping_start(case, source, column, site)
     else:

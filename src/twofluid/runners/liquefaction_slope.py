@@ -114,6 +114,7 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
     d_shake = _at(srec.t, srec.d, col.shaking_end) if col.shaking_end > 0.0 else 0.0
     d_wave = _at(srec.t, srec.d, col.shear_end) if col.shear_end > 0.0 else 0.0
     v_wave = _at(srec.t, srec.v, col.shear_end - 1e-6) if col.shear_end > 0.0 else 0.0
+    flow = _flow_block(col, srec, d_end)
     gamma0 = np.diff(col.u_static) / col.wave.h
     strain = np.abs(last.wave.gamma - gamma0)
     e_loc = int(np.argmax(strain))
@@ -136,15 +137,54 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
         "surface_displacement_end_of_shear_wave_m": d_wave,
         "share_after_shaking": None if d_end == 0.0 else (d_end - d_shake) / d_end,
         "surface_velocity_end_of_shear_wave_m_s": v_wave,
-        "still_moving_when_shear_wave_stopped": abs(v_wave) > MOVING_M_S,
+        "still_moving_when_shear_wave_stopped": (abs(v_wave) > MOVING_M_S if flow is None
+                                                 else not flow["flow_stopped"]),
+        "flow_after_shaking": flow,
         "localisation": loc,
         "layers": layers,
         "estimates": _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r),
     }
     if out["still_moving_when_shear_wave_stopped"]:
-        out["note"] = (f"the surface still moved at {v_wave:.3g} m/s when the shear wave stopped: the displacement "
-                       "is a lower bound; raise [shear_wave] free_vibration")
+        if flow is None:
+            out["note"] = (f"the surface still moved at {v_wave:.3g} m/s when the shear wave stopped: the "
+                           "displacement is a lower bound; raise [shear_wave] free_vibration")
+        else:
+            out["note"] = (f"the column still flowed (mean surface velocity {flow['flow_velocity_end_m_s']:.3g} m/s) "
+                           f"when the shear wave stopped at {col.shear_end:g} s, [shear_wave] flow_max after the "
+                           "record's end: the displacement is a lower bound")
     return out
+
+
+def _settled_time(t, d, d_end: float, fraction: float) -> float | None:
+    """The first time [s] after which the displacement stays within (1 − fraction)|d_end| of d_end."""
+    t, d = np.asarray(t), np.asarray(d)
+    if d_end == 0.0 or t.size == 0:
+        return None
+    off = np.flatnonzero(np.abs(d - d_end) > (1.0 - fraction) * abs(d_end))
+    return float(t[0]) if off.size == 0 else float(t[min(off[-1] + 1, t.size - 1)])
+
+
+def _flow_block(col, srec: SlopeRecorder, d_end: float) -> dict | None:
+    """How the flow after the shaking ended (the column's :class:`~twofluid.models.liquefaction_1d.FlowStop`
+    criterion), or None where it is off (``flow_velocity = 0``, no shaking)."""
+    f = col.flow
+    if f is None:
+        return None
+    t95, t99 = (_settled_time(srec.t, srec.d, d_end, q) for q in (0.95, 0.99))
+    v = col.flow_velocity_end
+    return {
+        "criterion": (f"after free_vibration the shear wave runs on while |v_mean| >= {f.velocity:g} m/s, v_mean = "
+                      f"(D(t - T, t) - D(t - 2T, t - T))/T, D the time mean of the surface displacement over T = "
+                      f"{f.window:g} s; at most {f.max_after:g} s after the record's end; step growing x1.5 to "
+                      f"{f.step:g} s while it flows"),
+        "flow_stopped": bool(col.flow_stopped),
+        "shear_wave_end_s": col.shear_end,
+        "shear_wave_end_after_shaking_s": col.shear_end - col.shaking_end,
+        "flow_velocity_end_m_s": v,
+        "time_95_percent_s": t95, "time_99_percent_s": t99,
+        "time_definition": "time_X_percent_s: the first time after which the surface displacement stays within "
+                           "(100 - X) % of its final value",
+    }
 
 
 def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
