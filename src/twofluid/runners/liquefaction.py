@@ -22,7 +22,8 @@ prints. The run folder holds (depths below the ground surface; columns in docs/o
   sand boil, settlement, dissipation (fraction of the final settlement), the simplified
   procedure, spectra, solids balance, wall time, status (completed / interrupted / failed,
   with ``stopped_at_s`` and the reason);
-- ``profile.png``, ``ru_map.png``, ``spectra.png``, ``ru_histories.png``, ``settlement.png``.
+- ``profile.png``, ``ru_map.png``, ``spectra.png``, ``ru_histories.png``, ``settlement.png``; on a
+  slope also ``lateral_displacement.png`` and ``surface_displacement.png`` (:mod:`twofluid.plots.slope`).
 
 Inputs are checked before the folder is created: the case (again, if it is a dictionary
 that may have been edited since loading) with the record, the ANN weights and the G/G_max
@@ -421,6 +422,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
         from ..plots.liquefaction import liquefaction_plots
 
         liquefaction_plots(rec, col, out, name, rep["ru_liquefied"], case=case, summary=summary, extra=extra)
+        if srec is not None:  # a sloping site: lateral_displacement.png, surface_displacement.png
+            from ..plots.slope import slope_plots
+
+            slope_plots(srec, col, out, name, summary["slope"])
     hist = {"t": np.array(rec.t), "r_u": np.array(rec.ru), "settlement_m": np.array(rec.settle),
             "base_excess_pore_pressure_Pa": np.array(rec.pbase),
             "field_t": np.array(rec.field_t), "field_r_u": np.array(rec.field),
