@@ -414,7 +414,7 @@ def parser():
     en = sub.add_parser("ensemble", help="run an ensemble file (grid, zipped lists, samples, ground-motion "
                         "suites, PGA sweeps) on Dask; see docs/ensembles.md")
     en.add_argument("file", help="ensemble TOML file (or a bundled example: elcentro-pga-sweep, "
-                    "layered-site-five-motions)")
+                    "layered-site-five-motions, sloping-site-five-motions)")
     en.add_argument("--out", help="results folder (default: twofluid-out/<ensemble name>); a rerun into the "
                     "same folder skips completed members")
     en.add_argument("--quiet", action="store_true", help="no progress bar")

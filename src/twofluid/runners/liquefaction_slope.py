@@ -107,9 +107,13 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
                        "static_shear_Pa": [float(tau_s[e].min()), float(tau_s[e].max())],
                        "alpha_static": [float((tau_s[e] / par[e, law.P_SIG0]).min()),
                                         float((tau_s[e] / par[e, law.P_SIG0]).max())],
-                       "note": ("flow slide: FS_post <= 1, the liquefied layer cannot carry the static shear; "
-                                "the displacement is unbounded" if f <= 1.0 else "FS_post > 1: the residual "
-                                "strength carries the static shear once shaking stops")})
+                       "note": ("flow slide: FS_post <= 1, the liquefied layer cannot carry the static shear on "
+                                "its residual strength; the column flows after the shaking until the strength "
+                                "returns as the excess pore pressure dissipates (flow_after_shaking), on an "
+                                "infinite slope that keeps its geometry and with S_r not lowered by void "
+                                "redistribution: a real flow slide can run much further" if f <= 1.0
+                                else "FS_post > 1: the residual strength carries the static shear once shaking "
+                                "stops")})
     d_end = srec.d[-1]
     d_shake = _at(srec.t, srec.d, col.shaking_end) if col.shaking_end > 0.0 else 0.0
     d_wave = _at(srec.t, srec.d, col.shear_end) if col.shear_end > 0.0 else 0.0
