@@ -11,12 +11,13 @@ Compared quantities, each with its definition:
   surface displacement keeps growing after the shaking, the flow stops by itself before flow_max
   (the excess pore pressure dissipates and the strength returns), and the displacement does not
   change after the shear wave stops; halving the flow step changes the final displacement by at most
-  1 % (measured: 1e-5);
+  1 % (measured: 5e-6, 0.1 against 0.05 s);
 - level ground: the flow keys change nothing (the shear wave stops at free_vibration, the run is
   the same to the last bit).
 """
 import copy
 import math
+import re
 import warnings
 
 import numpy as np
@@ -152,7 +153,12 @@ def test_flow_decision_stops_at_flow_max():
                                         ("flow_max", "-1.0"), ("flow_step", "0.0"), ("flow_step", "2.0"),
                                         ("flow_step", "\"x\"")])
 def test_bad_flow_keys_are_one_line_and_exit_2(key, value, tmp_path, capsys):
-    text = case_text(CASE).replace("[shear_wave]\n", f"[shear_wave]\n{key} = {value}\n")
+    text = case_text(CASE)
+    if re.search(rf"^{key} = ", text, flags=re.M):
+        text = re.sub(rf"^{key} = [^ ]+", f"{key} = {value}", text, count=1, flags=re.M)
+    else:
+        text = text.replace("[shear_wave]\n", f"[shear_wave]\n{key} = {value}\n")
+    assert f"{key} = {value}" in text
     path = tmp_path / "case.toml"
     path.write_text(text)
     assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2

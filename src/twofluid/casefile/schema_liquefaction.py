@@ -189,7 +189,7 @@ _SHEAR = [
       "column's ring-down period, so that an oscillation averages out)", lo=0.0, lo_open=True, hi=60.0),
     K("flow_max", float, 600.0, "s", "sloping site: the shear wave stops at the latest this long after the "
       "record ends, still flowing or not (the summary says which)", lo=0.0, hi=86400.0),
-    K("flow_step", float, 0.05, "s", "sloping site: largest vertical step and shear sub-step while the column "
+    K("flow_step", float, 0.1, "s", "sloping site: largest vertical step and shear sub-step while the column "
       "flows after free_vibration (reached by ×1.5 growth from [time] step; at least [shear_wave] step)",
       lo=0.0, lo_open=True, hi=1.0),
     K("base", str, "rigid", "-", "rigid: the record is the motion of the base; compliant: the record is the "

@@ -218,7 +218,7 @@ class FlowStop:
     velocity: float = 1e-5
     window: float = 2.0
     max_after: float = 600.0
-    step: float = 0.05
+    step: float = 0.1
 
 
 @dataclass(frozen=True)
