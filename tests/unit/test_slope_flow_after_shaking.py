@@ -165,3 +165,14 @@ def test_bad_flow_keys_are_one_line_and_exit_2(key, value, tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and f"[shear_wave] {key}" in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_run_that_ends_while_the_column_flows_says_so():
+    c = _case(ground_motion__duration=4.0, time__end=12.0, site__slope=5.0, output__times=[10.0])
+    c["shear_wave"]["free_vibration"] = 4.0
+    r = _run(c)
+    sl = r.summary["slope"]
+    f = sl["flow_after_shaking"]
+    assert not f["flow_stopped"] and "end of the run" in f["shear_wave_stopped_by"]
+    assert sl["still_moving_when_shear_wave_stopped"] and "raise [time] end" in sl["note"]
+    assert r.summary["shaking"]["shear_wave_end_s"] == pytest.approx(12.0)

@@ -832,3 +832,5 @@ class LiquefactionColumn:
             yield step
             if stop is not None and s.t >= self.shear_end - eps and stop(s):
                 return
+        if self.flow is not None and self.flow_stopped is None and self.shear_end > s.t + eps:
+            self.shear_end = s.t  # a sloping column still shearing at t_end: its shear wave ends with the run

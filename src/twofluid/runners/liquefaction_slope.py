@@ -152,10 +152,13 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
         if flow is None:
             out["note"] = (f"the surface still moved at {v_wave:.3g} m/s when the shear wave stopped: the "
                            "displacement is a lower bound; raise [shear_wave] free_vibration")
-        else:
+        elif col.flow_stopped is False:
             out["note"] = (f"the column still flowed (mean surface velocity {flow['flow_velocity_end_m_s']:.3g} m/s) "
                            f"when the shear wave stopped at {col.shear_end:g} s, [shear_wave] flow_max after the "
                            "record's end: the displacement is a lower bound")
+        else:
+            out["note"] = (f"the run ended at {last.t:g} s while the shear wave still ran (the flow had not been "
+                           "found stopped): the displacement is a lower bound; raise [time] end")
     return out
 
 
@@ -181,7 +184,10 @@ def _flow_block(col, srec: SlopeRecorder, d_end: float) -> dict | None:
                       f"(D(t - T, t) - D(t - 2T, t - T))/T, D the time mean of the surface displacement over T = "
                       f"{f.window:g} s; at most {f.max_after:g} s after the record's end; step growing x1.5 to "
                       f"{f.step:g} s while it flows"),
-        "flow_stopped": bool(col.flow_stopped),
+        "flow_stopped": col.flow_stopped is True,
+        "shear_wave_stopped_by": ("the criterion: the flow had stopped" if col.flow_stopped is True else
+                                  "flow_max: the column still flowed" if col.flow_stopped is False else
+                                  "the end of the run: the shear wave still ran"),
         "shear_wave_end_s": col.shear_end,
         "shear_wave_end_after_shaking_s": col.shear_end - col.shaking_end,
         "flow_velocity_end_m_s": v,
