@@ -128,7 +128,7 @@ def _history(srec, col, out: Path, title: str, slope: dict) -> Path:
             bx.plot(band, [yi, yi], color=color, lw=2.0, alpha=0.5)
         if v is not None and v > 0.0:
             bx.plot([v], [yi], "o", color=color)
-            bx.annotate(f"{v:.3g} m", xy=(v, yi), xytext=(0, 6), textcoords="offset points", ha="center",
+            bx.annotate(f"{v:.3g} m" + (f" ({band[0]:.2g}–{band[1]:.2g})" if band is not None else ""), xy=(v, yi), xytext=(0, 6), textcoords="offset points", ha="center",
                         fontsize=7)
         else:
             bx.annotate(note or "—", xy=(0.5, yi), xycoords=("axes fraction", "data"), ha="center",
