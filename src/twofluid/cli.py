@@ -56,6 +56,10 @@ def _cmd_run(args) -> int:
             print(f"  simplified procedure, a_max = {simp[f'a_max_{which}_g']:.3g} g ({which}): FS < 1 at "
                   + ("no depth" if zone is None else f"{zone[0]:.3g}-{zone[1]:.3g} m")
                   + f", settlement {simp[f'settlement_{which}_m']:.3g} m")
+    if s.get("slope") is not None:  # a sloping site: the lateral displacement and the estimates
+        from .runners.liquefaction_slope import slope_lines
+
+        print("\n".join(slope_lines(s["slope"])))
     balance = s.get("solids_volume_balance_error")
     print(f"  solids volume balance error = {balance:.3g}" if balance is not None
           else "  solids volume balance error: not computed")

@@ -28,7 +28,7 @@ from ..closures import hysteretic as law
 from ..geotech import lateral_spread as ls
 from ..io.results import CsvStream
 
-__all__ = ["SlopeRecorder", "slope_summary", "MOVING_M_S"]
+__all__ = ["SlopeRecorder", "slope_summary", "slope_lines", "MOVING_M_S"]
 
 #: surface velocity [m/s] above which the column counts as still moving when its shear wave stops
 MOVING_M_S = 1e-4
@@ -281,3 +281,34 @@ def _youd(case, site, simp_run) -> dict:
         r = ls.youd2002_ground_slope(g["magnitude"], g["distance_km"], case["site"]["slope"], t15, f15, d15)
     return dict(out, median_m=r.median_m, lower_m=r.lower_m, upper_m=r.upper_m, t15_m=t15, f15_percent=f15,
                 d50_15_mm=d15, in_verified_range=r.in_range, range_notes=list(r.notes))
+
+
+def slope_lines(sl: dict) -> list[str]:
+    """What ``twofluid run`` prints of a summary's ``slope`` block: the surface displacement, its share
+    after the shaking, how the flow ended, and the estimates beside it.
+
+    >>> sl = {"surface_displacement_end_m": 0.4876, "share_after_shaking": 0.0255,
+    ...       "flow_after_shaking": {"flow_stopped": True, "shear_wave_end_s": 14.44, "time_99_percent_s": 10.14},
+    ...       "estimates": {"newmark": {"displacement_m": 0.723}, "zhang_2004": {"displacement_m": 9.8},
+    ...                     "youd_2002": {"median_m": None}}}
+    >>> print("\\n".join(slope_lines(sl)))
+      lateral spreading: surface 0.488 m downslope, 2.5 % of it after the shaking; flow stopped (99 % at 10.1 s, shear wave to 14.4 s)
+      beside it: Newmark 0.723 m, Zhang et al. 2004 9.8 m, Youd et al. 2002 not evaluated
+    """
+    d, share, f = sl["surface_displacement_end_m"], sl["share_after_shaking"], sl.get("flow_after_shaking")
+    line = f"  lateral spreading: surface {d:.3g} m downslope"
+    if share is not None:
+        line += f", {100.0 * share:.2g} % of it after the shaking"
+    if f is not None:
+        t99 = f.get("time_99_percent_s")
+        when = f"shear wave to {f['shear_wave_end_s']:.3g} s" if f.get("shear_wave_end_s") is not None else ""
+        line += ("; flow stopped (" + (f"99 % at {t99:.3g} s, " if t99 is not None else "") + when + ")"
+                 if f["flow_stopped"] else "; still flowing when the shear wave stopped: a lower bound")
+    est = sl["estimates"]
+    nm = est["newmark"]
+    parts = ["Newmark " + ("flow failure" if nm.get("flow_failure") else f"{nm['displacement_m']:.3g} m"
+                          if nm.get("displacement_m") is not None else "not evaluated"),
+             f"Zhang et al. 2004 {est['zhang_2004']['displacement_m']:.3g} m",
+             "Youd et al. 2002 " + (f"{est['youd_2002']['median_m']:.3g} m" if est["youd_2002"].get("median_m")
+                                    is not None else "not evaluated")]
+    return [line, "  beside it: " + ", ".join(parts)]
