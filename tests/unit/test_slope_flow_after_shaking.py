@@ -6,7 +6,7 @@ Compared quantities, each with its definition:
 
 - the window-mean velocity v̄ = (D̄(t − T, t) − D̄(t − 2T, t − T))/T of a synthetic history, a
   constant drift plus a decaying oscillation, against the drift (the oscillation's share is bounded
-  by A/(π f T²): tolerance 2e-3 of the drift); a pure oscillation gives |v̄| ≤ A/(π f T²);
+  by 2A/(π f T²), the tolerance; a pure oscillation gives |v̄| within it);
 - a flow slide (the bundled sloping site at 5 %, FS_post < 1 in the loose sand, 4 s of shaking): the
   surface displacement keeps growing after the shaking, the flow stops by itself before flow_max
   (the excess pore pressure dissipates and the strength returns), and the displacement does not
@@ -49,21 +49,20 @@ def _run(c):
 
 
 def test_window_mean_velocity_sees_the_drift_not_the_ringing():
+    """A ring-down of ±0.2 mm at 1.7 Hz (velocity amplitude 2.1 mm/s, as the bundled site's) on a
+    creep of 0.1 mm/s: the window mean finds the creep within 2A/(π f T²) = 19 µm/s."""
     c = _case(ground_motion__duration=2.0)
     col = build_column(c).column
     assert col.flow is not None and col.flow.window == 2.0
-    drift, amp, f, T = 3e-4, 2e-3, 1.7, col.flow.window
+    drift, amp, f, T = 1e-4, 2e-4, 1.7, col.flow.window
+    bound = 2.0 * amp / (math.pi * f * T * T)
+    assert bound < 0.2 * drift and 2 * math.pi * f * amp > 20 * drift
     t = np.arange(0.0, 12.0, 0.01)
-    for k, with_drift in enumerate((True, False)):
-        col._flow_t, col._flow_d = [0.0], [0.0]
+    for with_drift in (True, False):
         d = amp * np.sin(2 * math.pi * f * t) * np.exp(-0.05 * t) + (drift * t if with_drift else 0.0)
         col._flow_t, col._flow_d = list(t), list(d)
         v = col.flow_velocity(11.0)
-        bound = amp / (math.pi * f * T * T)
-        if with_drift:
-            assert v == pytest.approx(drift, abs=max(2e-3 * drift, bound))
-        else:
-            assert abs(v) <= bound
+        assert abs(v - (drift if with_drift else 0.0)) <= bound
     assert col.flow_velocity(col.shaking_end + 2 * T - 0.1) is None  # the windows need 2T after the shaking
 
 

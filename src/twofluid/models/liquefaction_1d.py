@@ -625,7 +625,7 @@ class LiquefactionColumn:
         """The window-mean downslope velocity of the surface relative to the base at ``t`` [m/s]:
         (D̄(t − T, t) − D̄(t − 2T, t − T))/T, D̄ the time mean of the surface displacement over a window
         of T = ``flow.window`` seconds (linear between the steps). A ring-down oscillation of
-        amplitude A and frequency f adds at most about A/(π f T²): the criterion sees the mean motion,
+        amplitude A and frequency f adds at most 2A/(π f T²) (each window mean moves by at most 2A/(2π f T)): the criterion sees the mean motion,
         not the oscillation. None until the history after the shaking spans 2T."""
         T = self.flow.window
         if t - 2.0 * T < self.shaking_end - 1e-9 * max(1.0, t):
