@@ -109,9 +109,11 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
                                         float((tau_s[e] / par[e, law.P_SIG0]).max())],
                        "note": ("flow slide: FS_post <= 1, the liquefied layer cannot carry the static shear on "
                                 "its residual strength; the column flows after the shaking until the strength "
-                                "returns as the excess pore pressure dissipates (flow_after_shaking), on an "
-                                "infinite slope that keeps its geometry and with S_r not lowered by void "
-                                "redistribution: a real flow slide can run much further" if f <= 1.0
+                                "returns as the excess pore pressure dissipates or the strain reaches the shear "
+                                "law's limiting strain gamma_lim, where cyclic mobility stiffens it "
+                                "(flow_after_shaking), on an infinite slope that keeps its geometry and with S_r "
+                                "not lowered by void redistribution: a real flow slide can run much further"
+                                if f <= 1.0
                                 else "FS_post > 1: the residual strength carries the static shear once shaking "
                                 "stops")})
     d_end = srec.d[-1]
