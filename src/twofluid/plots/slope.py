@@ -66,7 +66,7 @@ def _profiles(srec, col, out: Path, title: str, slope: dict) -> Path:
     colors = colormaps["viridis"](np.linspace(0.0, 0.9, max(len(times), 1)))
     z = srec.depths
     for c, t in zip(colors, times):
-        ax.plot(100.0 * srec.profiles[t], z, color=c, lw=1.3, label=f"{t:g} s")
+        ax.plot(100.0 * srec.profiles[t], z, color=c, lw=1.3, label=f"{t:.4g} s")
     loc = slope["localisation"]
     lo, hi = loc["depth_range_half_peak_m"]
     ax.axhspan(lo, hi, color="tab:red", alpha=0.12, lw=0, label="strain localised")
