@@ -70,6 +70,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     dirn = np.empty(ne)
     g_prev = np.empty(ne)
     t_prev = np.empty(ne)
+    psv = np.zeros(ne)
+    flips = np.zeros(ne, dtype=np.int64)
+    save = np.empty(st.shape[1])
     c0 = 1.0 / (nm_beta * dt * dt)
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
@@ -83,6 +86,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 one_m = 1.0 - nn[e]
                 if one_m > 0.0:
                     ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
+            psv[e] = ps
             se, ge = _law.strength_modulus(ps, par, e)
             if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
                 return 2
@@ -101,53 +105,75 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             un[0] = 0.0
         for e in range(ne):  # each element's branch, fixed for the iterations: the predictor's
             dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
-        converged = False
-        relax = 1.0
-        for it in range(max_iter):
-            if it == 25:
-                relax = 0.5  # still alternating: damped
-            _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
-            _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
-            if body != 0.0:
-                _body_force(m1, body, first, res)
+        for e in range(ne):
+            flips[e] = 0
+        for sweep in range(4):
+            # Newton's iterations with each element's branch fixed; then each element's branch is
+            # checked against the direction its converged strain actually moved: an element whose
+            # predictor pointed one way while the motion reversed would otherwise be committed on the
+            # wrong branch (held at its yield stress while it unloads), and the next sub-step would
+            # correct it, step after step: a chatter between branches at the sub-step's period
+            converged = False
+            relax = 1.0
+            for it in range(max_iter):
+                if it == 25:
+                    relax = 0.5  # still alternating: damped
+                _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
+                _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
+                if body != 0.0:
+                    _body_force(m1, body, first, res)
+                for e in range(ne):
+                    g = (un[e + 1] - un[e]) / h[e]
+                    te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                    res[e] -= te
+                    res[e + 1] += te
+                    if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
+                        # the chord between the last two iterates: iterates that alternate across a kink
+                        # of the strength envelope converge like regula falsi instead of cycling
+                        ke = (te - t_prev[e]) / (g - g_prev[e])
+                        kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
+                    else:
+                        kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
+                    g_prev[e] = g
+                    t_prev[e] = te
+                _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
+                _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
+                dmax = 0.0
+                umax = 0.0
+                for j in range(first, nv):
+                    if not math.isfinite(du[j]):
+                        return 2
+                    un[j] += relax * du[j]
+                    if abs(du[j]) > dmax:
+                        dmax = abs(du[j])
+                for j in range(nv):
+                    if abs(un[j]) > umax:
+                        umax = abs(un[j])
+                if dmax <= tol * max(umax, 1e-9):
+                    converged = True
+                    break
+            if not converged:
+                break
+            changed = 0
             for e in range(ne):
-                g = (un[e + 1] - un[e]) / h[e]
-                te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
-                res[e] -= te
-                res[e + 1] += te
-                if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
-                    # the chord between the last two iterates: iterates that alternate across a kink
-                    # of the strength envelope converge like regula falsi instead of cycling
-                    ke = (te - t_prev[e]) / (g - g_prev[e])
-                    kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
-                else:
-                    kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
-                g_prev[e] = g
-                t_prev[e] = te
-            _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
-            _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
-            dmax = 0.0
-            umax = 0.0
-            for j in range(first, nv):
-                if not math.isfinite(du[j]):
-                    return 2
-                un[j] += relax * du[j]
-                if abs(du[j]) > dmax:
-                    dmax = abs(du[j])
-            for j in range(nv):
-                if abs(un[j]) > umax:
-                    umax = abs(un[j])
-            if dmax <= tol * max(umax, 1e-9):
-                converged = True
+                dg = (un[e + 1] - un[e]) / h[e] - st[e, 0]  # from the committed strain (column S_G)
+                if dg * dirn[e] < 0.0 and flips[e] == 0:
+                    dirn[e] = -dirn[e]
+                    flips[e] = 1  # once: an element at its reversal point keeps the second choice
+                    changed += 1
+            if changed == 0:
                 break
         if not converged:
             return 1
         _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
-            te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+            if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
+                te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save)
+            else:
+                te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
             tau_out[e] = te + (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])
-            _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
                 r_new = _law.generated_ratio(st, par, e)
@@ -245,10 +271,11 @@ SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8)")
 _HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope,
+                          _law.masing_weight,
                           _law._branch, _law._mrdf, _law._from, _law._open_count, _law._open_point,
                           _law._open_stress, _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.seed_booker,
-                          _law.generated_ratio)
+                          _law.generated_ratio, _law.commit_generating)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
 
