@@ -54,8 +54,9 @@ reversal, and 8 overflowed in the PySeismoSoil benchmark).
     τ_env = max(τ_max, τ_d),   τ_d = σ′_v0 tan φ′ S((|γ − γ_c| − γ_d)/γ_dr),  S(r) = r²(3 − 2r) on [0, 1]
     (in sand that generates pore pressure only),
 
-and when loading outwards beyond γ_d the stress gains τ_d (additive, so it is continuous at the
-onset); a branch from a reversal above τ_max (a dilated state) is widened by
+and when loading outwards beyond γ_d the stress gains the dilation stress gained since the
+branch's origin γ_0, τ_d(γ) − τ_d(γ_0) (τ_d(γ) from inside the zone: additive, so it is continuous
+at the onset, and at a reversal within the dilation zone too); a branch from a reversal above τ_max (a dilated state) is widened by
 κ = max(1, |d − τ_0/τ_max|/(1 + F)) in stress and strain, so that it still reaches d τ_max; a
 liquefied element takes Masing's branches (F = 1) between its dilation stops. γ_c is the strain
 the sand was consolidated at (0 on level ground, the static strain on a slope) and stays there;
@@ -113,14 +114,14 @@ import numpy as np
 from . import backbones as _bb
 
 __all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "tangent", "direction", "masing_weight",
-           "commit", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
+           "commit", "commit_counted", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
 
 KPA = 1000.0
 
 # ---- columns of the per-element state array (float64, one row per element)
 S_G = 0  # committed shear strain γ [-]
 S_T = 1  # committed skeleton stress over τ_max at commit, τ/τ_max [-]
-S_TAU = 2  # committed skeleton stress [Pa]
+S_TAU = 2  # stress the damage count took at the last commit (the skeleton's; in the column plus its rate part) [Pa]
 S_GREV = 3  # strain at the last reversal [-]
 S_DIR = 4  # direction of the last strain increment (−1, 0, +1)
 S_NREV = 5  # number of reversals so far
@@ -209,27 +210,41 @@ def strength_modulus(ps, par, e):
     return p * tanphi, 218.8 * KPA * par[e, P_K2] * math.sqrt(p / KPA)
 
 
-def _envelope(g, d, tau, st, par, e, s):
-    """``tau`` limited by the strength envelope, and at least the dilation stress when loading
-    outwards beyond γ_d (module docstring, "Cyclic mobility")."""
+def _dilation(ex, st, par, e):
+    """Dilation stress τ_d ≥ 0 [Pa] of element ``e`` at ``ex`` = γ − γ_c from the centre of its
+    cycles (0 inside the zone |ex| ≤ γ_d, and in sand that generates no pore pressure)."""
+    over = abs(ex) - st[e, S_GD]
+    if over <= 0.0 or par[e, P_LIQ] <= 0.0:
+        return 0.0
+    r = over / par[e, P_GDR]
+    return par[e, P_SIG0] * par[e, P_TANPHI] * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
+
+
+def _envelope(g, d, tau, st, par, e, s, g0):
+    """``tau`` limited by the strength envelope max(τ_max, τ_d), and raised by the dilation stress
+    gained since the branch's origin ``g0`` when loading outwards beyond γ_d (module docstring,
+    "Cyclic mobility"): τ_d(γ) − τ_d(γ_0) where the origin lies beyond γ_d on the same side, so a
+    branch that turns back outwards within the dilation zone starts from its reversal stress, not
+    from τ_d above it (a jump at the reversal)."""
     upper = s
     lower = -s
     ex = g - st[e, S_GC]
-    over = abs(ex) - st[e, S_GD]
-    if over > 0.0 and par[e, P_LIQ] > 0.0:  # dilation: the sand that can liquefy
-        sd = par[e, P_SIG0] * par[e, P_TANPHI]
-        r = over / par[e, P_GDR]
-        td = sd * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
+    td = _dilation(ex, st, par, e)
+    if td > 0.0:
+        ex0 = g0 - st[e, S_GC]
+        gain = td
+        if ex0 * ex > 0.0:
+            gain = td - _dilation(ex0, st, par, e)
         if ex > 0.0:
             if td > upper:
                 upper = td
-            if d > 0.0:
-                tau += td
+            if d > 0.0 and gain > 0.0:
+                tau += gain
         else:
             if -td < lower:
                 lower = -td
-            if d < 0.0:
-                tau -= td
+            if d < 0.0 and gain > 0.0:
+                tau -= gain
     if tau > upper:
         tau = upper
     if tau < lower:
@@ -368,13 +383,14 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
     if n == 0:  # first loading, or a loop closed onto the backbone: the backbone
         tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
-        return _envelope(g, d, tau, st, par, e, s)
+        return _envelope(g, d, tau, st, par, e, s, st[e, S_GC])
     tau = _open_stress(g, d, n, rev, st, par, e, s, gr, _mrdf(st, par, e, gr))
     if d * g > st[e, S_GM]:  # beyond the largest strain so far: not past the backbone
         tb = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
         if d * tau > d * tb:
             tau = tb
-    return _envelope(g, d, tau, st, par, e, s)
+    g0, _ = _open_point(n - 1, n, rev, st, e)
+    return _envelope(g, d, tau, st, par, e, s, g0)
 
 
 def tangent(g, d, tau, st, par, e, s, gr):
@@ -475,10 +491,18 @@ def commit(g, d, tau, st, par, e, s, t, gr):
     """Commit the converged strain ``g``, reached in direction ``d``, and stress ``tau`` [Pa] of
     element ``e`` at time ``t`` [s], with the sub-step's reference strain ``gr`` [-]: reversals
     and loop closure, the largest strain, damage and liquefaction. Returns the total damage."""
+    return commit_counted(g, d, tau, tau, st, par, e, s, t, gr)
+
+
+def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
+    """:func:`commit` with the damage counted on ``tau_count`` [Pa] instead of the skeleton stress
+    ``tau``: in the column, the shear stress the element carries, skeleton and rate (viscous) parts
+    together, as the laboratory's CSR is the stress applied to the specimen, whatever part of it
+    its rate carries."""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
-        _count_damage(g, tau, st, par, e)
+        _count_damage(g, tau_count, st, par, e)
     if d_old != 0.0 and d != d_old:  # the strain reversed at g_old: a new branch
         n, _ = _open_count(d, st, e)  # pushed: g_old, with the pairs it closes dropped
         st[e, S_STK + 2 * (n - 1)] = g_old
@@ -489,7 +513,7 @@ def commit(g, d, tau, st, par, e, s, t, gr):
     st[e, S_DIR] = d
     st[e, S_G] = g
     st[e, S_T] = tau / s
-    st[e, S_TAU] = tau
+    st[e, S_TAU] = tau_count
     _close_loops(g, d, st, par, e, s, gr)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
@@ -505,7 +529,7 @@ def commit(g, d, tau, st, par, e, s, t, gr):
     return st[e, S_D] + st[e, S_DPART]
 
 
-def commit_generating(g, d, st, par, e, ps, t, save):
+def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     """Commit the converged strain ``g`` (direction ``d``) of element ``e`` at effective vertical
     stress ``ps`` [Pa] (before this sub-step's generation) with the pore pressure it generates
     counted consistently: the stress that is committed and counted is the one the element carries
@@ -521,17 +545,18 @@ def commit_generating(g, d, st, par, e, ps, t, save):
     falls as q rises, so the root is unique and found by regula falsi between the explicit factor
     and 1): an element cannot count a stress that its own pore pressure has made it unable to carry.
     The strength so falls only as fast as the motion keeps loading the element, a rate the time
-    step resolves. ``save``: a work row of NSTATE floats."""
+    step resolves. ``save``: a work row of NSTATE floats. ``tau_rate`` [Pa]: the rate (viscous) part
+    of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
     s, gmx = strength_modulus(ps, par, e)
     gr = s / gmx
     tau = skeleton_stress(g, d, st, par, e, s, gr)
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
-        commit(g, d, tau, st, par, e, s, t, gr)
+        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
         return tau
     for k in range(NSTATE):
         save[k] = st[e, k]
-    commit(g, d, tau, st, par, e, s, t, gr)
+    commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
     q1 = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old)
     if q1 >= 1.0 - 1e-12 or s <= par[e, P_SR] * (1.0 + 1e-12):
         return tau  # no generation, or the strength already at its floor: the explicit count holds
@@ -553,7 +578,7 @@ def commit_generating(g, d, st, par, e, ps, t, save):
         s, gmx = strength_modulus(ps * q, par, e)
         gr = s / gmx
         tau = skeleton_stress(g, d, st, par, e, s, gr)
-        commit(g, d, tau, st, par, e, s, t, gr)
+        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
         f = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old) - q
         if it == 0:
             if f <= 0.0:

@@ -168,12 +168,13 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
+            tv = (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save)
+                te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv)
             else:
                 te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
                 _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
-            tau_out[e] = te + (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])
+            tau_out[e] = te + tv
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
                 r_new = _law.generated_ratio(st, par, e)
@@ -270,11 +271,11 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope,
+_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._dilation, _law._envelope,
                           _law.masing_weight,
                           _law._branch, _law._mrdf, _law._from, _law._open_count, _law._open_point,
                           _law._open_stress, _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
-                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.seed_booker,
+                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted, _law.seed_booker,
                           _law.generated_ratio, _law.commit_generating)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
