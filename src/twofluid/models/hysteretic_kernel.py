@@ -31,7 +31,7 @@ import numpy as np
 
 from ..closures import hysteretic as _law
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_LIQ, P_SIG0, S_EPS, S_RG
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_RG
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
@@ -104,7 +104,12 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         if first == 1:
             un[0] = 0.0
         for e in range(ne):  # each element's branch, fixed for the iterations: the predictor's
-            dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
+            # (a predicted motion within round-off, 1e-9 γ_r, keeps the last direction: no reversal)
+            dgp = (un[e + 1] - un[e]) / h[e] - st[e, 0]
+            if abs(dgp) <= 1e-9 * gr[e] and st[e, S_DIR] != 0.0:
+                dirn[e] = st[e, S_DIR]
+            else:
+                dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
         for sweep in range(4):
@@ -157,7 +162,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             changed = 0
             for e in range(ne):
                 dg = (un[e + 1] - un[e]) / h[e] - st[e, 0]  # from the committed strain (column S_G)
-                if dg * dirn[e] < 0.0 and flips[e] == 0:
+                # (a motion above round-off, 1e-9 γ_r, far below any strain increment of shaking)
+                if dg * dirn[e] < 0.0 and abs(dg) > 1e-9 * gr[e] and flips[e] == 0:
                     dirn[e] = -dirn[e]
                     flips[e] = 1  # once: an element at its reversal point keeps the second choice
                     changed += 1
