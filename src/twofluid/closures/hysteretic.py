@@ -585,7 +585,7 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
                 return tau  # not bracketed (a turning point of the count): the explicit factor
             f_lo = f
             continue
-        if abs(f) <= 1e-9 * q or hi - lo <= 1e-12:
+        if abs(f) <= 1e-15 * q or hi - lo <= 1e-15 * hi:  # to round-off: the root, not the path to it
             return tau
         if f > 0.0:
             lo, f_lo = q, f

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..closures import hysteretic as _law
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_RG
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_GC, S_GD, S_RG
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
@@ -163,7 +163,11 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             for e in range(ne):
                 dg = (un[e + 1] - un[e]) / h[e] - st[e, 0]  # from the committed strain (column S_G)
                 # (a motion above round-off, 1e-9 γ_r, far below any strain increment of shaking)
-                if dg * dirn[e] < 0.0 and abs(dg) > 1e-9 * gr[e] and flips[e] == 0:
+                if dg * dirn[e] >= 0.0:
+                    continue
+                if st[e, S_DIR] == 0.0 and abs(dg + st[e, 0] - st[e, S_GC]) <= st[e, S_GD]:
+                    dirn[e] = -dirn[e]  # not moved before, on the backbone: the same stress either way
+                elif abs(dg) > 1e-9 * gr[e] and flips[e] == 0:
                     dirn[e] = -dirn[e]
                     flips[e] = 1  # once: an element at its reversal point keeps the second choice
                     changed += 1
@@ -174,6 +178,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
+            virgin = st[e, S_DIR] == 0.0 and g == st[e, 0]
             tv = (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
                 te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv)
@@ -181,6 +186,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
                 _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
             tau_out[e] = te + tv
+            if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
+                st[e, S_DIR] = 0.0
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
                 r_new = _law.generated_ratio(st, par, e)
