@@ -16,6 +16,8 @@ its reference run:
   run's a_max, and the settlement against Ishihara-Yoshimine).
 
     python scripts/layered_determinacy.py [sweep] [mesh] [steps] [viscosity] [undrained] [--pga=0.15,0.2]
+
+(all five by default; about 1.5 min of CPU). Numbers in docs/liquefaction.md, "The hysteretic model".
 """
 from __future__ import annotations
 
@@ -61,7 +63,9 @@ def run(pga: float, loose: float = 1.0, steps: float = 1.0, viscosity: float | N
             "strain": max(la["peak_shear_strain"] for la in s["layers"]), "settle": s["settlement_end_m"],
             "pga": s["shaking"]["peak_surface_acceleration_g"],
             "pga_lp": s["shaking"]["peak_surface_acceleration_low_passed_g"], "sa05": sa[0.05], "sa10": sa[0.1],
-            "iy_run": sp["settlement_run_m"], "fs08_run": fs08, "status": s["status"]}
+            "iy_run": sp["settlement_run_m"], "iy_in": sp["settlement_input_m"], "fs08_run": fs08,
+            "fs1_in": _fs_zone(sp["table_input"], 1.0), "fs12_run": _fs_zone(sp["table_run"], 1.2),
+            "ts_lp": s["shaking"]["peak_surface_acceleration_total_stress_low_passed_g"], "status": s["status"]}
 
 
 def _fs_zone(table, limit):
@@ -83,7 +87,7 @@ def change(a, b):
 
 
 def main(argv) -> None:
-    what = [a for a in argv if not a.startswith("--")] or ["sweep", "mesh", "steps", "viscosity"]
+    what = [a for a in argv if not a.startswith("--")] or ["sweep", "mesh", "steps", "viscosity", "undrained"]
     pgas = [0.15, 0.2]
     for a in argv:
         if a.startswith("--pga="):
@@ -97,6 +101,14 @@ def main(argv) -> None:
             m = base[pga] = run(pga)
             sweep.append(m)
             row(f"{pga:g} g", m)
+        print("\n| PGA | liquefied by shaking | peak strain | settlement | simplified FS < 1 (in) | I-Y settlement (in / run) "
+              "| surface PGA raw / 15 Hz / total-stress 15 Hz |\n|---|---|---|---|---|---|---|")
+        for pga, m in zip((0.05, 0.1, 0.15, 0.2, 0.3, 0.4), sweep):
+            rng = "none" if m["range"] is None else f"{m['liq']:.3g} m in {m['range'][0]:g}-{m['range'][1]:g} m"
+            fs = "none" if m["fs1_in"] is None else f"{m['fs1_in'][0]:g}-{m['fs1_in'][1]:g} m"
+            print(f"| {pga:.2f} g | {rng} | {100 * m['strain']:.2g} % | {100 * m['settle']:.1f} cm | {fs} | "
+                  f"{100 * m['iy_in']:.1f} / {100 * m['iy_run']:.1f} cm | {m['pga']:.3f} / {m['pga_lp']:.3f} / {m['ts_lp']:.3f} g |")
+        print()
         dec = [change(a["settle"], b["settle"]) for a, b in zip(sweep, sweep[1:])]
         print(f"sweep: settlement steps {', '.join(f'{x:+.1f} %' for x in dec)}; worst {min(dec):+.1f} % "
               f"(criterion >= -10 %); 0.4/0.1 g = {sweep[-1]['settle'] / sweep[1]['settle']:.2f} (>= 1.5)")
@@ -125,7 +137,7 @@ def main(argv) -> None:
         for pga in pgas:
             m = run(pga, k=1e-6)
             row(f"{pga:g} g, k = 1e-6 m/s", m)
-            print(f"undrained {pga:g} g: FS < 0.8 (run a_max) {m['fs08_run']}, liquefied {m['range']}; "
+            print(f"undrained {pga:g} g: FS < 0.8 (run a_max) {m['fs08_run']}, FS < 1.2 {m['fs12_run']}, liquefied {m['range']}; "
                   f"settlement {100 * m['settle']:.2f} cm, I-Y (run) {100 * m['iy_run']:.2f} cm, "
                   f"ratio {m['iy_run'] / max(m['settle'], 1e-12):.2f}")
 
