@@ -3,8 +3,12 @@
 One vertical step's shear sub-steps: Newmark average acceleration (β = 1/4, γ = 1/2) on linear
 elements with consistent mass (:mod:`twofluid.models.shear_column` has the equations and the
 compliant base), Newton iterations on the element stresses of
-:mod:`twofluid.closures.hysteretic`, then each element's commit (reversals, damage) and the
-pore-pressure generation as a change of n̄. The small-strain viscous floor is Rayleigh damping:
+:mod:`twofluid.closures.hysteretic` with each element's branch (its direction of motion) fixed,
+then a check of each branch against the direction the converged strain moved (the sub-step is
+solved again where one was wrong: an element whose motion reversed within the sub-step is not
+committed on its loading branch), then each element's commit (reversals, damage) and the
+pore-pressure generation as a change of n̄, counted at the stress the generation leaves
+(:func:`twofluid.closures.hysteretic.commit_generating`) on the element's whole shear stress. The small-strain viscous floor is Rayleigh damping:
 mass-proportional a0 ρ̄ u̇ and stiffness-proportional a1 G_max(P_s) γ̇ with the *current*
 small-strain modulus (not the tangent, which is zero while the skeleton yields, and not the
 initial one, which would keep a viscous strength after liquefaction), plus the liquefied-soil
