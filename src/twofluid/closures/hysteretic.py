@@ -395,9 +395,14 @@ def skeleton_stress(g, d, st, par, e, s, gr):
 
 def tangent(g, d, tau, st, par, e, s, gr):
     """One-sided difference dτ/dγ [Pa] at ``g`` in direction ``d`` (≥ 0), ``tau`` the stress
-    there: the Newton iterations' stiffness."""
+    there: the Newton iterations' stiffness. An element that has not moved yet (no direction: its
+    backbone is odd and ``d`` only a guess) takes the central difference, the same for ±γ, so that
+    a motion and its mirror image are solved alike."""
     h = (1e-6 * gr + 1e-9 * abs(g)) * d
-    k = (skeleton_stress(g + h, d, st, par, e, s, gr) - tau) / h
+    if st[e, S_DIR] == 0.0:
+        k = (skeleton_stress(g + h, d, st, par, e, s, gr) - skeleton_stress(g - h, d, st, par, e, s, gr)) / (2.0 * h)
+    else:
+        k = (skeleton_stress(g + h, d, st, par, e, s, gr) - tau) / h
     return k if k > 0.0 else 0.0
 
 
