@@ -1,7 +1,7 @@
 """The bundled sloping site's surface displacement under the issue-22 checks, measured (not timed).
 
 Runs ``sloping-site`` as shipped and with, one at a time: the PGA moved by ±1e-5 (relative), the
-steps (vertical and shear) halved and quartered, the loose layer's elements halved and quartered,
+steps (vertical, shear and flow) halved and quartered, the flow step alone halved, the loose layer's elements halved and quartered,
 the record reversed (polarity −1), and a PGA sweep; prints the surface displacement at the end,
 its relative change from the shipped case, the Zhang et al. (2004) and Newmark estimates beside
 it. Numbers in data/cases/sloping-site/README.md.
@@ -24,9 +24,10 @@ def _run(case, edit):
         warnings.simplefilter("ignore")
         r = run_case(c)
     s = r.summary["slope"]
+    f = s["flow_after_shaking"] or {}
     return (s["surface_displacement_end_m"], s["share_after_shaking"], r.summary["liquefied_depth_range_m"],
             s["estimates"]["zhang_2004"]["displacement_m"], s["estimates"]["newmark"].get("displacement_m"),
-            s["localisation"]["depth_m"])
+            s["localisation"]["depth_m"], f.get("shear_wave_end_s"), f.get("time_99_percent_s"))
 
 
 def _set(section, key, value):
@@ -35,10 +36,12 @@ def _set(section, key, value):
     return edit
 
 
-def _steps(f):
+def _steps(f, flow_only=False):
     def edit(c):
-        c["shear_wave"]["step"] *= f
-        c["time"]["step"] *= f
+        c["shear_wave"]["flow_step"] *= f
+        if not flow_only:
+            c["shear_wave"]["step"] *= f
+            c["time"]["step"] *= f
     return edit
 
 
@@ -56,6 +59,7 @@ def main() -> None:
     for label, edit in [("PGA x (1 + 1e-5)", _set("ground_motion", "pga_g", lambda v: v * (1 + 1e-5))),
                         ("PGA x (1 - 1e-5)", _set("ground_motion", "pga_g", lambda v: v * (1 - 1e-5))),
                         ("steps / 2", _steps(0.5)), ("steps / 4", _steps(0.25)),
+                        ("flow step / 2", _steps(0.5, flow_only=True)),
                         ("loose elements / 2", _elements(0.5)), ("loose elements / 4", _elements(0.25)),
                         ("polarity -1", _set("ground_motion", "polarity", -1)),
                         ("PGA 0.10 g", _set("ground_motion", "pga_g", 0.10)),
@@ -64,12 +68,15 @@ def main() -> None:
                         ("PGA 0.30 g", _set("ground_motion", "pga_g", 0.30)),
                         ("PGA 0.35 g", _set("ground_motion", "pga_g", 0.35))]:
         rows.append((label, _run(case, edit)))
-    print("| run | surface displacement [m] | change | share after shaking | liquefied [m] | localised at [m] "
-          "| Zhang 2004 [m] | Newmark [m] |")
-    print("|---|---|---|---|---|---|---|---|")
-    for label, (d, share, liq, z, nm, loc) in rows:
+    print("| run | surface displacement [m] | change | share after shaking | 99 % at [s] | shear wave end [s] "
+          "| liquefied [m] | localised at [m] | Zhang 2004 [m] | Newmark [m] |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for label, (d, share, liq, z, nm, loc, end, t99) in rows:
         nm_s = "flow failure" if nm is None else f"{nm:.3f}"
-        print(f"| {label} | {d:.4f} | {100 * (d / d0[0] - 1):+.1f} % | {share:+.3f} | {liq} | {loc:.3f} | {z:.2f} | {nm_s} |")
+        t99_s = "—" if t99 is None else f"{t99:.2f}"
+        end_s = "—" if end is None else f"{end:.2f}"
+        print(f"| {label} | {d:.4f} | {100 * (d / d0[0] - 1):+.1f} % | {share:+.3f} | {t99_s} | {end_s} | {liq} "
+              f"| {loc:.3f} | {z:.2f} | {nm_s} |")
 
 
 if __name__ == "__main__":

@@ -56,6 +56,10 @@ def _cmd_run(args) -> int:
             print(f"  simplified procedure, a_max = {simp[f'a_max_{which}_g']:.3g} g ({which}): FS < 1 at "
                   + ("no depth" if zone is None else f"{zone[0]:.3g}-{zone[1]:.3g} m")
                   + f", settlement {simp[f'settlement_{which}_m']:.3g} m")
+    if s.get("slope") is not None:  # a sloping site: the lateral displacement and the estimates
+        from .runners.liquefaction_slope import slope_lines
+
+        print("\n".join(slope_lines(s["slope"])))
     balance = s.get("solids_volume_balance_error")
     print(f"  solids volume balance error = {balance:.3g}" if balance is not None
           else "  solids volume balance error: not computed")
@@ -414,7 +418,7 @@ def parser():
     en = sub.add_parser("ensemble", help="run an ensemble file (grid, zipped lists, samples, ground-motion "
                         "suites, PGA sweeps) on Dask; see docs/ensembles.md")
     en.add_argument("file", help="ensemble TOML file (or a bundled example: elcentro-pga-sweep, "
-                    "layered-site-five-motions)")
+                    "layered-site-five-motions, sloping-site-five-motions)")
     en.add_argument("--out", help="results folder (default: twofluid-out/<ensemble name>); a rerun into the "
                     "same folder skips completed members")
     en.add_argument("--quiet", action="store_true", help="no progress bar")

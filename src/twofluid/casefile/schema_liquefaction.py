@@ -179,8 +179,19 @@ _SHEAR = [
       "damps the mesh's highest modes (the element-to-element oscillation a yielding skeleton excites) at "
       "about δ ω Δt/2 (0.4 % at 5 Hz with δ = 0.05 and 5 ms sub-steps); 0: average acceleration (the "
       "thesis model always uses it)", lo=0.0, hi=0.5),
-    K("free_vibration", float, 5.0, "s", "the shear wave keeps running this long after the record ends",
-      lo=0.0),
+    K("free_vibration", float, 5.0, "s", "the shear wave keeps running this long after the record ends (on a "
+      "sloping site: at least this long, then while the column flows, flow_velocity)", lo=0.0),
+    K("flow_velocity", float, 1e-5, "m/s", "sloping site: after free_vibration the shear wave runs on while the "
+      "surface's mean downslope velocity relative to the base, v̄ = (D̄(t − T, t) − D̄(t − 2T, t − T))/T with D̄ "
+      "the time mean of its displacement over flow_window T, is at least this (the flow has stopped below "
+      "it); 0: stop at free_vibration. No effect on level ground", lo=0.0, hi=0.1),
+    K("flow_window", float, 2.0, "s", "sloping site: the averaging window T of flow_velocity (longer than the "
+      "column's ring-down period, so that an oscillation averages out)", lo=0.0, lo_open=True, hi=60.0),
+    K("flow_max", float, 600.0, "s", "sloping site: the shear wave stops at the latest this long after the "
+      "record ends, still flowing or not (the summary says which)", lo=0.0, hi=86400.0),
+    K("flow_step", float, 0.1, "s", "sloping site: largest vertical step and shear sub-step while the column "
+      "flows after free_vibration (reached by ×1.5 growth from [time] step; at least [shear_wave] step)",
+      lo=0.0, lo_open=True, hi=1.0),
     K("base", str, "rigid", "-", "rigid: the record is the motion of the base; compliant: the record is the "
       "outcrop motion of an elastic bedrock and the base has a Lysmer–Kuhlemeyer dashpot ρ_r V_r "
       "(docs/liquefaction.md)", choices=("rigid", "compliant")),

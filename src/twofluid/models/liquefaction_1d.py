@@ -28,7 +28,8 @@ Operator splitting, per vertical step [t, t + Δt] (Lie splitting, first order i
    step-halving if the Picard iterations struggle).
 
 The shear wave runs while the base shakes and for ``free_vibration`` seconds after
-the record ends (the column rings down through its damping); after that the
+the record ends (the column rings down through its damping); on a slope it runs on while the
+column still flows ("Flow after the shaking" below). After that the
 horizontal motion is dropped and only the vertical model advances, with a step
 growing by ×1.5 per step from the shaking step to ``reconsolidation_step``.
 
@@ -81,6 +82,23 @@ rate-independent backbone with a finite tangent, and every rate term (η γ̇, R
 zero rate, so rest is an exact solution of the discrete equations: no regularisation of the
 strength at zero rate is needed or used.
 
+Flow after the shaking (a sloping column with a :class:`FlowStop`; level ground is unchanged): a
+liquefied layer flows under the static shear, resisted by its strength and its rate-dependent
+stress, and the shear wave must not be dropped while it does. After ``free_vibration`` seconds the
+column checks, after every step, the mean downslope velocity of the surface relative to the base,
+v̄ = (D̄(t − T, t) − D̄(t − 2T, t − T))/T with D̄ the time mean of the surface displacement over a
+window T (:meth:`LiquefactionColumn.flow_velocity`: a ring-down oscillation averages out, a flow
+does not), and drops the shear wave (with the reconsolidation floor) at the first step where
+|v̄| < ``FlowStop.velocity``, or at ``FlowStop.max_after`` seconds after the record ends, said then
+to be still flowing. The strength returns as the vertical model dissipates the excess pore
+pressure (τ_max = P_s tan φ′ above the residual floor), so a flow that the residual strength cannot
+hold (FS_post ≤ 1) slows and stops by itself. The record is zero then and the motion quasi-static
+or viscous, so the step grows: the vertical step and the shear sub-step (one per vertical step)
+grow by ×1.5 per step from the shaking step to ``FlowStop.step``; the sub-steps stay implicit
+Newmark (unconditionally stable, the same β, γ), and the bound is checked by halving it
+(docs/lateral-spreading.md). The surface acceleration samples (spectra, a_max) stop at
+``free_vibration``.
+
 Liquefied-soil viscosity: ``Sand.viscosity`` η_s (1 000 Pa·s by default; Chen et al. 2019
 measured 0.8–1.7 kPa·s in falling-ball tests on liquefied soil) is added to the mixture
 viscosity of the shear wave, Newtonian, or a power law η_s (|γ̇|/γ̇_ref)^(m − 1) capped at
@@ -108,7 +126,7 @@ from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_redu
 from .two_fluid_1d import State, TwoFluid1D
 
 __all__ = ["Sand", "Crust", "VerticalColumn", "ColumnState", "LiquefactionColumn", "ColumnStep",
-           "VISCOSITY_MAX"]
+           "FlowStop", "VISCOSITY_MAX"]
 
 #: Largest liquefied-soil viscosity the shear wave takes [Pa·s] (the power law is capped here).
 VISCOSITY_MAX = 1e5
@@ -189,6 +207,21 @@ def _select_history(mask, a: ShearState, b: ShearState) -> ShearState:
 
 
 @dataclass(frozen=True)
+class FlowStop:
+    """When the shear wave of a sloping column stops after the shaking (module docstring, "Flow after
+    the shaking"): it runs ``free_vibration`` seconds after the record ends, then on while the
+    window-mean surface velocity (:meth:`LiquefactionColumn.flow_velocity`) is at least ``velocity``
+    [m/s] (0: stop at ``free_vibration``), at most ``max_after`` seconds after the record ends; while
+    it flows after ``free_vibration`` the step (vertical step and shear sub-step) grows by ×1.5 per
+    step from the shaking step to ``step`` [s]; ``window`` [s] is the averaging window."""
+
+    velocity: float = 1e-5
+    window: float = 2.0
+    max_after: float = 600.0
+    step: float = 0.1
+
+
+@dataclass(frozen=True)
 class Crust:
     """Layers above the water table, bottom element first: thickness h [m], density ρ = γ/g
     [kg/m³] and small-strain modulus G_max [Pa] per element (fixed: no pore pressure), the
@@ -266,7 +299,9 @@ class LiquefactionColumn:
     shaking_end : time [s] when the record ends.
     shear_step : shear sub-step [s].
     damping_ratio, damping_frequencies : Rayleigh damping of the shear wave.
-    free_vibration : seconds of shear wave after ``shaking_end``.
+    free_vibration : seconds of shear wave after ``shaking_end`` (on a slope with ``flow``: at least).
+    flow : :class:`FlowStop` — a sloping column's shear wave runs on while it flows (None: stop at
+        ``free_vibration``; ignored on level ground).
     settings : Picard settings of the vertical steps.
     base_impedance : None (rigid base) or c = ρ_r V_r [Pa·s/m] of a compliant base
         (:class:`~twofluid.models.shear_column.ShearColumn`); the vertical model's base stays
@@ -286,7 +321,7 @@ class LiquefactionColumn:
                  base_impedance: float | None = None, crust: Crust | None = None,
                  fast_shear: bool = True, base_acceleration_at: Callable | None = None,
                  hysteretic: np.ndarray | None = None, numerical_damping: float = 0.0,
-                 slope_percent: float = 0.0):
+                 slope_percent: float = 0.0, flow: FlowStop | None = None):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand, self.crust = vertical, sand, crust
@@ -342,6 +377,16 @@ class LiquefactionColumn:
         if self.body != 0.0 and self.hysteretic is None:
             raise ValueError("a sloping column needs the hysteretic shear law")
         self.u_static = np.zeros(nt + 1)  # the static displacement profile the run starts from [m]
+        #: post-shaking flow on a slope (module docstring, "Flow after the shaking"): the shear wave runs
+        #: at least to ``shear_end_min`` and on while the column still flows, at most to ``flow_end_max``
+        self.shear_end_min = self.shear_end
+        self.flow = flow if (flow is not None and flow.velocity > 0.0 and self.body != 0.0
+                             and self.shaking_end > 0.0) else None
+        self.flow_end_max = self.shear_end if self.flow is None else \
+            self.shaking_end + max(free_vibration, self.flow.max_after)
+        self.flow_velocity_end = None  # the window-mean surface velocity when the shear wave stopped [m/s]
+        self.flow_stopped = None  # True: stopped by the criterion; False: at flow_end_max, still flowing
+        self._flow_t, self._flow_d = [0.0], [0.0]  # (t, surface displacement) after each shear step
 
     # ------------------------------------------------------------ state
     def initial_state(self, porosity, excess_ratio: float = 0.0) -> ColumnState:
@@ -540,7 +585,7 @@ class LiquefactionColumn:
         w = s.wave
         span = t_new - s.t
         dn = np.ascontiguousarray(self._ndot * span)
-        m = max(1, math.ceil(span / self.shear_step - 1e-9))
+        m = max(1, math.ceil(span / self._substep(s.t) - 1e-9))
         ne = wave.h.size
         clo = v.clo
         full = lambda x: np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (ns,)))
@@ -566,6 +611,54 @@ class LiquefactionColumn:
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
         out = WaveState(t_new, u, vel, acc, np.diff(u) / wave.h, tau)
         return out, nb, st, m, list(zip(times.tolist(), surface.tolist()))
+
+    def _flowing_phase(self, t: float) -> bool:
+        """True once the shear wave runs past ``free_vibration`` because the column still flows."""
+        return self.flow is not None and t >= self.shear_end_min - 1e-9 * max(1.0, t)
+
+    def _substep(self, t: float) -> float:
+        """The shear sub-step of a vertical step starting at ``t`` [s]: ``shear_step`` while the base
+        shakes and during ``free_vibration``, then at most the flow step (:class:`FlowStop`)."""
+        return max(self.shear_step, self.flow.step) if self._flowing_phase(t) else self.shear_step
+
+    def flow_velocity(self, t: float) -> float | None:
+        """The window-mean downslope velocity of the surface relative to the base at ``t`` [m/s]:
+        (D̄(t − T, t) − D̄(t − 2T, t − T))/T, D̄ the time mean of the surface displacement over a window
+        of T = ``flow.window`` seconds (linear between the steps). A ring-down oscillation of
+        amplitude A and frequency f adds at most 2A/(π f T²) (each window mean moves by at most 2A/(2π f T)): the criterion sees the mean motion,
+        not the oscillation. None until the history after the shaking spans 2T."""
+        T = self.flow.window
+        if t - 2.0 * T < self.shaking_end - 1e-9 * max(1.0, t):
+            return None
+        tt, dd = np.asarray(self._flow_t), np.asarray(self._flow_d)
+
+        def mean(a, b):
+            grid = np.concatenate([[a], tt[(tt > a) & (tt < b)], [b]])
+            val = np.interp(grid, tt, dd)
+            return float(np.sum(0.5 * (val[1:] + val[:-1]) * np.diff(grid))) / (b - a)
+
+        return (mean(t - T, t) - mean(t - 2.0 * T, t - T)) / T
+
+    def _flow_decide(self, t: float, wave: WaveState) -> None:
+        """After a shear step ending at ``t``: record the surface displacement; from ``shear_end_min``
+        on, keep the shear wave running while the column flows (:meth:`flow_velocity` ≥
+        ``flow.velocity``), else stop it at ``t`` (``shear_end = t``)."""
+        self._flow_t.append(t)
+        self._flow_d.append(float(wave.u[-1] - wave.u[0]))
+        keep = t - 2.0 * self.flow.window - 1.0  # trim the history to what the windows need
+        if len(self._flow_t) > 4096 and self._flow_t[1024] < keep:
+            del self._flow_t[:1024], self._flow_d[:1024]
+        eps = 1e-9 * max(1.0, t)
+        if t < self.shear_end_min - eps:
+            return
+        v = self.flow_velocity(t)
+        self.flow_velocity_end = v
+        moving = v is None or abs(v) >= self.flow.velocity
+        if moving and t < self.flow_end_max - eps:
+            self.shear_end = self.flow_end_max
+        else:
+            self.shear_end = t
+            self.flow_stopped = not moving
 
     def reconsolidation_floor(self, s: ColumnState) -> np.ndarray:
         """The post-liquefaction volumetric strain floor of Ishihara & Yoshimine (1992), as fitted by
@@ -689,6 +782,10 @@ class LiquefactionColumn:
             if not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
                 raise StepFailure(s.t, dt, "shear sub-steps gave a non-finite reference porosity or "
                                   "displacement", s)
+            if self.flow is not None and not self.shear_only:
+                if self._flowing_phase(s.t):
+                    surface = ()  # the surface motion (spectra, a_max) covers the shaking and free_vibration
+                self._flow_decide(t_new, wave)
         if self.hysteretic is not None and s.t < self.shear_end - 1e-12 <= t_new:
             n_bar = self._apply_floor(s, n_bar, hist)  # the shear wave stops: the reconsolidation floor
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
@@ -713,20 +810,27 @@ class LiquefactionColumn:
         ``stop(state)``, checked after every step once the shear wave has stopped, ends the run
         early (e.g. once the excess pore pressure has dissipated)."""
         dt_after = dt_after or dt
-        marks = sorted({x for x in (*stops, self.shaking_end, self.shear_end, t_end)
-                        if s.t < x <= t_end})
+        fixed = sorted({x for x in (*stops, self.shaking_end, t_end) if s.t < x <= t_end})
         h = dt
         eps = 1e-9 * max(dt, 1e-12)
-        for mark in marks:
-            while s.t < mark - eps:
-                shaking = s.t < self.shear_end - eps
-                target = dt if shaking else min(dt_after, 1.5 * h)
-                h = target
-                h_try = min(h, mark - s.t)
-                if mark - s.t - h_try < 0.01 * dt:
-                    h_try = mark - s.t
-                step = self.step(s, h_try)
-                s = step.state
-                yield step
-                if stop is not None and s.t >= self.shear_end - eps and stop(s):
-                    return
+        flow_h = dt if self.flow is None else max(dt, self.flow.step)
+        while s.t < t_end - eps:
+            # the next time to land on: the fixed marks and the shear wave's end, which a sloping column
+            # that still flows moves on (:meth:`_flow_decide`)
+            end = self.shear_end
+            mark = min([x for x in fixed if x > s.t + eps] + ([end] if s.t + eps < end <= t_end else []))
+            if s.t < end - eps:  # the shear wave runs: the shaking step, growing while the column flows
+                target = min(flow_h, 1.5 * h) if self._flowing_phase(s.t) else dt
+            else:
+                target = min(dt_after, 1.5 * h)
+            h = target
+            h_try = min(h, mark - s.t)
+            if mark - s.t - h_try < 0.01 * dt:
+                h_try = mark - s.t
+            step = self.step(s, h_try)
+            s = step.state
+            yield step
+            if stop is not None and s.t >= self.shear_end - eps and stop(s):
+                return
+        if self.flow is not None and self.flow_stopped is None and self.shear_end > s.t + eps:
+            self.shear_end = s.t  # a sloping column still shearing at t_end: its shear wave ends with the run

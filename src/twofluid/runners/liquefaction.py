@@ -22,7 +22,8 @@ prints. The run folder holds (depths below the ground surface; columns in docs/o
   sand boil, settlement, dissipation (fraction of the final settlement), the simplified
   procedure, spectra, solids balance, wall time, status (completed / interrupted / failed,
   with ``stopped_at_s`` and the reason);
-- ``profile.png``, ``ru_map.png``, ``spectra.png``, ``ru_histories.png``, ``settlement.png``.
+- ``profile.png``, ``ru_map.png``, ``spectra.png``, ``ru_histories.png``, ``settlement.png``; on a
+  slope also ``lateral_displacement.png`` and ``surface_displacement.png`` (:mod:`twofluid.plots.slope`).
 
 Inputs are checked before the folder is created: the case (again, if it is a dictionary
 that may have been edited since loading) with the record, the ANN weights and the G/G_max
@@ -49,7 +50,7 @@ from ..io import ground_motion as gm
 from ..io.folders import default_out_dir
 from ..io.results import (CsvStream, NonFiniteOutput, ResultWriter, check_finite, write_json,
                           write_resolved_case)
-from ..models.liquefaction_1d import ColumnState, LiquefactionColumn, VerticalColumn
+from ..models.liquefaction_1d import ColumnState, FlowStop, LiquefactionColumn, VerticalColumn
 from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings, StepFailure
@@ -126,7 +127,9 @@ def build_column(case: dict, reference: bool = False) -> Built:
                                 base_acceleration_at=accel_at,
                                 hysteretic=hysteretic_parameters(case, site, sigma_v0, crust,
                                                                  np.broadcast_to(sand.k2max, sigma_v0.shape)),
-                                numerical_damping=sw["numerical_damping"], slope_percent=slope)
+                                numerical_damping=sw["numerical_damping"], slope_percent=slope,
+                                flow=FlowStop(sw["flow_velocity"], sw["flow_window"], sw["flow_max"],
+                                              sw["flow_step"]))
     if slope > 0.0:
         state = _sloping_start(case, source, column, site)
     else:
@@ -419,6 +422,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
         from ..plots.liquefaction import liquefaction_plots
 
         liquefaction_plots(rec, col, out, name, rep["ru_liquefied"], case=case, summary=summary, extra=extra)
+        if srec is not None:  # a sloping site: lateral_displacement.png, surface_displacement.png
+            from ..plots.slope import slope_plots
+
+            slope_plots(srec, col, out, name, summary["slope"])
     hist = {"t": np.array(rec.t), "r_u": np.array(rec.ru), "settlement_m": np.array(rec.settle),
             "base_excess_pore_pressure_Pa": np.array(rec.pbase),
             "field_t": np.array(rec.field_t), "field_r_u": np.array(rec.field),

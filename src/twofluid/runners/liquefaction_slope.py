@@ -28,7 +28,7 @@ from ..closures import hysteretic as law
 from ..geotech import lateral_spread as ls
 from ..io.results import CsvStream
 
-__all__ = ["SlopeRecorder", "slope_summary", "MOVING_M_S"]
+__all__ = ["SlopeRecorder", "slope_summary", "slope_lines", "MOVING_M_S"]
 
 #: surface velocity [m/s] above which the column counts as still moving when its shear wave stops
 MOVING_M_S = 1e-4
@@ -107,13 +107,20 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
                        "static_shear_Pa": [float(tau_s[e].min()), float(tau_s[e].max())],
                        "alpha_static": [float((tau_s[e] / par[e, law.P_SIG0]).min()),
                                         float((tau_s[e] / par[e, law.P_SIG0]).max())],
-                       "note": ("flow slide: FS_post <= 1, the liquefied layer cannot carry the static shear; "
-                                "the displacement is unbounded" if f <= 1.0 else "FS_post > 1: the residual "
-                                "strength carries the static shear once shaking stops")})
+                       "note": ("flow slide: FS_post <= 1, the liquefied layer cannot carry the static shear on "
+                                "its residual strength; the column flows after the shaking until the strength "
+                                "returns as the excess pore pressure dissipates or the strain reaches the shear "
+                                "law's limiting strain gamma_lim, where cyclic mobility stiffens it "
+                                "(flow_after_shaking), on an infinite slope that keeps its geometry and with S_r "
+                                "not lowered by void redistribution: a real flow slide can run much further"
+                                if f <= 1.0
+                                else "FS_post > 1: the residual strength carries the static shear once shaking "
+                                "stops")})
     d_end = srec.d[-1]
     d_shake = _at(srec.t, srec.d, col.shaking_end) if col.shaking_end > 0.0 else 0.0
     d_wave = _at(srec.t, srec.d, col.shear_end) if col.shear_end > 0.0 else 0.0
     v_wave = _at(srec.t, srec.v, col.shear_end - 1e-6) if col.shear_end > 0.0 else 0.0
+    flow = _flow_block(col, srec, d_end)
     gamma0 = np.diff(col.u_static) / col.wave.h
     strain = np.abs(last.wave.gamma - gamma0)
     e_loc = int(np.argmax(strain))
@@ -136,15 +143,60 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
         "surface_displacement_end_of_shear_wave_m": d_wave,
         "share_after_shaking": None if d_end == 0.0 else (d_end - d_shake) / d_end,
         "surface_velocity_end_of_shear_wave_m_s": v_wave,
-        "still_moving_when_shear_wave_stopped": abs(v_wave) > MOVING_M_S,
+        "still_moving_when_shear_wave_stopped": (abs(v_wave) > MOVING_M_S if flow is None
+                                                 else not flow["flow_stopped"]),
+        "flow_after_shaking": flow,
         "localisation": loc,
         "layers": layers,
         "estimates": _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r),
     }
     if out["still_moving_when_shear_wave_stopped"]:
-        out["note"] = (f"the surface still moved at {v_wave:.3g} m/s when the shear wave stopped: the displacement "
-                       "is a lower bound; raise [shear_wave] free_vibration")
+        if flow is None:
+            out["note"] = (f"the surface still moved at {v_wave:.3g} m/s when the shear wave stopped: the "
+                           "displacement is a lower bound; raise [shear_wave] free_vibration")
+        elif col.flow_stopped is False:
+            out["note"] = (f"the column still flowed (mean surface velocity {flow['flow_velocity_end_m_s']:.3g} m/s) "
+                           f"when the shear wave stopped at {col.shear_end:g} s, [shear_wave] flow_max after the "
+                           "record's end: the displacement is a lower bound")
+        else:
+            out["note"] = (f"the run ended at {last.t:g} s while the shear wave still ran (the flow had not been "
+                           "found stopped): the displacement is a lower bound; raise [time] end")
     return out
+
+
+def _settled_time(t, d, d_end: float, fraction: float) -> float | None:
+    """The first time [s] after which the displacement stays within (1 − fraction)|d_end| of d_end."""
+    t, d = np.asarray(t), np.asarray(d)
+    if d_end == 0.0 or t.size == 0:
+        return None
+    off = np.flatnonzero(np.abs(d - d_end) > (1.0 - fraction) * abs(d_end))
+    return float(t[0]) if off.size == 0 else float(t[min(off[-1] + 1, t.size - 1)])
+
+
+def _flow_block(col, srec: SlopeRecorder, d_end: float) -> dict | None:
+    """How the flow after the shaking ended (the column's :class:`~twofluid.models.liquefaction_1d.FlowStop`
+    criterion), or None where it is off (``flow_velocity = 0``, no shaking)."""
+    f = col.flow
+    if f is None:
+        return None
+    t95, t99 = (_settled_time(srec.t, srec.d, d_end, q) for q in (0.95, 0.99))
+    v = col.flow_velocity_end
+    return {
+        "criterion": (f"after free_vibration the shear wave runs on while |v_mean| >= {f.velocity:g} m/s, v_mean = "
+                      f"(D(t - T, t) - D(t - 2T, t - T))/T, D the time mean of the surface displacement over T = "
+                      f"{f.window:g} s; at most {f.max_after:g} s after the record's end; step growing x1.5 to "
+                      f"{f.step:g} s while it flows"),
+        "flow_stopped": col.flow_stopped is True,
+        "shear_wave_stopped_by": ("the criterion: the flow had stopped" if col.flow_stopped is True else
+                                  "flow_max: the column still flowed" if col.flow_stopped is False else
+                                  "the end of the run: the shear wave still ran"),
+        "shear_wave_end_s": col.shear_end,
+        "shear_wave_end_after_shaking_s": col.shear_end - col.shaking_end,
+        "flow_velocity_end_m_s": v,
+        "time_95_percent_s": t95, "time_99_percent_s": t99,
+        "time_definition": "time_X_percent_s: the first time after which the surface displacement stays within "
+                           "(100 - X) % of its final value",
+    }
 
 
 def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
@@ -231,3 +283,34 @@ def _youd(case, site, simp_run) -> dict:
         r = ls.youd2002_ground_slope(g["magnitude"], g["distance_km"], case["site"]["slope"], t15, f15, d15)
     return dict(out, median_m=r.median_m, lower_m=r.lower_m, upper_m=r.upper_m, t15_m=t15, f15_percent=f15,
                 d50_15_mm=d15, in_verified_range=r.in_range, range_notes=list(r.notes))
+
+
+def slope_lines(sl: dict) -> list[str]:
+    """What ``twofluid run`` prints of a summary's ``slope`` block: the surface displacement, its share
+    after the shaking, how the flow ended, and the estimates beside it.
+
+    >>> sl = {"surface_displacement_end_m": 0.4876, "share_after_shaking": 0.0255,
+    ...       "flow_after_shaking": {"flow_stopped": True, "shear_wave_end_s": 14.44, "time_99_percent_s": 10.14},
+    ...       "estimates": {"newmark": {"displacement_m": 0.723}, "zhang_2004": {"displacement_m": 9.8},
+    ...                     "youd_2002": {"median_m": None}}}
+    >>> print("\\n".join(slope_lines(sl)))
+      lateral spreading: surface 0.488 m downslope, 2.5 % of it after the shaking; flow stopped (99 % at 10.1 s, shear wave to 14.4 s)
+      beside it: Newmark 0.723 m, Zhang et al. 2004 9.8 m, Youd et al. 2002 not evaluated
+    """
+    d, share, f = sl["surface_displacement_end_m"], sl["share_after_shaking"], sl.get("flow_after_shaking")
+    line = f"  lateral spreading: surface {d:.3g} m downslope"
+    if share is not None:
+        line += f", {100.0 * share:.2g} % of it after the shaking"
+    if f is not None:
+        t99 = f.get("time_99_percent_s")
+        when = f"shear wave to {f['shear_wave_end_s']:.3g} s" if f.get("shear_wave_end_s") is not None else ""
+        line += ("; flow stopped (" + (f"99 % at {t99:.3g} s, " if t99 is not None else "") + when + ")"
+                 if f["flow_stopped"] else "; still flowing when the shear wave stopped: a lower bound")
+    est = sl["estimates"]
+    nm = est["newmark"]
+    parts = ["Newmark " + ("flow failure" if nm.get("flow_failure") else f"{nm['displacement_m']:.3g} m"
+                          if nm.get("displacement_m") is not None else "not evaluated"),
+             f"Zhang et al. 2004 {est['zhang_2004']['displacement_m']:.3g} m",
+             "Youd et al. 2002 " + (f"{est['youd_2002']['median_m']:.3g} m" if est["youd_2002"].get("median_m")
+                                    is not None else "not evaluated")]
+    return [line, "  beside it: " + ", ".join(parts)]
