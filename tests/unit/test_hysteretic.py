@@ -452,3 +452,41 @@ def test_generation_is_counted_at_the_stress_it_leaves():
     assert tau == pytest.approx(law.skeleton_stress(g, 1.0, before, par, 0, s1, s1 / gm1), rel=1e-6)
     assert 0.5 < r_new < r_explicit
     assert r_explicit >= 0.99 and r_new < 0.95
+
+
+def _monotonic(tau_static, ps, to, steps=400):
+    """Stresses of a liquefied element ((N1)60cs = 10, γ_d = 1 %, σ′_v0 = 100 kPa) loaded
+    monotonically from γ_c = 0 to ``to`` at effective stress ``ps``, with static shear ``tau_static``."""
+    st, par, _, _ = _liquefied_element()
+    par[0, law.P_TAUS] = tau_static
+    s, gm = law.strength_modulus(ps, par, 0)
+    taus = []
+    for g in np.linspace(0.0, to, steps + 1)[1:]:
+        d = law.direction(g, st, 0)
+        t = law.skeleton_stress(g, d, st, par, 0, s, s / gm)
+        law.commit(g, d, t, st, par, 0, s, 0.0, s / gm)
+        taus.append(t)
+    return np.array(taus), s, par
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+@pytest.mark.parametrize("ps", [1e3, 20e3])
+def test_flow_liquefaction_no_dilation_on_the_side_of_a_static_shear_above_s_r(sign, ps):
+    """An element whose static shear exceeds its residual strength (|τ_s| = 1.5 S_r), liquefied and
+    loaded on the side of its static shear to 20 % strain (beyond γ_d + γ_dr = 11 %): its skeleton
+    stress never exceeds the strength max(P_s tan φ′, S_r) (at P_s = 1 kPa the floor S_r, at 20 kPa
+    P_s tan φ′) and ends within 1 % of it (the column adds the rate part η γ̇ to it); with τ_s = 0.5
+    S_r (FS_post = 2: cyclic mobility) the same path ends on the dilation envelope σ′_v0 tan φ′,
+    many times the strength. Loaded the other way, against the static shear, its stresses are those
+    of the element without static shear, to the last bit."""
+    par0 = hs.parameters(sigma_v0=[100e3], n160cs=10.0)
+    sr, tanphi = par0[0, law.P_SR], par0[0, law.P_TANPHI]
+    flow, s, par = _monotonic(sign * 1.5 * sr, ps, sign * 0.2)
+    assert s == pytest.approx(max(ps * tanphi, sr), rel=1e-12)
+    assert np.all(np.abs(flow) <= s * (1.0 + 1e-12)) and abs(flow[-1]) >= 0.99 * s
+    assert np.all(sign * flow > 0.0)
+    mobile, _, _ = _monotonic(sign * 0.5 * sr, ps, sign * 0.2)
+    assert abs(mobile[-1]) == pytest.approx(100e3 * tanphi, rel=1e-9) and abs(mobile[-1]) > 4.0 * s
+    against, _, _ = _monotonic(sign * 1.5 * sr, ps, -sign * 0.2)
+    level, _, _ = _monotonic(0.0, ps, -sign * 0.2)
+    assert np.array_equal(against, level) and abs(level[-1]) == pytest.approx(100e3 * tanphi, rel=1e-9)

@@ -73,6 +73,22 @@ strain of 3.8 % at r_u = 0.98 (Yoshimine et al. 2006: 3.5 % at FS = 1; the labor
 the dilation stop is soft enough that a liquefied layer does not pass on pulses of the drained
 strength.
 
+**Flow liquefaction.** Cyclic mobility is what a sand does when the shear it must carry after
+liquefaction is below its residual strength: level ground (no static shear) or a gentle slope
+(FS_post = S_r/|τ_s| > 1), where the strain ratchets cycle by cycle and dilation stops each half
+cycle. A loose, contractive sand whose static shear exceeds its residual strength, |τ_s| > S_r
+(FS_post < 1), suffers flow liquefaction instead: once it has liquefied nothing in its skeleton
+holds the static shear, and dilation, which needs the stress to reverse through the phase
+transformation, must not hold it either. So for such an element there is no dilation stress on
+the side of its static shear (``tau_static`` τ_s, signed, set by the column where it applies the
+static state; 0 on level ground, where nothing changes): loaded downslope beyond γ_d its stress is
+the strength max(P_s tan φ′, S_r) plus, in the column, the rate (viscous) part, and it flows until
+the excess pore pressure dissipates and P_s tan φ′ returns (the vertical two-fluid model does
+that), or the run reports a flow slide. Upslope, against the static shear, its dilation is
+unchanged. Without this rule the dilation envelope (σ′_v0 tan φ′ over γ_dr beyond γ_d) stopped a
+5 % slope with FS_post = 0.86 within seconds of the shaking's end: a flow slide held by cyclic
+mobility, which the static shear never reverses to engage.
+
 **Pore-pressure generation.** Cyclic damage counted per half cycle of stress, the half cycles found
 by rainflow counting as the history arrives (:func:`_count_damage`: a small wiggle within a large
 half cycle closes as a small cycle of its own and leaves the large one whole), with stress and
@@ -169,11 +185,12 @@ P_ALPHA = 21  # Seed–Booker α [-]
 P_RCAP = 22  # largest generated ratio r_cap [-]
 P_DGD = 23  # widening of γ_d per liquefied half cycle [-]
 P_GD0 = 24  # γ_d before liquefaction [-]
-NPARAM = 25
+P_TAUS = 25  # static shear stress τ_s of a slope [Pa] (signed, downslope > 0; 0 on level ground)
+NPARAM = 26
 PARAM_COLUMNS = ("k2max", "tan_phi", "residual_strength", "theta1", "theta2", "theta3", "theta4",
                  "theta5", "p1", "p2", "p3", "crr", "b", "gamma_threshold", "gamma_lim", "sigma_v0",
                  "liquefiable", "gamma_dilation", "g_max_fixed", "p_s_fixed", "dr", "alpha", "r_cap",
-                 "gamma_d_step", "gamma_d0")
+                 "gamma_d_step", "gamma_d0", "tau_static")
 
 
 def gqh_ratio(x, th1, th2, th3, th4, th5):
@@ -212,10 +229,15 @@ def strength_modulus(ps, par, e):
 
 def _dilation(ex, st, par, e):
     """Dilation stress τ_d ≥ 0 [Pa] of element ``e`` at ``ex`` = γ − γ_c from the centre of its
-    cycles (0 inside the zone |ex| ≤ γ_d, and in sand that generates no pore pressure)."""
+    cycles (0 inside the zone |ex| ≤ γ_d, in sand that generates no pore pressure, and on the side
+    of a static shear τ_s that exceeds the residual strength S_r: flow liquefaction, module
+    docstring "Flow liquefaction")."""
     over = abs(ex) - st[e, S_GD]
     if over <= 0.0 or par[e, P_LIQ] <= 0.0:
         return 0.0
+    ts = par[e, P_TAUS]
+    if ts * ex > 0.0 and abs(ts) > par[e, P_SR]:
+        return 0.0  # flow liquefaction: no dilation on the side of a static shear above S_r
     r = over / par[e, P_GDR]
     return par[e, P_SIG0] * par[e, P_TANPHI] * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
 
