@@ -104,7 +104,7 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
 
     >>> p = parameters(sigma_v0=[50e3, 100e3], n160cs=10.0)
     >>> p.shape, bool(p[1, law.P_SR] > p[0, law.P_SR])
-    ((2, 25), True)
+    ((2, 26), True)
     """
     sig = np.atleast_1d(np.asarray(sigma_v0, dtype=float))
     ne = sig.size
