@@ -358,3 +358,135 @@ def test_closed_inner_cycles_count_as_full_cycles():
     outer = _half_cycle(par, t / 2, g / 2) + 2.0 * _half_cycle(par, t, g)
     inner = 6.0 * _half_cycle(par, 0.25 * t, 0.25 * g)
     assert total == pytest.approx(outer + inner, rel=1e-12)
+
+
+def test_cyclic_mobility_strain_grows_cycle_by_cycle_towards_gamma_lim():
+    """Uniform stress cycles at CSR = CRR ((N1)60cs = 10, σ′_v0 = 100 kPa) carried on past r_u = 0.98:
+    the single-amplitude strain at r_u = 0.98 is 3–4.5 % (Yoshimine et al. 2006: 3.5 % at FS = 1;
+    the laboratory's 3 %: γ_dr = 10 % is chosen so), then grows in every cycle, by 0.5–2 % a cycle,
+    and never passes γ_lim(Dr)."""
+    par = hs.parameters(sigma_v0=[100e3], n160cs=10.0)
+    st = law.new_state(1, par)
+    spc, cycles = 200, 40
+    g, tau, ru = (np.zeros(spc * cycles + 1) for _ in range(3))
+    hk.element_cycles(st, par, 0, par[0, law.P_CRR], spc, cycles, 2.0, 0.6, g, tau, ru)
+    k = int(np.argmax(ru >= 0.98))
+    assert ru[k] >= 0.98
+    amp = [np.abs(g[k + c * spc:k + (c + 1) * spc]).max() for c in range(20)]
+    assert 0.03 <= amp[0] <= 0.045
+    steps = np.diff(amp)
+    assert np.all(steps > 0.0) and 0.005 <= np.mean(steps) <= 0.02
+    assert np.abs(g).max() <= par[0, law.P_GLIM] * (1 + 1e-12)
+
+
+def _liquefied_element(gd=0.01):
+    par = hs.parameters(sigma_v0=[100e3], n160cs=10.0)
+    st = law.new_state(1, par)
+    st[0, law.S_LIQ] = 1.0
+    st[0, law.S_GD] = gd
+    s, gm = law.strength_modulus(par[0, law.P_SR] / par[0, law.P_TANPHI], par, 0)
+    return st, par, s, s / gm
+
+
+def _cross(steps):
+    """γ_d after one crossing of a liquefied element's zone (−γ_d → +γ_d, then 1 % beyond) in ``steps``."""
+    st, par, s, gr = _liquefied_element()
+    path = list(np.linspace(-0.01, 0.01, steps + 1)) + [0.02]
+    st[0, law.S_G] = path[0]
+    for g in path[1:]:
+        d = law.direction(g, st, 0)
+        law.commit(g, d, law.skeleton_stress(g, d, st, par, 0, s, gr), st, par, 0, s, 0.0, gr)
+    return st[0, law.S_GD] - 0.01, par[0, law.P_DGD]
+
+
+def test_the_zone_widens_with_the_strain_travelled_in_it_not_with_the_steps():
+    """Once liquefied, a crossing of the zone without dilation (γ_d = 1 %, from −γ_d to +γ_d and on
+    beyond) widens it by about Δγ_d = γ_lim/100 (d(γ_d²) = Δγ_d |dγ| inside the zone: 0.5–1.5 Δγ_d),
+    the same in 10 sub-steps as in 1000 (within 5 % of Δγ_d), and with no reversal counted."""
+    w10, dgd = _cross(10)
+    w1000, _ = _cross(1000)
+    assert 0.5 * dgd <= w1000 <= 1.5 * dgd
+    assert abs(w10 - w1000) <= 0.05 * dgd
+
+
+def test_a_reversal_within_the_dilation_zone_keeps_its_stress():
+    """Loading outwards into the dilation zone, a small unloading and reloading there: the stress
+    right after each reversal is the committed one (the dilation gained since the branch's origin
+    is added, not the whole τ_d again), and reloading returns to the dilation envelope."""
+    st, par, s, gr = _liquefied_element(gd=0.005)
+    path = list(np.linspace(0.0, 0.02, 200)) + list(np.linspace(0.02, 0.018, 20)) + list(np.linspace(0.018, 0.03, 120))
+    taus = []
+    for g in path[1:]:
+        d = law.direction(g, st, 0)
+        t_after = law.skeleton_stress(g, d, st, par, 0, s, gr)
+        if d != st[0, law.S_DIR] and st[0, law.S_DIR] != 0.0:  # a reversal: continuous from the committed stress
+            near = law.skeleton_stress(st[0, law.S_G] + d * 1e-12, d, st, par, 0, s, gr)
+            assert abs(near - st[0, law.S_TAU]) <= 1e-6 * par[0, law.P_SIG0]
+        law.commit(g, d, t_after, st, par, 0, s, 0.0, gr)
+        taus.append(t_after)
+    ex = 0.03 - st[0, law.S_GC]
+    assert taus[-1] == pytest.approx(max(s, law._dilation(ex, st, par, 0)), rel=1e-9)
+    assert np.all(np.abs(np.diff(taus)) <= 0.05 * par[0, law.P_SIG0])  # no jump anywhere on the path
+
+
+def test_generation_is_counted_at_the_stress_it_leaves():
+    """A strong half cycle in one sub-step (CSR 0.2 at (N1)60cs = 10, damage ∝ CSR^10): counted at
+    the stress of the strength before it, r_g would jump to r_cap; counted consistently
+    (commit_generating) the strength factor q = (1 − r_new)/(1 − r_old) and the committed stress
+    agree: the stress is the skeleton's at q P_s, and q is what its damage gives, to 1e-8."""
+    par = hs.parameters(sigma_v0=[100e3], n160cs=10.0)
+    ps = 100e3 * (1.0 - 0.5)
+    st = law.new_state(1, par)
+    st[0, law.S_RG] = 0.5
+    st[0, law.S_D] = math.sin(0.5 * math.pi / 2) ** 1.4  # the damage of r_g = 0.5 (Seed–Booker, α = 0.7)
+    g = 0.004
+    explicit = st.copy()
+    s0, gm0 = law.strength_modulus(ps, par, 0)
+    law.commit(g, 1.0, law.skeleton_stress(g, 1.0, explicit, par, 0, s0, s0 / gm0), explicit, par, 0, s0, 0.0, s0 / gm0)
+    r_explicit = law.generated_ratio(explicit, par, 0)
+    before = st.copy()
+    tau = law.commit_generating(g, 1.0, st, par, 0, ps, 0.0, np.empty(law.NSTATE), 0.0)
+    r_new = law.generated_ratio(st, par, 0)
+    q = (1.0 - r_new) / 0.5
+    s1, gm1 = law.strength_modulus(ps * q, par, 0)
+    assert tau == pytest.approx(law.skeleton_stress(g, 1.0, before, par, 0, s1, s1 / gm1), rel=1e-6)
+    assert 0.5 < r_new < r_explicit
+    assert r_explicit >= 0.99 and r_new < 0.95
+
+
+def _monotonic(tau_static, ps, to, steps=400):
+    """Stresses of a liquefied element ((N1)60cs = 10, γ_d = 1 %, σ′_v0 = 100 kPa) loaded
+    monotonically from γ_c = 0 to ``to`` at effective stress ``ps``, with static shear ``tau_static``."""
+    st, par, _, _ = _liquefied_element()
+    par[0, law.P_TAUS] = tau_static
+    s, gm = law.strength_modulus(ps, par, 0)
+    taus = []
+    for g in np.linspace(0.0, to, steps + 1)[1:]:
+        d = law.direction(g, st, 0)
+        t = law.skeleton_stress(g, d, st, par, 0, s, s / gm)
+        law.commit(g, d, t, st, par, 0, s, 0.0, s / gm)
+        taus.append(t)
+    return np.array(taus), s, par
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+@pytest.mark.parametrize("ps", [1e3, 20e3])
+def test_flow_liquefaction_no_dilation_on_the_side_of_a_static_shear_above_s_r(sign, ps):
+    """An element whose static shear exceeds its residual strength (|τ_s| = 1.5 S_r), liquefied and
+    loaded on the side of its static shear to 20 % strain (beyond γ_d + γ_dr = 11 %): its skeleton
+    stress never exceeds the strength max(P_s tan φ′, S_r) (at P_s = 1 kPa the floor S_r, at 20 kPa
+    P_s tan φ′) and ends within 1 % of it (the column adds the rate part η γ̇ to it); with τ_s = 0.5
+    S_r (FS_post = 2: cyclic mobility) the same path ends on the dilation envelope σ′_v0 tan φ′,
+    many times the strength. Loaded the other way, against the static shear, its stresses are those
+    of the element without static shear, to the last bit."""
+    par0 = hs.parameters(sigma_v0=[100e3], n160cs=10.0)
+    sr, tanphi = par0[0, law.P_SR], par0[0, law.P_TANPHI]
+    flow, s, par = _monotonic(sign * 1.5 * sr, ps, sign * 0.2)
+    assert s == pytest.approx(max(ps * tanphi, sr), rel=1e-12)
+    assert np.all(np.abs(flow) <= s * (1.0 + 1e-12)) and abs(flow[-1]) >= 0.99 * s
+    assert np.all(sign * flow > 0.0)
+    mobile, _, _ = _monotonic(sign * 0.5 * sr, ps, sign * 0.2)
+    assert abs(mobile[-1]) == pytest.approx(100e3 * tanphi, rel=1e-9) and abs(mobile[-1]) > 4.0 * s
+    against, _, _ = _monotonic(sign * 1.5 * sr, ps, -sign * 0.2)
+    level, _, _ = _monotonic(0.0, ps, -sign * 0.2)
+    assert np.array_equal(against, level) and abs(level[-1]) == pytest.approx(100e3 * tanphi, rel=1e-9)

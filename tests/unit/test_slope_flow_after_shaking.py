@@ -10,8 +10,10 @@ Compared quantities, each with its definition:
 - a flow slide (the bundled sloping site at 5 %, FS_post < 1 in the loose sand, 4 s of shaking): the
   surface displacement keeps growing after the shaking, the flow stops by itself before flow_max
   (the excess pore pressure dissipates and the strength returns), and the displacement does not
-  change after the shear wave stops; halving the flow step changes the final displacement by at most
-  1 % (measured: 5e-6, 0.1 against 0.05 s);
+  change after the shear wave stops; flow liquefaction, not cyclic mobility: the localisation
+  element's strain passes the limiting strain γ_lim at which the law's dilation would have held it
+  (measured: 5.76 against γ_lim = 0.75; 0.29 m during the shaking, 5.96 m in all); halving the flow step
+  changes the final displacement by at most 1 % (measured: 2.3e-4, 0.1 against 0.05 s);
 - level ground: the flow keys change nothing (the shear wave stops at free_vibration, the run is
   the same to the last bit).
 """
@@ -92,6 +94,12 @@ def test_a_flow_slide_flows_after_the_shaking_and_stops_as_strength_returns(flow
     assert sl["share_after_shaking"] == pytest.approx((d - d_s) / d, rel=1e-12)
     assert d == pytest.approx(sl["surface_displacement_end_of_shear_wave_m"], rel=1e-12)
     assert f["time_99_percent_s"] < end
+    # flow liquefaction: no dilation downslope, so the strain runs past γ_lim (cyclic mobility's bound)
+    from twofluid.closures import hysteretic as law
+    col = build_column(c).column
+    depth = sl["localisation"]["depth_m"]
+    e = int(np.argmin(np.abs(np.asarray(col.depth_all) - depth)))
+    assert sl["localisation"]["shear_strain_from_static"] > 2.0 * col.hysteretic[e, law.P_GLIM]
 
 
 def test_halving_the_flow_step_converges(flow_slide):

@@ -25,7 +25,10 @@ only and never feeds back into P_s). Above the water table (crust) P_s and G_max
     τ = τ_0 + d τ_max [F (2 f(x/2) − f(x)) + f(x)],   x = |γ − γ_0|/γ_r,  f the backbone ratio,
 
 with F = p1 − p2 (1 − G(γ_m)/G_max)^p3 the MRDF factor of Phillips & Hashash (2009) at the
-largest strain so far γ_m (F = 1: Masing's rule). Beyond ±γ_m in the direction of motion the
+largest strain so far γ_m (F = 1: Masing's rule), moved towards Masing's F = 1 as the pore pressure
+is generated: F + (1 − F) w, w = S((r_g − 0.8)/(r_cap − 0.8)) (:func:`masing_weight`), so a liquefied
+element flows between its dilation stops on Masing's branches and the change of rule is a
+continuous function of r_g, never a jump of the stress. Beyond ±γ_m in the direction of motion the
 branch does not go past the backbone. Reversal stresses are stored as τ/τ_max, so when τ_max
 shrinks they shrink with it (the mapping of Matasovic & Vucetic): no stress of an old reversal
 ever exceeds the new strength.
@@ -51,14 +54,40 @@ reversal, and 8 overflowed in the PySeismoSoil benchmark).
     τ_env = max(τ_max, τ_d),   τ_d = σ′_v0 tan φ′ S((|γ − γ_c| − γ_d)/γ_dr),  S(r) = r²(3 − 2r) on [0, 1]
     (in sand that generates pore pressure only),
 
-and when loading outwards beyond γ_d the stress gains τ_d (additive, so it is continuous at the
-onset); a branch from a reversal above τ_max (a dilated state) is widened by
+and when loading outwards beyond γ_d the stress gains the dilation stress gained since the
+branch's origin γ_0, τ_d(γ) − τ_d(γ_0) (τ_d(γ) from inside the zone: additive, so it is continuous
+at the onset, and at a reversal within the dilation zone too); a branch from a reversal above τ_max (a dilated state) is widened by
 κ = max(1, |d − τ_0/τ_max|/(1 + F)) in stress and strain, so that it still reaches d τ_max; a
-liquefied element takes Masing's branches (F = 1) between its dilation stops. Before liquefaction γ_c = 0
-and γ_d = ``gamma_d0``; at liquefaction γ_c becomes the middle of the current half cycle, and
-every later half cycle whose amplitude exceeds the threshold strain widens γ_d by ``gamma_d_step`` up to the
-limiting strain γ_lim(Dr) of Idriss & Boulanger (2008). The strain so grows cycle by cycle
-towards γ_lim instead of running away in the first element to liquefy.
+liquefied element takes Masing's branches (F = 1) between its dilation stops. γ_c is the strain
+the sand was consolidated at (0 on level ground, the static strain on a slope) and stays there;
+γ_d = ``gamma_d0`` until the element liquefies (D ≥ 1), and from then on the zone widens with the
+strain travelled inside it, d(γ_d²) = Δγ_d |dγ| for |γ − γ_c| < γ_d (Δγ_d = ``gamma_d_step``), up
+to the limiting strain γ_lim(Dr) of Idriss & Boulanger (2008): a half cycle that crosses the zone
+(2γ_d of strain) widens it by Δγ_d, however many wiggles or sub-steps it takes, and a wiggle widens
+it by its own share of strain only. Counted per reversal instead, every 10–30 Hz wiggle of a
+liquefied element widened the zone by a full step, so the strain it could reach depended on the
+mesh and the step. The strain so grows cycle by cycle towards γ_lim, with nothing that jumps at
+liquefaction: the zone neither moves nor widens in a step, so the stress is continuous there.
+``gamma_dilation`` γ_dr = 10 %: uniform cycles at CSR = CRR ((N1)60cs = 10) reach a single-amplitude
+strain of 3.8 % at r_u = 0.98 (Yoshimine et al. 2006: 3.5 % at FS = 1; the laboratory's 3 %), and
+the dilation stop is soft enough that a liquefied layer does not pass on pulses of the drained
+strength.
+
+**Flow liquefaction.** Cyclic mobility is what a sand does when the shear it must carry after
+liquefaction is below its residual strength: level ground (no static shear) or a gentle slope
+(FS_post = S_r/|τ_s| > 1), where the strain ratchets cycle by cycle and dilation stops each half
+cycle. A loose, contractive sand whose static shear exceeds its residual strength, |τ_s| > S_r
+(FS_post < 1), suffers flow liquefaction instead: once it has liquefied nothing in its skeleton
+holds the static shear, and dilation, which needs the stress to reverse through the phase
+transformation, must not hold it either. So for such an element there is no dilation stress on
+the side of its static shear (``tau_static`` τ_s, signed, set by the column where it applies the
+static state; 0 on level ground, where nothing changes): loaded downslope beyond γ_d its stress is
+the strength max(P_s tan φ′, S_r) plus, in the column, the rate (viscous) part, and it flows until
+the excess pore pressure dissipates and P_s tan φ′ returns (the vertical two-fluid model does
+that), or the run reports a flow slide. Upslope, against the static shear, its dilation is
+unchanged. Without this rule the dilation envelope (σ′_v0 tan φ′ over γ_dr beyond γ_d) stopped a
+5 % slope with FS_post = 0.86 within seconds of the shaking's end: a flow slide held by cyclic
+mobility, which the static shear never reverses to engage.
 
 **Pore-pressure generation.** Cyclic damage counted per half cycle of stress, the half cycles found
 by rainflow counting as the history arrives (:func:`_count_damage`: a small wiggle within a large
@@ -78,7 +107,11 @@ exponential granular pressure of the two-fluid model is the reference-porosity c
     n̄ ← n̄ + A (1 − n) ln((1 − r_g,new)/(1 − r_g,old)),
 
 so in an undrained element r_u = r_g exactly, and with drainage the two-fluid equations move the
-pressure as they do for any change of n̄.
+pressure as they do for any change of n̄. In the column the generation of a sub-step is counted at
+the stress the element carries with the strength that generation leaves (:func:`commit_generating`,
+a backward-Euler step of the generation): counted at the stress of the strength before it, one
+strong half cycle could take r_g from 0.7 to 1 in a single sub-step and the stress (∝ τ_max) then
+fell by half at the next, a jolt whose size the step set.
 
 >>> import numpy as np
 >>> round(gqh_ratio(1.0, 0.0, 0.0, 1.0, 1.0, 1.0), 6)  # hyperbola at x = 1
@@ -96,15 +129,15 @@ import numpy as np
 
 from . import backbones as _bb
 
-__all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "tangent", "direction",
-           "commit", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
+__all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "tangent", "direction", "masing_weight",
+           "commit", "commit_counted", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
 
 KPA = 1000.0
 
 # ---- columns of the per-element state array (float64, one row per element)
 S_G = 0  # committed shear strain γ [-]
 S_T = 1  # committed skeleton stress over τ_max at commit, τ/τ_max [-]
-S_TAU = 2  # committed skeleton stress [Pa]
+S_TAU = 2  # stress the damage count took at the last commit (the skeleton's; in the column plus its rate part) [Pa]
 S_GREV = 3  # strain at the last reversal [-]
 S_DIR = 4  # direction of the last strain increment (−1, 0, +1)
 S_NREV = 5  # number of reversals so far
@@ -124,6 +157,7 @@ RF_SIZE = 16  # turning points kept by the damage count (rainflow); the oldest i
 S_NSTK = S_RF + 3 * RF_SIZE  # number of open strain-reversal points of the stress–strain law (0: on the backbone)
 S_STK = S_NSTK + 1  # those points, oldest first: (γ_k [-], τ_k/τ_max [-]) at S_STK + 2k, S_STK + 2k + 1
 NSTACK = 16  # open reversal points kept (module docstring, "Unloading and reloading")
+R_MASING = 0.8  # generated ratio from which the loops turn from MRDF's towards Masing's (:func:`masing_weight`)
 NSTATE = S_STK + 2 * NSTACK
 STATE_COLUMNS = (("gamma", "tau_ratio", "tau", "gamma_rev", "direction",
                   "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
@@ -151,11 +185,12 @@ P_ALPHA = 21  # Seed–Booker α [-]
 P_RCAP = 22  # largest generated ratio r_cap [-]
 P_DGD = 23  # widening of γ_d per liquefied half cycle [-]
 P_GD0 = 24  # γ_d before liquefaction [-]
-NPARAM = 25
+P_TAUS = 25  # static shear stress τ_s of a slope [Pa] (signed, downslope > 0; 0 on level ground)
+NPARAM = 26
 PARAM_COLUMNS = ("k2max", "tan_phi", "residual_strength", "theta1", "theta2", "theta3", "theta4",
                  "theta5", "p1", "p2", "p3", "crr", "b", "gamma_threshold", "gamma_lim", "sigma_v0",
                  "liquefiable", "gamma_dilation", "g_max_fixed", "p_s_fixed", "dr", "alpha", "r_cap",
-                 "gamma_d_step", "gamma_d0")
+                 "gamma_d_step", "gamma_d0", "tau_static")
 
 
 def gqh_ratio(x, th1, th2, th3, th4, th5):
@@ -192,27 +227,46 @@ def strength_modulus(ps, par, e):
     return p * tanphi, 218.8 * KPA * par[e, P_K2] * math.sqrt(p / KPA)
 
 
-def _envelope(g, d, tau, st, par, e, s):
-    """``tau`` limited by the strength envelope, and at least the dilation stress when loading
-    outwards beyond γ_d (module docstring, "Cyclic mobility")."""
+def _dilation(ex, st, par, e):
+    """Dilation stress τ_d ≥ 0 [Pa] of element ``e`` at ``ex`` = γ − γ_c from the centre of its
+    cycles (0 inside the zone |ex| ≤ γ_d, in sand that generates no pore pressure, and on the side
+    of a static shear τ_s that exceeds the residual strength S_r: flow liquefaction, module
+    docstring "Flow liquefaction")."""
+    over = abs(ex) - st[e, S_GD]
+    if over <= 0.0 or par[e, P_LIQ] <= 0.0:
+        return 0.0
+    ts = par[e, P_TAUS]
+    if ts * ex > 0.0 and abs(ts) > par[e, P_SR]:
+        return 0.0  # flow liquefaction: no dilation on the side of a static shear above S_r
+    r = over / par[e, P_GDR]
+    return par[e, P_SIG0] * par[e, P_TANPHI] * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
+
+
+def _envelope(g, d, tau, st, par, e, s, g0):
+    """``tau`` limited by the strength envelope max(τ_max, τ_d), and raised by the dilation stress
+    gained since the branch's origin ``g0`` when loading outwards beyond γ_d (module docstring,
+    "Cyclic mobility"): τ_d(γ) − τ_d(γ_0) where the origin lies beyond γ_d on the same side, so a
+    branch that turns back outwards within the dilation zone starts from its reversal stress, not
+    from τ_d above it (a jump at the reversal)."""
     upper = s
     lower = -s
     ex = g - st[e, S_GC]
-    over = abs(ex) - st[e, S_GD]
-    if over > 0.0 and par[e, P_LIQ] > 0.0:  # dilation: the sand that can liquefy
-        sd = par[e, P_SIG0] * par[e, P_TANPHI]
-        r = over / par[e, P_GDR]
-        td = sd * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
+    td = _dilation(ex, st, par, e)
+    if td > 0.0:
+        ex0 = g0 - st[e, S_GC]
+        gain = td
+        if ex0 * ex > 0.0:
+            gain = td - _dilation(ex0, st, par, e)
         if ex > 0.0:
             if td > upper:
                 upper = td
-            if d > 0.0:
-                tau += td
+            if d > 0.0 and gain > 0.0:
+                tau += gain
         else:
             if -td < lower:
                 lower = -td
-            if d < 0.0:
-                tau -= td
+            if d < 0.0 and gain > 0.0:
+                tau -= gain
     if tau > upper:
         tau = upper
     if tau < lower:
@@ -234,18 +288,43 @@ def _branch(y, fm, th1, th2, th3, th4, th5):
     return phi if y >= 0.0 else -phi
 
 
+def masing_weight(st, par, e):
+    """Weight w ∈ [0, 1] of Masing's rule in the unloading–reloading factor of element ``e``: 0 up to
+    a generated ratio r_g = ``R_MASING``, then S((r_g − R_MASING)/(r_cap − R_MASING)), S(x) = x²(3 − 2x),
+    1 at r_cap (module docstring, "Unloading and reloading"). A continuous function of r_g, so the
+    loops turn from the intact skeleton's into Masing's as the pore pressure is generated, never in
+    a jump.
+
+    >>> import numpy as np
+    >>> par = np.zeros((1, NPARAM)); par[0, P_RCAP] = 0.999; st = np.zeros((1, NSTATE))
+    >>> st[0, S_RG] = 0.5; a = masing_weight(st, par, 0); st[0, S_RG] = 0.999
+    >>> a, masing_weight(st, par, 0)
+    (0.0, 1.0)
+    """
+    x = (st[e, S_RG] - R_MASING) / (par[e, P_RCAP] - R_MASING)
+    if x <= 0.0:
+        return 0.0
+    if x >= 1.0:
+        return 1.0
+    return x * x * (3.0 - 2.0 * x)
+
+
 def _mrdf(st, par, e, gr):
     """F of the unloading–reloading branches of element ``e`` (1: Masing): MRDF's factor at the
-    largest strain so far; a liquefied element flows between its dilation stops on Masing branches."""
-    if st[e, S_LIQ] > 0.0:
-        return 1.0
-    if par[e, P_P2] == 0.0:
-        return par[e, P_P1]
-    xm = st[e, S_GM] / gr
-    red = 1.0
-    if xm > 0.0:
-        red = gqh_ratio(xm, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]) / xm
-    return par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
+    largest strain so far, moved towards Masing's F = 1 by :func:`masing_weight` as the pore pressure
+    is generated (a liquefied element flows between its dilation stops on Masing branches)."""
+    f = par[e, P_P1]
+    if par[e, P_P2] != 0.0:
+        xm = st[e, S_GM] / gr
+        red = 1.0
+        if xm > 0.0:
+            red = gqh_ratio(xm, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]) / xm
+        f = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
+    if par[e, P_LIQ] > 0.0:
+        w = masing_weight(st, par, e)
+        if w > 0.0:
+            f = f + (1.0 - f) * w
+    return f
 
 
 def _from(g, d, g0, t0, s, gr, fm, par, e):
@@ -326,20 +405,26 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
     if n == 0:  # first loading, or a loop closed onto the backbone: the backbone
         tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
-        return _envelope(g, d, tau, st, par, e, s)
+        return _envelope(g, d, tau, st, par, e, s, st[e, S_GC])
     tau = _open_stress(g, d, n, rev, st, par, e, s, gr, _mrdf(st, par, e, gr))
     if d * g > st[e, S_GM]:  # beyond the largest strain so far: not past the backbone
         tb = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
         if d * tau > d * tb:
             tau = tb
-    return _envelope(g, d, tau, st, par, e, s)
+    g0, _ = _open_point(n - 1, n, rev, st, e)
+    return _envelope(g, d, tau, st, par, e, s, g0)
 
 
 def tangent(g, d, tau, st, par, e, s, gr):
     """One-sided difference dτ/dγ [Pa] at ``g`` in direction ``d`` (≥ 0), ``tau`` the stress
-    there: the Newton iterations' stiffness."""
+    there: the Newton iterations' stiffness. An element that has not moved yet (no direction: its
+    backbone is odd and ``d`` only a guess) takes the central difference, the same for ±γ, so that
+    a motion and its mirror image are solved alike."""
     h = (1e-6 * gr + 1e-9 * abs(g)) * d
-    k = (skeleton_stress(g + h, d, st, par, e, s, gr) - tau) / h
+    if st[e, S_DIR] == 0.0:
+        k = (skeleton_stress(g + h, d, st, par, e, s, gr) - skeleton_stress(g - h, d, st, par, e, s, gr)) / (2.0 * h)
+    else:
+        k = (skeleton_stress(g + h, d, st, par, e, s, gr) - tau) / h
     return k if k > 0.0 else 0.0
 
 
@@ -433,31 +518,113 @@ def commit(g, d, tau, st, par, e, s, t, gr):
     """Commit the converged strain ``g``, reached in direction ``d``, and stress ``tau`` [Pa] of
     element ``e`` at time ``t`` [s], with the sub-step's reference strain ``gr`` [-]: reversals
     and loop closure, the largest strain, damage and liquefaction. Returns the total damage."""
+    return commit_counted(g, d, tau, tau, st, par, e, s, t, gr)
+
+
+def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
+    """:func:`commit` with the damage counted on ``tau_count`` [Pa] instead of the skeleton stress
+    ``tau``: in the column, the shear stress the element carries, skeleton and rate (viscous) parts
+    together, as the laboratory's CSR is the stress applied to the specimen, whatever part of it
+    its rate carries."""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
-        _count_damage(g, tau, st, par, e)
+        _count_damage(g, tau_count, st, par, e)
     if d_old != 0.0 and d != d_old:  # the strain reversed at g_old: a new branch
         n, _ = _open_count(d, st, e)  # pushed: g_old, with the pairs it closes dropped
         st[e, S_STK + 2 * (n - 1)] = g_old
         st[e, S_STK + 2 * (n - 1) + 1] = st[e, S_T]
         st[e, S_NSTK] = n
-        if st[e, S_LIQ] > 0.0 and 0.5 * abs(g_old - st[e, S_GREV]) > par[e, P_GT]:
-            st[e, S_GD] = min(par[e, P_GLIM], st[e, S_GD] + par[e, P_DGD])
         st[e, S_GREV] = g_old
         st[e, S_NREV] += 1.0
     st[e, S_DIR] = d
     st[e, S_G] = g
     st[e, S_T] = tau / s
-    st[e, S_TAU] = tau
+    st[e, S_TAU] = tau_count
     _close_loops(g, d, st, par, e, s, gr)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
+    if st[e, S_LIQ] > 0.0:  # cyclic mobility: the zone widens with the strain travelled inside it
+        gc = st[e, S_GC]
+        gd = st[e, S_GD]
+        inside = min(max(g_old, g), gc + gd) - max(min(g_old, g), gc - gd)
+        if inside > 0.0 and gd < par[e, P_GLIM]:
+            st[e, S_GD] = min(par[e, P_GLIM], math.sqrt(gd * gd + par[e, P_DGD] * inside))
     if par[e, P_LIQ] > 0.0 and st[e, S_LIQ] == 0.0 and st[e, S_D] + st[e, S_DPART] >= 1.0:
         st[e, S_LIQ] = 1.0
         st[e, S_TLIQ] = t
-        st[e, S_GC] = 0.5 * (g + st[e, S_GREV])
     return st[e, S_D] + st[e, S_DPART]
+
+
+def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
+    """Commit the converged strain ``g`` (direction ``d``) of element ``e`` at effective vertical
+    stress ``ps`` [Pa] (before this sub-step's generation) with the pore pressure it generates
+    counted consistently: the stress that is committed and counted is the one the element carries
+    with the strength that its own damage leaves. Returns the committed stress [Pa]; the generated
+    ratio is then :func:`generated_ratio`, and P_s falls by q = (1 − r_new)/(1 − r_old).
+
+    Counted explicitly, at the stress of the strength before the sub-step, a strong half cycle
+    can raise r_g from 0.7 to 1 within one sub-step (damage ∝ CSR^(1/b), 1/b ≈ 10, and Seed–Booker's
+    dr/dD is unbounded at D = 1), and the strength, and the stress with it (reversal stresses are
+    stored as τ/τ_max), then drops by half at the next step: a jolt whose size is set by the step.
+    Here the strength factor q solves q = (1 − r(D(τ(q))))/(1 − r_old), τ(q) the skeleton stress at
+    ``g`` with the strength at q ps (the backward-Euler step of the generation; the right-hand side
+    falls as q rises, so the root is unique and found by regula falsi between the explicit factor
+    and 1): an element cannot count a stress that its own pore pressure has made it unable to carry.
+    The strength so falls only as fast as the motion keeps loading the element, a rate the time
+    step resolves. ``save``: a work row of NSTATE floats. ``tau_rate`` [Pa]: the rate (viscous) part
+    of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
+    s, gmx = strength_modulus(ps, par, e)
+    gr = s / gmx
+    tau = skeleton_stress(g, d, st, par, e, s, gr)
+    r_old = st[e, S_RG]
+    if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
+        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+        return tau
+    for k in range(NSTATE):
+        save[k] = st[e, k]
+    commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+    q1 = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old)
+    if q1 >= 1.0 - 1e-12 or s <= par[e, P_SR] * (1.0 + 1e-12):
+        return tau  # no generation, or the strength already at its floor: the explicit count holds
+    # φ(q) = q′(q) − q: φ(1) = q1 − 1 < 0, φ(q1) ≥ 0 (a lower strength, a lower stress, less damage)
+    lo, hi = q1, 1.0
+    f_hi = q1 - 1.0
+    f_lo = 0.0
+    q = q1
+    side = 0
+    for it in range(60):
+        if it == 0:
+            q = lo
+        else:
+            q = (lo * f_hi - hi * f_lo) / (f_hi - f_lo) if f_lo != f_hi else 0.5 * (lo + hi)
+            if not (lo < q < hi):
+                q = 0.5 * (lo + hi)
+        for k in range(NSTATE):
+            st[e, k] = save[k]
+        s, gmx = strength_modulus(ps * q, par, e)
+        gr = s / gmx
+        tau = skeleton_stress(g, d, st, par, e, s, gr)
+        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+        f = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old) - q
+        if it == 0:
+            if f <= 0.0:
+                return tau  # not bracketed (a turning point of the count): the explicit factor
+            f_lo = f
+            continue
+        if abs(f) <= 1e-15 * q or hi - lo <= 1e-15 * hi:  # to round-off: the root, not the path to it
+            return tau
+        if f > 0.0:
+            lo, f_lo = q, f
+            if side == 1:
+                f_hi *= 0.5  # Illinois: the end that stays is halved
+            side = 1
+        else:
+            hi, f_hi = q, f
+            if side == -1:
+                f_lo *= 0.5
+            side = -1
+    return tau
 
 
 def generated_ratio(st, par, e):

@@ -3,8 +3,12 @@
 One vertical step's shear sub-steps: Newmark average acceleration (β = 1/4, γ = 1/2) on linear
 elements with consistent mass (:mod:`twofluid.models.shear_column` has the equations and the
 compliant base), Newton iterations on the element stresses of
-:mod:`twofluid.closures.hysteretic`, then each element's commit (reversals, damage) and the
-pore-pressure generation as a change of n̄. The small-strain viscous floor is Rayleigh damping:
+:mod:`twofluid.closures.hysteretic` with each element's branch (its direction of motion) fixed,
+then a check of each branch against the direction the converged strain moved (the sub-step is
+solved again where one was wrong: an element whose motion reversed within the sub-step is not
+committed on its loading branch), then each element's commit (reversals, damage) and the
+pore-pressure generation as a change of n̄, counted at the stress the generation leaves
+(:func:`twofluid.closures.hysteretic.commit_generating`) on the element's whole shear stress. The small-strain viscous floor is Rayleigh damping:
 mass-proportional a0 ρ̄ u̇ and stiffness-proportional a1 G_max(P_s) γ̇ with the *current*
 small-strain modulus (not the tangent, which is zero while the skeleton yields, and not the
 initial one, which would keep a viscous strength after liquefaction), plus the liquefied-soil
@@ -31,7 +35,7 @@ import numpy as np
 
 from ..closures import hysteretic as _law
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_LIQ, P_SIG0, S_EPS, S_RG
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_GC, S_GD, S_RG
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
@@ -70,6 +74,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     dirn = np.empty(ne)
     g_prev = np.empty(ne)
     t_prev = np.empty(ne)
+    psv = np.zeros(ne)
+    flips = np.zeros(ne, dtype=np.int64)
+    save = np.empty(st.shape[1])
     c0 = 1.0 / (nm_beta * dt * dt)
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
@@ -83,6 +90,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 one_m = 1.0 - nn[e]
                 if one_m > 0.0:
                     ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
+            psv[e] = ps
             se, ge = _law.strength_modulus(ps, par, e)
             if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
                 return 2
@@ -100,54 +108,90 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         if first == 1:
             un[0] = 0.0
         for e in range(ne):  # each element's branch, fixed for the iterations: the predictor's
-            dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
-        converged = False
-        relax = 1.0
-        for it in range(max_iter):
-            if it == 25:
-                relax = 0.5  # still alternating: damped
-            _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
-            _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
-            if body != 0.0:
-                _body_force(m1, body, first, res)
+            # (a predicted motion within round-off, 1e-9 γ_r, keeps the last direction: no reversal)
+            dgp = (un[e + 1] - un[e]) / h[e] - st[e, 0]
+            if abs(dgp) <= 1e-9 * gr[e] and st[e, S_DIR] != 0.0:
+                dirn[e] = st[e, S_DIR]
+            else:
+                dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
+        for e in range(ne):
+            flips[e] = 0
+        for sweep in range(4):
+            # Newton's iterations with each element's branch fixed; then each element's branch is
+            # checked against the direction its converged strain actually moved: an element whose
+            # predictor pointed one way while the motion reversed would otherwise be committed on the
+            # wrong branch (held at its yield stress while it unloads), and the next sub-step would
+            # correct it, step after step: a chatter between branches at the sub-step's period
+            converged = False
+            relax = 1.0
+            for it in range(max_iter):
+                if it == 25:
+                    relax = 0.5  # still alternating: damped
+                _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
+                _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
+                if body != 0.0:
+                    _body_force(m1, body, first, res)
+                for e in range(ne):
+                    g = (un[e + 1] - un[e]) / h[e]
+                    te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                    res[e] -= te
+                    res[e + 1] += te
+                    if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
+                        # the chord between the last two iterates: iterates that alternate across a kink
+                        # of the strength envelope converge like regula falsi instead of cycling
+                        ke = (te - t_prev[e]) / (g - g_prev[e])
+                        kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
+                    else:
+                        kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
+                    g_prev[e] = g
+                    t_prev[e] = te
+                _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
+                _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
+                dmax = 0.0
+                umax = 0.0
+                for j in range(first, nv):
+                    if not math.isfinite(du[j]):
+                        return 2
+                    un[j] += relax * du[j]
+                    if abs(du[j]) > dmax:
+                        dmax = abs(du[j])
+                for j in range(nv):
+                    if abs(un[j]) > umax:
+                        umax = abs(un[j])
+                if dmax <= tol * max(umax, 1e-9):
+                    converged = True
+                    break
+            if not converged:
+                break
+            changed = 0
             for e in range(ne):
-                g = (un[e + 1] - un[e]) / h[e]
-                te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
-                res[e] -= te
-                res[e + 1] += te
-                if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
-                    # the chord between the last two iterates: iterates that alternate across a kink
-                    # of the strength envelope converge like regula falsi instead of cycling
-                    ke = (te - t_prev[e]) / (g - g_prev[e])
-                    kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
-                else:
-                    kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
-                g_prev[e] = g
-                t_prev[e] = te
-            _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
-            _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
-            dmax = 0.0
-            umax = 0.0
-            for j in range(first, nv):
-                if not math.isfinite(du[j]):
-                    return 2
-                un[j] += relax * du[j]
-                if abs(du[j]) > dmax:
-                    dmax = abs(du[j])
-            for j in range(nv):
-                if abs(un[j]) > umax:
-                    umax = abs(un[j])
-            if dmax <= tol * max(umax, 1e-9):
-                converged = True
+                dg = (un[e + 1] - un[e]) / h[e] - st[e, 0]  # from the committed strain (column S_G)
+                # (a motion above round-off, 1e-9 γ_r, far below any strain increment of shaking)
+                if dg * dirn[e] >= 0.0:
+                    continue
+                if st[e, S_DIR] == 0.0 and abs(dg + st[e, 0] - st[e, S_GC]) <= st[e, S_GD]:
+                    dirn[e] = -dirn[e]  # not moved before, on the backbone: the same stress either way
+                elif abs(dg) > 1e-9 * gr[e] and flips[e] == 0:
+                    dirn[e] = -dirn[e]
+                    flips[e] = 1  # once: an element at its reversal point keeps the second choice
+                    changed += 1
+            if changed == 0:
                 break
         if not converged:
             return 1
         _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
-            te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
-            tau_out[e] = te + (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])
-            _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
+            virgin = st[e, S_DIR] == 0.0 and g == st[e, 0]
+            tv = (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress
+            if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
+                te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv)
+            else:
+                te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
+            tau_out[e] = te + tv
+            if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
+                st[e, S_DIR] = 0.0
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
                 r_new = _law.generated_ratio(st, par, e)
@@ -244,11 +288,12 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._envelope,
+_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._dilation, _law._envelope,
+                          _law.masing_weight,
                           _law._branch, _law._mrdf, _law._from, _law._open_count, _law._open_point,
                           _law._open_stress, _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
-                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.seed_booker,
-                          _law.generated_ratio)
+                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted, _law.seed_booker,
+                          _law.generated_ratio, _law.commit_generating)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
 

@@ -44,9 +44,9 @@ K0 = 0.5  # at-rest earth pressure coefficient of the element tests and of σ′
 #: defaults of the parameters that are not correlations (docs/liquefaction.md states each)
 DEFAULTS = {
     "gamma_threshold": 5e-5,  # no damage below (|Δγ|/2 ≤ γ_t), full above 2 γ_t [-]
-    "gamma_dilation": 0.02,  # dilation restores σ′_v0 tan φ′ over this strain beyond γ_d [-]
+    "gamma_dilation": 0.10,  # dilation restores σ′_v0 tan φ′ over this strain beyond γ_d [-]
     "gamma_d0": 0.005,  # zone without dilation before liquefaction [-]
-    "gamma_d_steps": 100.0,  # γ_d widens by γ_lim/100 per liquefied half cycle [-]
+    "gamma_d_steps": 100.0,  # γ_d widens by γ_lim/100 per crossing of the zone once liquefied [-]
     "alpha": 0.7,  # Seed–Booker shape [-]
     "r_cap": 0.999,  # largest generated ratio [-]
 }
@@ -104,7 +104,7 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
 
     >>> p = parameters(sigma_v0=[50e3, 100e3], n160cs=10.0)
     >>> p.shape, bool(p[1, law.P_SR] > p[0, law.P_SR])
-    ((2, 25), True)
+    ((2, 26), True)
     """
     sig = np.atleast_1d(np.asarray(sigma_v0, dtype=float))
     ne = sig.size

@@ -362,7 +362,8 @@ class LiquefactionColumn:
                        else sand.shear_viscosity(np.zeros(ns)))
         self._kernel = self._kernel_arguments() if fast_shear and hysteretic is None else None
         # the hysteretic law's (n_all, NPARAM) parameters, saturated elements first (None: thesis laws)
-        self.hysteretic = None if hysteretic is None else np.ascontiguousarray(hysteretic, dtype=float)
+        # a copy: the column writes its static shear into it (P_TAUS)
+        self.hysteretic = None if hysteretic is None else np.array(hysteretic, dtype=float, order="C")
         if self.hysteretic is not None and self.hysteretic.shape[0] != nt:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
@@ -437,6 +438,7 @@ class LiquefactionColumn:
         for e in range(ne):
             p = float(ps[e]) if e < self.n_sat else 0.0
             gam[e] = _hyst_law.static_state(st, self.hysteretic, e, float(tau[e]), p)
+            self.hysteretic[e, _hyst_law.P_TAUS] = tau[e]  # the law's flow-liquefaction rule reads it
             if not np.isfinite(gam[e]):
                 s_e = _hyst_law.strength_modulus(p, self.hysteretic, e)[0]
                 raise ValueError(f"element {e} (depth {self.depth_all[e]:.3g} m): the static shear "
