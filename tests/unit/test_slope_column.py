@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from twofluid.casefile.loader import case_text, load_case
+from twofluid.casefile.loader import case_text
 from twofluid.cli import main
 from twofluid.casefile.schema import CaseError
 from twofluid.closures import hysteretic as law
@@ -25,17 +25,7 @@ from twofluid.geotech import lateral_spread as ls
 from twofluid.models.liquefaction_1d import ColumnState
 from twofluid.runners.common import run_case
 from twofluid.runners.liquefaction import build_column
-
-CASE = "sloping-site"
-
-
-def _case(**edits):
-    c = load_case(CASE)
-    c["output"]["plots"] = False
-    for k, v in edits.items():
-        sec, key = k.split("__")
-        c[sec][key] = v
-    return c
+from slope_cases import CASE, sloping_case as _case
 
 
 @pytest.mark.parametrize("value", ["-1.0", "10.5", "\"3\"", "nan"])

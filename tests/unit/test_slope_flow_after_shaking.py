@@ -25,23 +25,13 @@ import warnings
 import numpy as np
 import pytest
 
-from twofluid.casefile.loader import case_text, load_case
+from twofluid.casefile.loader import case_text
 from twofluid.cli import main
 from twofluid.models.liquefaction_1d import FlowStop
 from twofluid.models.shear_column import WaveState
 from twofluid.runners.common import run_case
 from twofluid.runners.liquefaction import build_column
-
-CASE = "sloping-site"
-
-
-def _case(**edits):
-    c = load_case(CASE)
-    c["output"]["plots"] = False
-    for k, v in edits.items():
-        sec, key = k.split("__")
-        c[sec][key] = v
-    return c
+from slope_cases import CASE, sloping_case as _case
 
 
 def _run(c):

@@ -147,17 +147,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     t_prev[e] = te
                 _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
                 _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
-                dmax = 0.0
-                umax = 0.0
-                for j in range(first, nv):
-                    if not math.isfinite(du[j]):
-                        return 2
-                    un[j] += relax * du[j]
-                    if abs(du[j]) > dmax:
-                        dmax = abs(du[j])
-                for j in range(nv):
-                    if abs(un[j]) > umax:
-                        umax = abs(un[j])
+                dmax, umax = _nb.newton_update(un, du, first, relax)
+                if dmax < 0.0:
+                    return 2
                 if dmax <= tol * max(umax, 1e-9):
                     converged = True
                     break

@@ -14,6 +14,8 @@ that call them (:mod:`twofluid.models.hysteretic_kernel`, :mod:`twofluid.models.
 """
 from __future__ import annotations
 
+import math
+
 __all__ = ["consistent_mass", "damping_bands", "jacobian_bands", "thomas", "newmark_rates", "inertia_residual"]
 
 
@@ -97,4 +99,23 @@ def inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res):
         res[e + 1] += mo[e] * acc[e] + co[e] * vel[e]
 
 
-HELPERS = (consistent_mass, damping_bands, jacobian_bands, thomas, newmark_rates, inertia_residual)
+def newton_update(un, du, first, relax):
+    """un += relax du on the free nodes (from ``first``): returns the largest |du| there and the
+    largest |un| after the update, or (−1, 0) where du has a non-finite entry (un then partly
+    updated: the caller abandons the iterate)."""
+    dmax = 0.0
+    for j in range(first, un.size):
+        if not math.isfinite(du[j]):
+            return -1.0, 0.0
+        un[j] += relax * du[j]
+        if abs(du[j]) > dmax:
+            dmax = abs(du[j])
+    umax = 0.0
+    for j in range(un.size):
+        if abs(un[j]) > umax:
+            umax = abs(un[j])
+    return dmax, umax
+
+
+HELPERS = (consistent_mass, damping_bands, jacobian_bands, thomas, newmark_rates, inertia_residual,
+           newton_update)

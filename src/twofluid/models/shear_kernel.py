@@ -108,15 +108,9 @@ def _substeps(u, v, a, gamma, tau, nb, eps_v, gamma_a, hist_g, direction, path, 
                 kk[e] = gmax[e] * (1.0 / (x * x)) / h[e]
             _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
             _nb.thomas(jd, jo, res, first, cp, dp, du)  # J du = −res on the free nodes
-            dmax = 0.0
-            umax = 0.0
-            for j in range(first, nv):
-                if not math.isfinite(du[j]):
-                    return 1
-                un[j] += du[j]
-                dmax = max(dmax, abs(du[j]))
-            for j in range(nv):
-                umax = max(umax, abs(un[j]))
+            dmax, umax = _nb.newton_update(un, du, first, 1.0)
+            if dmax < 0.0:
+                return 1
             if dmax <= tol * max(umax, 1e-9):
                 converged = True
                 break
