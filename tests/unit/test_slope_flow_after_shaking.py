@@ -164,6 +164,32 @@ def test_bad_flow_keys_are_one_line_and_exit_2(key, value, tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("slope, warned", [("0.0", True), ("3.0", False)])
+def test_flow_keys_on_level_ground_warn_that_they_are_ignored(slope, warned, tmp_path):
+    """The flow keys act on a sloping site only: given on level ground they are a CaseWarning naming
+    them (as other keys without effect); on a slope, or left at their defaults, no such warning."""
+    from twofluid.casefile.loader import load_case
+    from twofluid.casefile.schema import CaseWarning
+
+    text = case_text(CASE).replace("slope = 3.0", f"slope = {slope}")
+    text = re.sub(r"^flow_velocity = [^ ]+", "flow_velocity = 2.0e-5", text, count=1, flags=re.M)
+    text = text.replace("[shear_wave]\n", "[shear_wave]\nflow_step = 0.05\n")
+    path = tmp_path / "case.toml"
+    path.write_text(text)
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        load_case(str(path))
+    flow = [str(w.message) for w in got if issubclass(w.category, CaseWarning) and "level ground" in str(w.message)]
+    if warned:
+        assert len(flow) == 1 and "[shear_wave] flow_step, flow_velocity, flow_window: ignored on level ground" in flow[0], flow
+    else:
+        assert flow == []
+    with warnings.catch_warnings(record=True) as got:  # the defaults alone: nothing to warn of
+        warnings.simplefilter("always")
+        load_case("liquefaction-layered-site")
+    assert not [w for w in got if "level ground" in str(w.message)]
+
+
 def test_a_run_that_ends_while_the_column_flows_says_so():
     c = _case(ground_motion__duration=4.0, time__end=12.0, site__slope=5.0, output__times=[10.0])
     c["shear_wave"]["free_vibration"] = 4.0

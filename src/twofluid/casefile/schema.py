@@ -16,7 +16,7 @@ from typing import Any
 from .case import nest, sections
 
 __all__ = ["Key", "SCHEMA", "INITIAL_1D", "SCHEMAS", "COMMON", "register_model", "CaseError", "CaseWarning",
-           "validate", "revalidate", "effective", "markdown", "check_schedule", "given_keys"]
+           "validate", "revalidate", "effective", "markdown", "check_schedule", "given_keys", "given_section_keys"]
 
 REQUIRED = object()
 #: every number of a case lies in ±[WORKING_MIN, WORKING_MAX] or is 0: no quantity of the model
@@ -222,6 +222,15 @@ def given_keys(array: str, i: int) -> set:
     return entries[i] if i < len(entries) else set()
 
 
+_SECTIONS = "[sections]"  # the key of the sections' given keys in _GIVEN (not an array's name)
+
+
+def given_section_keys(section: str) -> set:
+    """The keys the case file gave in ``[section]`` (dotted for nested sections, e.g. "closures.drag"),
+    for a model's check, as :func:`given_keys` for an array's entries."""
+    return _GIVEN.get().get(_SECTIONS, {}).get(section, set())
+
+
 def register_model(model: str, sections: dict[str, list[Key]], check=None,
                    arrays: dict[str, list[Key]] | None = None,
                    ignored: dict[str, dict[str, str]] | None = None) -> None:
@@ -364,7 +373,8 @@ def validate(doc: dict, source: str = "<case>", name: str = "case") -> dict:
                 unused.append(f"{source}: [{where}] {key}: ignored ({why})")
     check = MODEL_CHECKS.get(case["model"])
     if check is not None:
-        token = _GIVEN.set({name: [set(item) for item in tables.get(name, [])] for name in arrays})
+        token = _GIVEN.set({**{name: [set(item) for item in tables.get(name, [])] for name in arrays},
+                            _SECTIONS: {where: set(keys) for where, keys in flat.items()}})
         try:
             check(resolved, source)
         finally:

@@ -23,7 +23,8 @@ import numpy as np
 
 from ..geotech.profile import SIGMA_EFF_MAX_PA
 from ..io.tables import TableError, read_columns
-from .schema import FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, given_keys, register_model
+from .schema import (FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, given_keys, given_section_keys,
+                     register_model)
 
 __all__ = ["SECTIONS_LIQUEFACTION", "LAYER_KEYS", "check_liquefaction", "report_depths", "case_relative_path",
            "load_motion",
@@ -352,6 +353,11 @@ def check_liquefaction(case: dict, source: str) -> None:
     _warn_liquefied_site_record(case, source)
     for i, table in enumerate(tables):  # last: a warning only for a valid case
         _warn_softening(case, source, i, table)
+    flow = sorted(k for k in _FLOW_KEYS if k in given_section_keys("shear_wave"))
+    if flow and case["site"]["slope"] == 0.0:
+        warnings.warn(CaseWarning(f"{source}: [shear_wave] {', '.join(flow)}: ignored on level ground ([site] "
+                                  "slope = 0: the shear wave stops free_vibration seconds after the shaking; "
+                                  "these keys act on a sloping site only)"), stacklevel=3)
     for i, wet in enumerate(saturated(case)):
         la = case["layers"][i]
         given = [k for k in _SATURATED_ONLY if not wet and la[k] > 0.0]
@@ -364,6 +370,9 @@ def check_liquefaction(case: dict, source: str) -> None:
             warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} k2max: ignored (shear_wave_velocity = "
                                       f"{la['shear_wave_velocity']:g} m/s gives G_max; k2max is used only when "
                                       "shear_wave_velocity is 0)"), stacklevel=3)
+
+
+_FLOW_KEYS = ("flow_velocity", "flow_window", "flow_max", "flow_step")  # a sloping site's flow after the shaking
 
 
 def _check_slope(case: dict, source: str) -> None:
