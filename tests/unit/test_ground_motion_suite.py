@@ -224,23 +224,37 @@ def _arias_t95(name: str) -> float:
     return float(m.time[np.searchsorted(ia / ia[-1], 0.95)])
 
 
-def test_the_five_motion_ensemble_validates_and_expands_to_ten_members():
-    spec = load_ensemble("layered-site-five-motions")
-    assert spec.base["case"]["name"] == "liquefaction-layered-site"
+def _five_motion_members(name: str, base: str, pga: float) -> list:
+    """The members of the bundled five-motion ensemble ``name`` on case ``base``: ten, valid and
+    distinct, each input record once per polarity at ``pga`` [g], on the compliant base, with the
+    record's own M_w."""
+    spec = load_ensemble(name)
+    assert spec.base["case"]["name"] == base
     ms = members(spec)
     assert len(ms) == 10 and not [m.error for m in ms if m.error]
     assert len({m.hash for m in ms}) == 10
     seen = set()
     for m in ms:
         g = m.case["ground_motion"]
-        assert g["pga_g"] == 0.15 and m.case["shear_wave"]["base"] == "compliant"
-        b = gm.BUNDLED[g["file"]]
-        assert b.input_motion
-        assert g["magnitude"] == b.magnitude  # the zipped magnitudes line up with the records
-        # each record shakes through 95 % of its Arias intensity and no longer than it lasts
-        assert _arias_t95(g["file"]) <= g["duration"] < _arias_t95(g["file"]) + 0.5
+        assert g["pga_g"] == pga and m.case["shear_wave"]["base"] == "compliant"
+        assert g["magnitude"] == gm.BUNDLED[g["file"]].magnitude  # the zipped magnitudes line up with the records
         seen.add((g["file"], g["polarity"]))
     assert seen == {(name, p) for name in INPUTS for p in (1, -1)}
+    return ms
+
+
+def test_the_five_motion_ensemble_validates_and_expands_to_ten_members():
+    for m in _five_motion_members("layered-site-five-motions", "liquefaction-layered-site", 0.15):
+        g = m.case["ground_motion"]
+        assert gm.BUNDLED[g["file"]].input_motion
+        # each record shakes through 95 % of its Arias intensity and no longer than it lasts
+        assert _arias_t95(g["file"]) <= g["duration"] < _arias_t95(g["file"]) + 0.5
+
+
+def test_the_sloping_five_motion_ensemble_expands_to_ten_members():
+    """The sloping site under the five input records, both polarities (checked without running it)."""
+    for m in _five_motion_members("sloping-site-five-motions", "sloping-site", 0.25):
+        assert m.case["site"]["slope"] == 3.0 and m.case["shear_wave"]["flow_velocity"] > 0.0
 
 
 def test_the_input_folder_gives_the_five_inputs_and_not_the_liquefied_site_record():
