@@ -56,7 +56,15 @@ reversal, and 8 overflowed in the PySeismoSoil benchmark).
 
 and when loading outwards beyond γ_d the stress gains the dilation stress gained since the
 branch's origin γ_0, τ_d(γ) − τ_d(γ_0) (τ_d(γ) from inside the zone: additive, so it is continuous
-at the onset, and at a reversal within the dilation zone too); a branch from a reversal above τ_max (a dilated state) is widened by
+at the onset, and at a reversal within the dilation zone too). Each candidate branch carries its
+own gain: the current one from its reversal point, the outer branch its loop closes onto from that
+branch's origin, and the backbone that caps them beyond the largest strain so far from γ_c (so the
+cap is the envelope itself). Capped by the bare backbone τ_max Φ, a reversal at the peak of a
+dilated excursion followed by reloading outwards (a wiggle, or a sub-step's chatter between
+branches) dropped the stress from the envelope to about τ_max at once: a liquefied element on a
+slope, which rides on the downslope side of the zone, so lost its dilation stop at every such
+wiggle and ratcheted at its strength (24 % of strain in one element of the 3 % sloping site, which
+element was set by the step). A branch from a reversal above τ_max (a dilated state) is widened by
 κ = max(1, |d − τ_0/τ_max|/(1 + F)) in stress and strain, so that it still reaches d τ_max; a
 liquefied element takes Masing's branches (F = 1) between its dilation stops. γ_c is the strain
 the sand was consolidated at (0 on level ground, the static strain on a slope) and stays there;
@@ -371,10 +379,10 @@ def _open_stress(g, d, n, rev, st, par, e, s, gr, fm):
     branch that its loop closes onto (the one from the point before its target), before the
     backbone cap and the envelope [Pa]."""
     g0, t0 = _open_point(n - 1, n, rev, st, e)
-    tau = _from(g, d, g0, t0, s, gr, fm, par, e)
+    tau = _envelope(g, d, _from(g, d, g0, t0, s, gr, fm, par, e), st, par, e, s, g0)
     if n >= 3:
         g1, t1 = _open_point(n - 3, n, rev, st, e)
-        to = _from(g, d, g1, t1, s, gr, fm, par, e)
+        to = _envelope(g, d, _from(g, d, g1, t1, s, gr, fm, par, e), st, par, e, s, g1)
         if d * to < d * tau:
             tau = to
     return tau
@@ -400,19 +408,35 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     the current branch, the outer branch its loop closes onto and (beyond the largest strain so
     far) the backbone: a continuous function of ``g``, whose branches cross at the closure point
     (exactly so under constant strength), so Newton's iterates may pass it freely. Each branch is
-    an odd function of γ − γ_0, smooth through its origin."""
+    an odd function of γ − γ_0, smooth through its origin, and carries the dilation gained since its
+    own origin (the backbone since γ_c), so a wiggle at the peak of a dilated excursion reloads
+    onto the envelope, not onto τ_max:
+
+    >>> import numpy as np
+    >>> par = np.zeros((1, NPARAM)); par[0, P_K2] = 30.0; par[0, P_TANPHI] = 0.745; par[0, P_SR] = 4.5e3
+    >>> par[0, P_TH3:P_TH5 + 1] = 1.0; par[0, P_P1] = 1.0; par[0, P_GT] = 1e-4; par[0, P_CRR] = 0.1
+    >>> par[0, P_B] = 0.3; par[0, P_SIG0] = 70e3; par[0, P_LIQ] = 1.0; par[0, P_GDR] = 0.1
+    >>> par[0, P_ALPHA] = 0.7; par[0, P_RCAP] = 0.999; par[0, P_GD0] = 0.005; par[0, P_TAUS] = 3e3
+    >>> st = new_state(1, par); gc = static_state(st, par, 0, 3e3, 70e3)
+    >>> s, gm = strength_modulus(0.0, par, 0)  # liquefied: the residual strength S_r = 4.5 kPa
+    >>> taus = []
+    >>> for g in list(gc + np.linspace(0.001, 0.04, 40)) + [gc + 0.0399, gc + 0.0401]:  # out, back 0.01 %, out
+    ...     d = direction(g, st, 0); tau = skeleton_stress(g, d, st, par, 0, s, s / gm)
+    ...     _ = commit(g, d, tau, st, par, 0, s, 0.0, s / gm); taus.append(tau)
+    >>> [round(float(x) / 1e3, 1) for x in taus[-3:]]  # kPa: at 4 %, after the wiggle, past 4 % again
+    [14.7, 13.2, 14.8]
+    """
     n, rev = _open_count(d, st, e)
     th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
     if n == 0:  # first loading, or a loop closed onto the backbone: the backbone
         tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
         return _envelope(g, d, tau, st, par, e, s, st[e, S_GC])
     tau = _open_stress(g, d, n, rev, st, par, e, s, gr, _mrdf(st, par, e, gr))
-    if d * g > st[e, S_GM]:  # beyond the largest strain so far: not past the backbone
-        tb = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
+    if d * g > st[e, S_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
+        tb = _envelope(g, d, s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5), st, par, e, s, st[e, S_GC])
         if d * tau > d * tb:
             tau = tb
-    g0, _ = _open_point(n - 1, n, rev, st, e)
-    return _envelope(g, d, tau, st, par, e, s, g0)
+    return tau
 
 
 def tangent(g, d, tau, st, par, e, s, gr):
@@ -439,13 +463,15 @@ def _close_loops(g, d, st, par, e, s, gr):
         return
     fm = _mrdf(st, par, e, gr)
     while n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
-        ti = _from(g, d, st[e, S_STK + 2 * (n - 1)], st[e, S_STK + 2 * (n - 1) + 1], s, gr, fm, par, e)
-        to = _from(g, d, st[e, S_STK + 2 * (n - 3)], st[e, S_STK + 2 * (n - 3) + 1], s, gr, fm, par, e)
+        gi, go = st[e, S_STK + 2 * (n - 1)], st[e, S_STK + 2 * (n - 3)]
+        ti = _envelope(g, d, _from(g, d, gi, st[e, S_STK + 2 * (n - 1) + 1], s, gr, fm, par, e), st, par, e, s, gi)
+        to = _envelope(g, d, _from(g, d, go, st[e, S_STK + 2 * (n - 3) + 1], s, gr, fm, par, e), st, par, e, s, go)
         if d * ti < d * to:
             break
         n -= 2
     if d * g > st[e, S_GM]:
-        tb = s * _branch(g / gr, 0.0, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5])
+        tb = _envelope(g, d, s * _branch(g / gr, 0.0, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4],
+                                         par[e, P_TH5]), st, par, e, s, st[e, S_GC])
         if d * tb <= d * _open_stress(g, d, n, False, st, par, e, s, gr, fm):
             n = 0
     st[e, S_NSTK] = n
