@@ -2,7 +2,8 @@
 
 Runs ``sloping-site`` as shipped and with, one at a time: the PGA moved by ±1e-5 (relative), the
 steps (vertical, shear and flow) halved and quartered, the flow step alone halved, the loose layer's elements halved and quartered,
-the record reversed (polarity −1), and a PGA sweep; prints the surface displacement at the end,
+the record reversed (polarity −1), alone and with the steps or the loose layer's elements halved, the
+shear sub-step alone at 2.5 and 1.25 ms, the liquefied-soil viscosity 0 and 1e4 Pa s, and a PGA sweep; prints the surface displacement at the end,
 its relative change from the shipped case, the Zhang et al. (2004) and Newmark estimates beside
 it. Numbers in data/cases/sloping-site/README.md.
 
@@ -51,6 +52,20 @@ def _elements(f):
     return edit
 
 
+def _both(a, b):
+    def edit(c):
+        a(c)
+        b(c)
+    return edit
+
+
+def _viscosity(eta):
+    def edit(c):  # the liquefied-soil viscosity of the saturated layers
+        for la in c["layers"][1:]:
+            la["viscosity"] = eta
+    return edit
+
+
 def main() -> None:
     case = load_case("sloping-site")
     case["output"]["plots"] = False
@@ -62,6 +77,11 @@ def main() -> None:
                         ("flow step / 2", _steps(0.5, flow_only=True)),
                         ("loose elements / 2", _elements(0.5)), ("loose elements / 4", _elements(0.25)),
                         ("polarity -1", _set("ground_motion", "polarity", -1)),
+                        ("polarity -1, steps / 2", _both(_set("ground_motion", "polarity", -1), _steps(0.5))),
+                        ("polarity -1, loose elements / 2", _both(_set("ground_motion", "polarity", -1), _elements(0.5))),
+                        ("shear sub-step 2.5 ms", _set("shear_wave", "step", 0.0025)),
+                        ("shear sub-step 1.25 ms", _set("shear_wave", "step", 0.00125)),
+                        ("viscosity 0 Pa s", _viscosity(0.0)), ("viscosity 1e4 Pa s", _viscosity(1e4)),
                         ("PGA 0.10 g", _set("ground_motion", "pga_g", 0.10)),
                         ("PGA 0.15 g", _set("ground_motion", "pga_g", 0.15)),
                         ("PGA 0.20 g", _set("ground_motion", "pga_g", 0.20)),
