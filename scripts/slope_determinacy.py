@@ -1,11 +1,12 @@
 """The bundled sloping site's surface displacement under the issue-22 checks, measured (not timed).
 
 Runs ``sloping-site`` as shipped and with, one at a time: the PGA moved by ±1e-5 (relative), the
-steps (vertical, shear and flow) halved and quartered, the flow step alone halved, the loose layer's elements halved and quartered,
-the record reversed (polarity −1), alone and with the steps or the loose layer's elements halved, the
-shear sub-step alone at 2.5 and 1.25 ms, the liquefied-soil viscosity 0 and 1e4 Pa s, and a PGA sweep; prints the surface displacement at the end,
-its relative change from the shipped case, the Zhang et al. (2004) and Newmark estimates beside
-it. Numbers in data/cases/sloping-site/README.md.
+steps (vertical, shear and flow) halved and quartered, the flow step alone halved, the loose layer's
+elements halved and quartered, the record reversed (polarity −1), alone and with the steps or the
+loose layer's elements halved, the shear sub-step alone at 2.5 and 1.25 ms, the liquefied-soil
+viscosity 0 and 1e4 Pa s, and a PGA sweep; prints the surface displacement at the end, its relative
+change from the shipped case, the Zhang et al. (2004) and Newmark estimates beside it. Numbers in
+data/cases/sloping-site/README.md.
 
     python scripts/slope_determinacy.py
 """
