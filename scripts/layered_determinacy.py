@@ -13,11 +13,19 @@ its reference run:
 * ``viscosity``: the liquefied-soil viscosity 0 and 1e4 Pa s against 1e3 (settlement and liquefied
   thickness within 20 %);
 * ``undrained``: k = 1e-6 m/s (the simplified procedure's FS < 0.8 zone with the total-stress
-  run's a_max, and the settlement against Ishihara-Yoshimine).
+  run's a_max, and the settlement against Ishihara-Yoshimine);
+* ``isolation`` (not in the default set): the shaking of the site (k = 1e-6 m/s, or ``--k``) beside its total-stress
+  companion (the same column without pore-pressure generation), per element of the loose sand: peak
+  r_u, the time r_u passes 0.95, and the peak stress ratio |tau|/sigma'_v0 of both runs before the
+  first element liquefies and after it, beside the element's CRR and CRR 30^b, the stress ratio of
+  a single half cycle that liquefies it (D = 1 from one half cycle: N_L = 1/2).
 
-    python scripts/layered_determinacy.py [sweep] [mesh] [steps] [viscosity] [undrained] [--pga=0.15,0.2]
+    python scripts/layered_determinacy.py [sweep] [mesh] [steps] [viscosity] [undrained] [isolation]
+        [--pga=0.15,0.2] [--k=1e-6] [--set=gamma_dilation=0.02,gamma_d0=0.001]
 
-(all five by default; about 1.5 min of CPU). Numbers in docs/liquefaction.md, "The hysteretic model".
+(the first five by default; about 1.5 min of CPU). ``--set`` overrides defaults of the hysteretic
+law's parameters (:data:`twofluid.models.hysteretic_sand.DEFAULTS`) for every run, to measure what
+a parameter does. Numbers in docs/liquefaction.md, "The hysteretic model".
 """
 from __future__ import annotations
 
@@ -68,6 +76,59 @@ def run(pga: float, loose: float = 1.0, steps: float = 1.0, viscosity: float | N
             "ts_lp": s["shaking"]["peak_surface_acceleration_total_stress_low_passed_g"], "status": s["status"]}
 
 
+def isolation(pga: float, k: float = 1e-6) -> None:
+    """Print the per-element comparison of the ``isolation`` mode (module docstring) at ``pga`` [g]."""
+    from twofluid.closures import hysteretic as law
+    from twofluid.runners.liquefaction import build_column
+
+    case = load_case("liquefaction-layered-site")
+    case["output"]["plots"] = False
+    case["ground_motion"]["pga_g"] = pga
+    for la in case["layers"][1:]:
+        la["hydraulic_conductivity"] = k
+
+    def shake(total_stress):
+        c = copy.deepcopy(case)
+        if total_stress:
+            for la in c["layers"]:
+                la["liquefiable"] = False
+        b = build_column(c)
+        col = b.column
+        col.shear_only = total_stress
+        t, tau, ru = [], [], []
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for step in col.run(b.state, col.shear_end, b.dt, b.dt_after):
+                sh = np.asarray(step.state.shear)
+                t.append(step.state.t)
+                tau.append(sh[:, law.S_TAU].copy())
+                ru.append(np.asarray(col.excess_ratio(step.state)).copy())
+        return col, np.array(t), np.array(tau), np.array(ru)
+
+    col, t, tau, ru = shake(False)
+    _, t2, tau2, _ = shake(True)
+    par = col.hysteretic
+    ns = ru.shape[1]  # saturated elements first, from the base up
+    h = np.asarray(col.wave.h)
+    z = np.concatenate([[0.0], np.cumsum(h)])
+    depth = z[-1] - 0.5 * (z[1:] + z[:-1])
+    loose = [e for e in range(ns) if par[e, law.P_LIQ] > 0.0 and depth[e] < 8.0]
+    liq = ru > 0.95
+    first = t[np.argmax(liq.any(axis=1))] if liq.any() else t[-1]
+    print(f"\nisolation {pga:g} g, k = {k:g} m/s: first element liquefied at {first:.2f} s; peak |tau|/sigma'_v0 "
+          "effective-stress / total-stress run, before and after it")
+    print("| depth | CRR | CRR 30^b | peak r_u | r_u > 0.95 at | before: ES / TS | after: ES / TS | S_r/sigma'_v0 |")
+    print("|---|---|---|---|---|---|---|---|")
+    for e in sorted(loose, key=lambda i: depth[i]):
+        s0 = par[e, law.P_SIG0]
+        a, a2 = t <= first, t2 <= first
+        pk = lambda x, m: float(np.abs(x[m, e]).max() / s0) if m.any() else float("nan")
+        tl = f"{t[np.argmax(liq[:, e])]:.2f} s" if liq[:, e].any() else "-"
+        print(f"| {depth[e]:.2f} m | {par[e, law.P_CRR]:.3f} | {par[e, law.P_CRR] * 30.0 ** par[e, law.P_B]:.3f} | "
+              f"{ru[:, e].max():.2f} | {tl} | {pk(tau, a):.3f} / {pk(tau2, a2):.3f} | {pk(tau, ~a):.3f} / {pk(tau2, ~a2):.3f} | "
+              f"{par[e, law.P_SR] / s0:.3f} |", flush=True)
+
+
 def _fs_zone(table, limit):
     """[top, bottom] depth [m] of the rows of the simplified table with FS < ``limit`` (None: none)."""
     rows = [r for r in table if r["FS [-]"] < limit]
@@ -92,6 +153,21 @@ def main(argv) -> None:
     for a in argv:
         if a.startswith("--pga="):
             pgas = [float(x) for x in a[6:].split(",")]
+        if a.startswith("--set="):
+            from twofluid.models import hysteretic_sand
+            for kv in a[6:].split(","):
+                key, val = kv.split("=")
+                if key not in hysteretic_sand.DEFAULTS:
+                    sys.exit(f"layered_determinacy: --set {key}: not one of {', '.join(hysteretic_sand.DEFAULTS)}")
+                hysteretic_sand.DEFAULTS[key] = float(val)
+    k_iso = 1e-6
+    for a in argv:
+        if a.startswith("--k="):
+            k_iso = float(a[4:])
+    if what == ["isolation"]:
+        for pga in pgas:
+            isolation(pga, k_iso)
+        return
     print("| run | liquefied (shaking) | peak strain | settlement | surface PGA raw / 15 Hz | Sa(0.05 s) | Sa(0.1 s) |")
     print("|---|---|---|---|---|---|---|")
     base = {}
@@ -140,6 +216,9 @@ def main(argv) -> None:
             print(f"undrained {pga:g} g: FS < 0.8 (run a_max) {m['fs08_run']}, FS < 1.2 {m['fs12_run']}, liquefied {m['range']}; "
                   f"settlement {100 * m['settle']:.2f} cm, I-Y (run) {100 * m['iy_run']:.2f} cm, "
                   f"ratio {m['iy_run'] / max(m['settle'], 1e-12):.2f}")
+    if "isolation" in what:
+        for pga in pgas:
+            isolation(pga, k_iso)
 
 
 if __name__ == "__main__":
