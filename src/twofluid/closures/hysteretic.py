@@ -345,6 +345,19 @@ def _from(g, d, g0, t0, s, gr, fm, par, e):
                                         par[e, P_TH3], par[e, P_TH4], par[e, P_TH5])
 
 
+def _reversal_branch(g, d, g0, t0, st, par, e, s, gr, fm):
+    """Stress [Pa] at ``g`` of the branch from the reversal (``g0``, ``t0`` τ/τ_max) in direction
+    ``d`` (:func:`_from`) within the strength envelope, with the dilation gained since ``g0``."""
+    return _envelope(g, d, _from(g, d, g0, t0, s, gr, fm, par, e), st, par, e, s, g0)
+
+
+def _backbone(g, d, st, par, e, s, gr):
+    """Stress [Pa] of the backbone at ``g`` within the strength envelope, with the dilation gained
+    since the centre of the cycles γ_c (the cap beyond the largest strain so far)."""
+    return _envelope(g, d, s * _branch(g / gr, 0.0, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4],
+                                       par[e, P_TH5]), st, par, e, s, st[e, S_GC])
+
+
 def _open_count(d, st, e):
     """Open reversal points of element ``e`` while it moves in direction ``d`` from its committed
     state, and whether the last of them is the committed point itself (a reversal now, pushed at
@@ -379,10 +392,10 @@ def _open_stress(g, d, n, rev, st, par, e, s, gr, fm):
     branch that its loop closes onto (the one from the point before its target), before the
     backbone cap and the envelope [Pa]."""
     g0, t0 = _open_point(n - 1, n, rev, st, e)
-    tau = _envelope(g, d, _from(g, d, g0, t0, s, gr, fm, par, e), st, par, e, s, g0)
+    tau = _reversal_branch(g, d, g0, t0, st, par, e, s, gr, fm)
     if n >= 3:
         g1, t1 = _open_point(n - 3, n, rev, st, e)
-        to = _envelope(g, d, _from(g, d, g1, t1, s, gr, fm, par, e), st, par, e, s, g1)
+        to = _reversal_branch(g, d, g1, t1, st, par, e, s, gr, fm)
         if d * to < d * tau:
             tau = to
     return tau
@@ -427,13 +440,11 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     [14.7, 13.2, 14.8]
     """
     n, rev = _open_count(d, st, e)
-    th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
     if n == 0:  # first loading, or a loop closed onto the backbone: the backbone
-        tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
-        return _envelope(g, d, tau, st, par, e, s, st[e, S_GC])
+        return _backbone(g, d, st, par, e, s, gr)
     tau = _open_stress(g, d, n, rev, st, par, e, s, gr, _mrdf(st, par, e, gr))
     if d * g > st[e, S_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
-        tb = _envelope(g, d, s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5), st, par, e, s, st[e, S_GC])
+        tb = _backbone(g, d, st, par, e, s, gr)
         if d * tau > d * tb:
             tau = tb
     return tau
@@ -464,14 +475,13 @@ def _close_loops(g, d, st, par, e, s, gr):
     fm = _mrdf(st, par, e, gr)
     while n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
         gi, go = st[e, S_STK + 2 * (n - 1)], st[e, S_STK + 2 * (n - 3)]
-        ti = _envelope(g, d, _from(g, d, gi, st[e, S_STK + 2 * (n - 1) + 1], s, gr, fm, par, e), st, par, e, s, gi)
-        to = _envelope(g, d, _from(g, d, go, st[e, S_STK + 2 * (n - 3) + 1], s, gr, fm, par, e), st, par, e, s, go)
+        ti = _reversal_branch(g, d, gi, st[e, S_STK + 2 * (n - 1) + 1], st, par, e, s, gr, fm)
+        to = _reversal_branch(g, d, go, st[e, S_STK + 2 * (n - 3) + 1], st, par, e, s, gr, fm)
         if d * ti < d * to:
             break
         n -= 2
     if d * g > st[e, S_GM]:
-        tb = _envelope(g, d, s * _branch(g / gr, 0.0, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4],
-                                         par[e, P_TH5]), st, par, e, s, st[e, S_GC])
+        tb = _backbone(g, d, st, par, e, s, gr)
         if d * tb <= d * _open_stress(g, d, n, False, st, par, e, s, gr, fm):
             n = 0
     st[e, S_NSTK] = n

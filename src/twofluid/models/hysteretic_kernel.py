@@ -282,7 +282,8 @@ SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[
              "f8[::1], f8[::1], f8, f8, f8)")
 _HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._dilation, _law._envelope,
                           _law.masing_weight,
-                          _law._branch, _law._mrdf, _law._from, _law._open_count, _law._open_point,
+                          _law._branch, _law._mrdf, _law._from, _law._reversal_branch, _law._backbone,
+                          _law._open_count, _law._open_point,
                           _law._open_stress, _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted, _law.seed_booker,
                           _law.generated_ratio, _law.commit_generating)
