@@ -42,3 +42,22 @@ def test_k_alpha_leaves_level_ground_and_crust_alone():
     par = hs.parameters(sigma_v0=[100e3, 50e3], n160cs=10.0, g_max_fixed=[0.0, 40e6])
     out = hs.apply_k_alpha(par, [0.0, 0.1])
     np.testing.assert_array_equal(out, par)
+
+
+def test_biased_element_carries_its_static_shear_for_the_flow_rule(monkeypatch):
+    """The element test gives the law its static shear (P_TAUS) as the column does, so the
+    flow-liquefaction rule (no dilation on the side of a static shear above S_r) is the column's."""
+    from twofluid.models import element_test_hysteretic as et
+
+    seen = {}
+    real = et.hk.element_cycles
+
+    def spy(st, par, *args, **kw):
+        seen["taus"] = float(par[0, law.P_TAUS])
+        return real(st, par, *args, **kw)
+
+    monkeypatch.setattr(et.hk, "element_cycles", spy)
+    element_test(csr=0.12, n160cs=10.0, alpha=0.1, max_cycles=2)
+    assert seen["taus"] == pytest.approx(0.1 * 100e3, rel=1e-12)
+    element_test(csr=0.12, n160cs=10.0, max_cycles=2)
+    assert seen["taus"] == 0.0

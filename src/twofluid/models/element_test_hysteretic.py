@@ -65,6 +65,7 @@ def element_test(*, csr=None, gamma_amplitude=None, sigma_v0=100e3, n160cs=None,
     st = law.new_state(1, par)
     if alpha > 0.0:
         par = hs.apply_k_alpha(par, alpha)
+        par[0, law.P_TAUS] = alpha * sigma_v0  # as the column sets it: the flow-liquefaction rule reads it
         if not abs(law.static_state(st, par, 0, alpha * sigma_v0, sigma_v0)) < 1.0:
             raise ValueError(f"element_test: alpha = {alpha:g} is at or above the strength ratio "
                              f"tan phi' = {par[0, law.P_TANPHI]:.3g}")
