@@ -45,7 +45,7 @@ first element liquefies; the liquefied range (elements with r_u > 0.95 during th
 PGA (absolute acceleration of the surface node, raw) and the surface settlement at t = 10 s.
 
     python benchmarks/opensees_layered.py --pga 0.15 --k 1e-6 [--base compliant|rigid]
-        [--input force|relative] [--loose-set 50|40] [--dt 0.005] [--out DIR] [--json]
+        [--input force|relative] [--loose-set 50|40] [--loose-refine 0.5] [--dt 0.005] [--out DIR] [--json]
     python benchmarks/opensees_layered.py --dss 0.1,0.12,0.15,0.2 [--loose-set 50|40]
 
 ``--dss`` runs, instead of the site, undrained cyclic simple shear of the loose sand's set (one
@@ -118,6 +118,8 @@ def parse_args(argv=None):
                    help="compliant base: outcrop velocity as a base force, or outcrop acceleration as a uniform excitation")
     p.add_argument("--loose-set", type=int, choices=(40, 50), default=50,
                    help="PDMY02 suggested set of the loose sand (Dr %%)")
+    p.add_argument("--loose-refine", type=float, default=1.0,
+                   help="factor on the loose sand's element size (0.5 halves its elements)")
     p.add_argument("--dt", type=float, default=0.005, help="time step of the shaking [s]")
     p.add_argument("--tol", type=float, default=1e-4, help="NormDispIncr tolerance (the peer's)")
     p.add_argument("--out", default=None, help="folder for profile.csv and summary.json")
@@ -202,10 +204,10 @@ def dss(csr: float, dr: int, sigma_v: float = 100.0, freq: float = 1.0, n_max: f
     return dict(csr=csr, dr=dr, cycles=n, ru=ru, gamma=gam, K0=sig0[0] / sig0[1])
 
 
-def build_mesh():
+def build_mesh(layers):
     """Element heights and layer index from the base up; node elevations."""
     h, lay = [], []
-    for i, (_, thick, size, *_rest) in enumerate(LAYERS):
+    for i, (_, thick, size, *_rest) in enumerate(layers):
         n = int(round(thick / size))
         h += [thick / n] * n
         lay += [i] * n
@@ -237,7 +239,8 @@ def main(argv=None):
     t_start = time.perf_counter()
     layers = [list(la) for la in LAYERS]
     layers[1][3] = a.loose_set
-    h, lay, y = build_mesh()
+    layers[1][2] *= a.loose_refine
+    h, lay, y = build_mesh(layers)
     nele = h.size
     depth_total = y[-1]
     zc = depth_total - 0.5 * (y[1:] + y[:-1])          # element centre depths
