@@ -21,11 +21,13 @@ its reference run:
   a single half cycle that liquefies it (D = 1 from one half cycle: N_L = 1/2).
 
     python scripts/layered_determinacy.py [sweep] [mesh] [steps] [viscosity] [undrained] [isolation]
-        [--pga=0.15,0.2] [--k=1e-6] [--set=gamma_dilation=0.02,gamma_d0=0.001]
+        [--pga=0.15,0.2] [--k=1e-6] [--set=gamma_dilation=0.02,gamma_d0=0.001] [--b-min=0.34] [--sr-scale=1.5]
 
 (the first five by default; about 1.5 min of CPU). ``--set`` overrides defaults of the hysteretic
 law's parameters (:data:`twofluid.models.hysteretic_sand.DEFAULTS`) for every run, to measure what
-a parameter does. Numbers in docs/liquefaction.md, "The hysteretic model".
+a parameter does; ``--b-min`` raises the CSR-N slope b of every element to at least that value (the
+CRR at 15 cycles kept) and ``--sr-scale`` scales the residual strength, diagnostics that are not
+the shipped calibration. Numbers in docs/liquefaction.md, "The hysteretic model".
 """
 from __future__ import annotations
 
@@ -160,6 +162,20 @@ def main(argv) -> None:
                 if key not in hysteretic_sand.DEFAULTS:
                     sys.exit(f"layered_determinacy: --set {key}: not one of {', '.join(hysteretic_sand.DEFAULTS)}")
                 hysteretic_sand.DEFAULTS[key] = float(val)
+    for a in argv:
+        if a.startswith("--b-min=") or a.startswith("--sr-scale="):
+            from twofluid.models import hysteretic_sand
+            value, derive = float(a.split("=")[1]), hysteretic_sand.derive
+
+            def _derive(*args, _key=a[2:4], _value=value, _derive=derive, **kw):
+                out = _derive(*args, **kw)
+                if _key == "b-":
+                    out["b"] = max(out["b"], _value)
+                else:
+                    out["residual_strength"] *= _value
+                return out
+
+            hysteretic_sand.derive = _derive
     k_iso = 1e-6
     for a in argv:
         if a.startswith("--k="):
