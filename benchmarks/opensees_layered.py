@@ -131,6 +131,18 @@ def parse_args(argv=None):
     return p.parse_args(argv)
 
 
+
+def _static_transient(tol):
+    """The transient analysis of the gravity stages: Newton on NormDispIncr ``tol`` (50 iterations),
+    Newmark's average acceleration (no numerical damping), a banded solver."""
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", tol, 50, 0)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+
 def dss(csr: float, dr: int, sigma_v: float = 100.0, freq: float = 1.0, n_max: float = 100.0) -> dict:
     """Cycles of uniform stress-controlled undrained simple shear to r_u >= 0.98 or |gamma| >= 3 %.
 
@@ -167,13 +179,7 @@ def dss(csr: float, dr: int, sigma_v: float = 100.0, freq: float = 1.0, n_max: f
     ops.load(3, 0.0, -0.5 * sigma_v, 0.0)
     ops.load(4, 0.0, -0.5 * sigma_v, 0.0)
     ops.updateMaterialStage("-material", 1, "-stage", 0)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1.0e-8, 50, 0)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
+    _static_transient(1.0e-8)
     ops.analyze(100, 0.01)                  # ramp to sigma_v over 1 s
     ops.loadConst("-time", 0.0)
     ops.analyze(50, 10.0)                   # drain
@@ -318,13 +324,7 @@ def main(argv=None):
     g_stats = peer.Stats()
     for i in range(len(mats)):
         ops.updateMaterialStage("-material", i + 1, "-stage", 0)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1.0e-6, 50, 0)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
+    _static_transient(1.0e-6)
     peer.run_until(10 * 500.0, 500.0, g_stats)
     for i in range(len(mats)):
         ops.updateMaterialStage("-material", i + 1, "-stage", 1)
