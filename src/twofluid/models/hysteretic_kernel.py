@@ -77,6 +77,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     psv = np.zeros(ne)
     flips = np.zeros(ne, dtype=np.int64)
     save = np.empty(st.shape[1])
+    cst = np.empty((ne, _law.NCONST))  # each element's constants and its prepared branches for the
+    prep = np.empty((ne, _law.NPREP))  # sub-step's Newton iterations (closures.hysteretic._prepare)
     c0 = 1.0 / (nm_beta * dt * dt)
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
@@ -116,6 +118,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
+            c = _law._constants(st, par, e)
+            _law._store(cst, e, c)
+            _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], c))
         for sweep in range(4):
             # Newton's iterations with each element's branch fixed; then each element's branch is
             # checked against the direction its converged strain actually moved: an element whose
@@ -133,7 +138,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     _body_force(m1, body, first, res)
                 for e in range(ne):
                     g = (un[e + 1] - un[e]) / h[e]
-                    te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                    c = _law._constants_row(cst, e)
+                    q = _law._prepared_row(prep, e)
+                    te = _law._stress(g, q, c)
                     res[e] -= te
                     res[e + 1] += te
                     if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
@@ -142,7 +149,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                         ke = (te - t_prev[e]) / (g - g_prev[e])
                         kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
                     else:
-                        kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
+                        kk[e] = _law._tangent(g, te, q, c) / h[e]
                     g_prev[e] = g
                     t_prev[e] = te
                 _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
@@ -167,6 +174,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     dirn[e] = -dirn[e]
                     flips[e] = 1  # once: an element at its reversal point keeps the second choice
                     changed += 1
+                else:
+                    continue
+                _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e)))
             if changed == 0:
                 break
         if not converged:
@@ -179,7 +189,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
                 te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv)
             else:
-                te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                te = _law._stress(g, _law._prepared_row(prep, e), _law._constants_row(cst, e))
                 _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
             tau_out[e] = te + tv
             if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
@@ -280,11 +290,12 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._dilation, _law._envelope,
-                          _law.masing_weight,
-                          _law._branch, _law._mrdf, _law._from, _law._reversal_branch, _law._backbone,
-                          _law._open_count, _law._open_point,
-                          _law._open_stress, _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
+_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law._bb.gqh_core_c, _law.gqh_ratio, _law.strength_modulus,
+                          _law._constants, _law._gqh, _law._dil, _law._dilation, _law._env, _law.masing_weight,
+                          _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
+                          _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
+                          _law._stress, _law._tangent, _law._store, _law._constants_row, _law._prepared_row,
+                          _law.skeleton_stress, _law.tangent, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted, _law.seed_booker,
                           _law.generated_ratio, _law.commit_generating)
 
