@@ -241,6 +241,8 @@ def strength_modulus(ps, par, e):
 # and evaluates the stress many times per sub-step without recomputing them (the MRDF factor, θ3^θ5,
 # the branches' origins) and without passing arrays (each array argument of a compiled call costs a
 # reference count); :func:`skeleton_stress` and :func:`tangent` are the same two steps in one call.
+# Each returns the stress and its derivative dτ/dγ together (one power and one root per backbone
+# evaluation serve both), the derivative of the branch that sets the stress: Newton's stiffness.
 C_TH1, C_TH2, C_C3, C_TH4, C_TH5 = 0, 1, 2, 3, 4  # GQ/H θ1, θ2, θ3^θ5, θ4, θ5
 C_LIQ, C_TAUS, C_SR, C_GDR, C_TDMAX = 5, 6, 7, 8, 9  # P_LIQ, τ_s, S_r, γ_dr, σ′_v0 tan φ′
 C_GC, C_GD = 10, 11  # γ_c, γ_d (state)
@@ -261,42 +263,48 @@ def _constants(st, par, e):
 
 
 def _gqh(x, c):
-    """:func:`gqh_ratio` with the constants ``c`` (:func:`_constants`)."""
+    """(:func:`gqh_ratio`, its slope d/dx) at x ≥ 0 with the constants ``c`` (:func:`_constants`)."""
     if x <= 0.0:
-        return 0.0
-    return _bb.gqh_core_c(x, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5])
+        return 0.0, 1.0
+    return _bb.gqh_core_slope_c(x, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5])
 
 
 def _dil(ex, c):
-    """Dilation stress τ_d ≥ 0 [Pa] at ``ex`` = γ − γ_c from the centre of the cycles (0 inside the
-    zone |ex| ≤ γ_d, in sand that generates no pore pressure, and on the side of a static shear τ_s
-    that exceeds the residual strength S_r: flow liquefaction, module docstring "Flow
-    liquefaction"); ``c`` the element's constants."""
+    """(τ_d ≥ 0 [Pa], dτ_d/dγ [Pa]): the dilation stress at ``ex`` = γ − γ_c from the centre of the
+    cycles (0 inside the zone |ex| ≤ γ_d, in sand that generates no pore pressure, and on the side of
+    a static shear τ_s that exceeds the residual strength S_r: flow liquefaction, module docstring
+    "Flow liquefaction"); ``c`` the element's constants."""
     over = abs(ex) - c[C_GD]
     if over <= 0.0 or c[C_LIQ] <= 0.0:
-        return 0.0
+        return 0.0, 0.0
     ts = c[C_TAUS]
     if ts * ex > 0.0 and abs(ts) > c[C_SR]:
-        return 0.0  # flow liquefaction: no dilation on the side of a static shear above S_r
+        return 0.0, 0.0  # flow liquefaction: no dilation on the side of a static shear above S_r
     r = over / c[C_GDR]
-    return c[C_TDMAX] * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
+    if r >= 1.0:
+        return c[C_TDMAX] * 1.0, 0.0  # capped
+    k = c[C_TDMAX] * 6.0 * r * (1.0 - r) / c[C_GDR]  # smooth onset: S(r) = r²(3 − 2r)
+    return c[C_TDMAX] * (r * r * (3.0 - 2.0 * r)), (k if ex > 0.0 else -k)
 
 
 def _dilation(ex, st, par, e):
     """Dilation stress τ_d ≥ 0 [Pa] of element ``e`` at ``ex`` = γ − γ_c (:func:`_dil`)."""
-    return _dil(ex, _constants(st, par, e))
+    return _dil(ex, _constants(st, par, e))[0]
 
 
-def _env(g, d, tau, s, ex0, td0, c):
-    """``tau`` limited by the strength envelope max(τ_max, τ_d), and raised by the dilation stress
-    gained since the branch's origin γ_0 (``ex0`` = γ_0 − γ_c, ``td0`` = τ_d there) when loading
-    outwards beyond γ_d (module docstring, "Cyclic mobility"): τ_d(γ) − τ_d(γ_0) where the origin
-    lies beyond γ_d on the same side, so a branch that turns back outwards within the dilation zone
-    starts from its reversal stress, not from τ_d above it (a jump at the reversal)."""
+def _env(g, d, tau, k, s, ex0, td0, c):
+    """(τ [Pa], dτ/dγ [Pa]): ``tau`` (slope ``k``) limited by the strength envelope max(τ_max, τ_d),
+    and raised by the dilation stress gained since the branch's origin γ_0 (``ex0`` = γ_0 − γ_c,
+    ``td0`` = τ_d there) when loading outwards beyond γ_d (module docstring, "Cyclic mobility"):
+    τ_d(γ) − τ_d(γ_0) where the origin lies beyond γ_d on the same side, so a branch that turns back
+    outwards within the dilation zone starts from its reversal stress, not from τ_d above it (a jump
+    at the reversal)."""
     upper = s
+    ku = 0.0
     lower = -s
+    kl = 0.0
     ex = g - c[C_GC]
-    td = _dil(ex, c)
+    td, kd = _dil(ex, c)
     if td > 0.0:
         gain = td
         if ex0 * ex > 0.0:
@@ -304,32 +312,41 @@ def _env(g, d, tau, s, ex0, td0, c):
         if ex > 0.0:
             if td > upper:
                 upper = td
+                ku = kd
             if d > 0.0 and gain > 0.0:
                 tau += gain
+                k += kd
         else:
             if -td < lower:
                 lower = -td
+                kl = -kd
             if d < 0.0 and gain > 0.0:
                 tau -= gain
+                k -= kd
     if tau > upper:
         tau = upper
+        k = ku
     if tau < lower:
         tau = lower
-    return tau
+        k = kl
+    return tau, k
 
 
 def _branch(y, fm, c):
-    """Φ(y) = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r: a Masing/MRDF branch over τ_max
-    (F = 0: the backbone f, F = 1: Masing's 2 f(y/2)); ``c`` the element's constants."""
+    """(Φ(y), dΦ/dy): Φ = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r, a Masing/MRDF branch
+    over τ_max (F = 0: the backbone f, F = 1: Masing's 2 f(y/2)); ``c`` the element's constants."""
     x = abs(y)
     if fm == 0.0:
-        phi = _gqh(x, c)
+        phi, k = _gqh(x, c)
     elif fm == 1.0:
-        phi = 2.0 * _gqh(0.5 * x, c)
+        f2, k = _gqh(0.5 * x, c)
+        phi = 2.0 * f2
     else:
-        f1 = _gqh(x, c)
-        phi = fm * (2.0 * _gqh(0.5 * x, c) - f1) + f1
-    return phi if y >= 0.0 else -phi
+        f1, k1 = _gqh(x, c)
+        f2, k2 = _gqh(0.5 * x, c)
+        phi = fm * (2.0 * f2 - f1) + f1
+        k = fm * (k2 - k1) + k1
+    return (phi if y >= 0.0 else -phi), k
 
 
 def masing_weight(st, par, e):
@@ -362,7 +379,7 @@ def _mrdf(st, par, e, gr, c):
         xm = st[e, S_GM] / gr
         red = 1.0
         if xm > 0.0:
-            red = _gqh(xm, c) / xm
+            red = _gqh(xm, c)[0] / xm
         f = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
     if par[e, P_LIQ] > 0.0:
         w = masing_weight(st, par, e)
@@ -379,27 +396,29 @@ def _origin(g0, t0, d, s, gr, fm, c):
     reaches the strength the other way (asymptote d τ_max)."""
     kappa = max(1.0, abs(d - t0) / (1.0 + fm)) if abs(t0) > 1.0 else 1.0
     ex0 = g0 - c[C_GC]
-    return g0, t0 * s, s * kappa, kappa * gr, ex0, _dil(ex0, c)
+    return g0, t0 * s, s * kappa, kappa * gr, ex0, _dil(ex0, c)[0]
 
 
 def _on(g, d, g0, ts0, sk, kg, ex0, td0, s, fm, c):
-    """Stress [Pa] at ``g`` of the branch in direction ``d`` from the origin (``g0``, ``ts0``, ``sk``,
-    ``kg``, ``ex0``, ``td0``: :func:`_origin`) within the strength envelope, with the dilation
-    gained since the origin."""
-    return _env(g, d, ts0 + sk * _branch((g - g0) / kg, fm, c), s, ex0, td0, c)
+    """(τ [Pa], dτ/dγ [Pa]) at ``g`` of the branch in direction ``d`` from the origin (``g0``,
+    ``ts0``, ``sk``, ``kg``, ``ex0``, ``td0``: :func:`_origin`) within the strength envelope, with the
+    dilation gained since the origin."""
+    phi, k = _branch((g - g0) / kg, fm, c)
+    return _env(g, d, ts0 + sk * phi, sk * k / kg, s, ex0, td0, c)
 
 
 def _reversal_branch(g, d, g0, t0, s, gr, fm, c):
     """Stress [Pa] at ``g`` of the branch from the reversal (``g0``, ``t0`` τ/τ_max) in direction
     ``d`` within the strength envelope, with the dilation gained since ``g0``."""
     o = _origin(g0, t0, d, s, gr, fm, c)
-    return _on(g, d, o[0], o[1], o[2], o[3], o[4], o[5], s, fm, c)
+    return _on(g, d, o[0], o[1], o[2], o[3], o[4], o[5], s, fm, c)[0]
 
 
 def _backbone(g, d, s, gr, c):
-    """Stress [Pa] of the backbone at ``g`` within the strength envelope, with the dilation gained
-    since the centre of the cycles γ_c (the cap beyond the largest strain so far)."""
-    return _env(g, d, s * _branch(g / gr, 0.0, c), s, 0.0, 0.0, c)
+    """(τ [Pa], dτ/dγ [Pa]) of the backbone at ``g`` within the strength envelope, with the dilation
+    gained since the centre of the cycles γ_c (the cap beyond the largest strain so far)."""
+    phi, k = _branch(g / gr, 0.0, c)
+    return _env(g, d, s * phi, s * k / gr, s, 0.0, 0.0, c)
 
 
 def _open_count(d, st, e):
@@ -476,34 +495,26 @@ def _prepare(d, st, par, e, s, gr, c):
 
 
 def _stress(g, q, c):
-    """:func:`skeleton_stress` at ``g`` from the prepared ``q`` (:func:`_prepare`) and the constants
-    ``c`` (:func:`_constants`) [Pa]."""
+    """(τ [Pa], dτ/dγ [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
+    (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), and the derivative of the
+    branch that sets it."""
     d = q[Q_D]
     s = q[Q_S]
     if q[Q_N] == 0.0:  # first loading, or a loop closed onto the backbone: the backbone
         return _backbone(g, d, s, q[Q_GR], c)
     fm = q[Q_FM]
-    tau = _on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
+    tau, k = _on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
     if q[Q_N] >= 3.0:  # the outer branch the current loop closes onto
-        to = _on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        to, ko = _on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
         if d * to < d * tau:
             tau = to
+            k = ko
     if d * g > q[Q_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
-        tb = _backbone(g, d, s, q[Q_GR], c)
+        tb, kb = _backbone(g, d, s, q[Q_GR], c)
         if d * tau > d * tb:
             tau = tb
-    return tau
-
-
-def _tangent(g, tau, q, c):
-    """:func:`tangent` at ``g``, ``tau`` the stress there, from the prepared ``q`` and constants ``c``."""
-    d = q[Q_D]
-    h = (1e-6 * q[Q_GR] + 1e-9 * abs(g)) * d
-    if q[Q_VIRGIN] != 0.0:
-        k = (_stress(g + h, q, c) - _stress(g - h, q, c)) / (2.0 * h)
-    else:
-        k = (_stress(g + h, q, c) - tau) / h
-    return k if k > 0.0 else 0.0
+            k = kb
+    return tau, k
 
 
 def _store(a, e, x):
@@ -553,16 +564,18 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     [14.7, 13.2, 14.8]
     """
     c = _constants(st, par, e)
-    return _stress(g, _prepare(d, st, par, e, s, gr, c), c)
+    return _stress(g, _prepare(d, st, par, e, s, gr, c), c)[0]
 
 
-def tangent(g, d, tau, st, par, e, s, gr):
-    """One-sided difference dτ/dγ [Pa] at ``g`` in direction ``d`` (≥ 0), ``tau`` the stress
-    there: the Newton iterations' stiffness. An element that has not moved yet (no direction: its
-    backbone is odd and ``d`` only a guess) takes the central difference, the same for ±γ, so that
-    a motion and its mirror image are solved alike."""
+def tangent(g, d, st, par, e, s, gr):
+    """dτ/dγ ≥ 0 [Pa] of :func:`skeleton_stress` at ``g`` in direction ``d``: the derivative of the
+    branch that sets the stress there, the Newton iterations' stiffness (0 where the skeleton yields).
+    Its backbone and its branches are odd functions about their origins, so an element that has not
+    moved yet (``d`` only a guess) has the same stiffness at ±γ, and a motion and its mirror image
+    are solved alike."""
     c = _constants(st, par, e)
-    return _tangent(g, tau, _prepare(d, st, par, e, s, gr, c), c)
+    k = _stress(g, _prepare(d, st, par, e, s, gr, c), c)[1]
+    return k if k > 0.0 else 0.0
 
 
 def _close_loops(g, d, st, par, e, s, gr):
@@ -584,7 +597,7 @@ def _close_loops(g, d, st, par, e, s, gr):
             break
         n -= 2
     if d * g > st[e, S_GM]:
-        tb = _backbone(g, d, s, gr, c)
+        tb = _backbone(g, d, s, gr, c)[0]
         if d * tb <= d * _open_stress(g, d, n, False, st, e, s, gr, fm, c):
             n = 0
     st[e, S_NSTK] = n
@@ -831,7 +844,7 @@ def static_state(st, par, e, tau_static, ps):
         else:
             hi = mid
     g = d * hi * gr
-    tau = s * _branch(g / gr, 0.0, _constants(st, par, e))
+    tau = s * _branch(g / gr, 0.0, _constants(st, par, e))[0]
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau

@@ -140,16 +140,14 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     g = (un[e + 1] - un[e]) / h[e]
                     c = _law._constants_row(cst, e)
                     q = _law._prepared_row(prep, e)
-                    te = _law._stress(g, q, c)
+                    te, ke = _law._stress(g, q, c)  # the stress and the slope of its branch
                     res[e] -= te
                     res[e + 1] += te
                     if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
                         # the chord between the last two iterates: iterates that alternate across a kink
                         # of the strength envelope converge like regula falsi instead of cycling
                         ke = (te - t_prev[e]) / (g - g_prev[e])
-                        kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
-                    else:
-                        kk[e] = _law._tangent(g, te, q, c) / h[e]
+                    kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
                     g_prev[e] = g
                     t_prev[e] = te
                 _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
@@ -189,7 +187,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
                 te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv)
             else:
-                te = _law._stress(g, _law._prepared_row(prep, e), _law._constants_row(cst, e))
+                te = _law._stress(g, _law._prepared_row(prep, e), _law._constants_row(cst, e))[0]
                 _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
             tau_out[e] = te + tv
             if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
@@ -290,11 +288,11 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law._bb.gqh_core_c, _law.gqh_ratio, _law.strength_modulus,
+_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law._bb.gqh_core_c, _law._bb.gqh_core_slope_c, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._dil, _law._dilation, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
-                          _law._stress, _law._tangent, _law._store, _law._constants_row, _law._prepared_row,
+                          _law._stress, _law._store, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law.tangent, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted, _law.seed_booker,
                           _law.generated_ratio, _law.commit_generating)
