@@ -578,17 +578,19 @@ def tangent(g, d, st, par, e, s, gr):
     return k if k > 0.0 else 0.0
 
 
-def _close_loops(g, d, st, par, e, s, gr):
+def _close_loops(g, d, st, par, e, s, gr, c, fm):
     """Loop closure at the committed strain ``g`` (direction ``d``; the stack already holds this
     sub-step's reversal): drops the innermost open pair once ``g`` has passed its target and the
     outer branch is the active one there, and every point once the backbone is (beyond the largest
     strain so far). Only what no longer sets the stress at ``g`` is dropped, so the stress there is
-    unchanged: closing a loop is never a jump."""
+    unchanged: closing a loop is never a jump. ``c``: the element's constants (:func:`_constants`);
+    ``fm``: the branches' F (:func:`_mrdf`, the same before and after the commit's push), < 0 where
+    not known yet."""
     n = int(st[e, S_NSTK])
     if n == 0:
         return
-    c = _constants(st, par, e)
-    fm = _mrdf(st, par, e, gr, c)
+    if fm < 0.0:
+        fm = _mrdf(st, par, e, gr, c)
     while n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
         gi, go = st[e, S_STK + 2 * (n - 1)], st[e, S_STK + 2 * (n - 3)]
         ti = _reversal_branch(g, d, gi, st[e, S_STK + 2 * (n - 1) + 1], s, gr, fm, c)
@@ -670,7 +672,7 @@ def commit(g, d, tau, st, par, e, s, t, gr):
     """Commit the converged strain ``g``, reached in direction ``d``, and stress ``tau`` [Pa] of
     element ``e`` at time ``t`` [s], with the sub-step's reference strain ``gr`` [-]: reversals
     and loop closure, the largest strain, damage and liquefaction. Returns the total damage."""
-    return commit_counted(g, d, tau, tau, st, par, e, s, t, gr)
+    return _commit_counted(g, d, tau, tau, st, par, e, s, t, gr, _constants(st, par, e), -1.0)
 
 
 def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
@@ -678,6 +680,13 @@ def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
     ``tau``: in the column, the shear stress the element carries, skeleton and rate (viscous) parts
     together, as the laboratory's CSR is the stress applied to the specimen, whatever part of it
     its rate carries."""
+    return _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, _constants(st, par, e), -1.0)
+
+
+def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
+    """:func:`commit_counted` with the element's constants ``c`` (:func:`_constants`, γ_d as before
+    the commit) and the branches' F ``fm`` (:func:`_mrdf` at ``gr``; < 0: not known, computed where
+    needed) given."""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
@@ -693,7 +702,7 @@ def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau_count
-    _close_loops(g, d, st, par, e, s, gr)
+    _close_loops(g, d, st, par, e, s, gr, c, fm)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
     if st[e, S_LIQ] > 0.0:  # cyclic mobility: the zone widens with the strain travelled inside it
@@ -726,16 +735,23 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     The strength so falls only as fast as the motion keeps loading the element, a rate the time
     step resolves. ``save``: a work row of NSTATE floats. ``tau_rate`` [Pa]: the rate (viscous) part
     of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
+    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, _constants(st, par, e))
+
+
+def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
+    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given."""
     s, gmx = strength_modulus(ps, par, e)
     gr = s / gmx
-    tau = skeleton_stress(g, d, st, par, e, s, gr)
+    q = _prepare(d, st, par, e, s, gr, c)
+    tau = _stress(g, q, c)[0]
+    fm = q[Q_FM] if q[Q_N] > 0.0 else -1.0
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
-        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+        _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
         return tau
     for k in range(NSTATE):
         save[k] = st[e, k]
-    commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+    _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
     q1 = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old)
     if q1 >= 1.0 - 1e-12 or s <= par[e, P_SR] * (1.0 + 1e-12):
         return tau  # no generation, or the strength already at its floor: the explicit count holds
@@ -756,8 +772,9 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
             st[e, k] = save[k]
         s, gmx = strength_modulus(ps * q, par, e)
         gr = s / gmx
-        tau = skeleton_stress(g, d, st, par, e, s, gr)
-        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+        qq = _prepare(d, st, par, e, s, gr, c)
+        tau = _stress(g, qq, c)[0]
+        _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
         f = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old) - q
         if it == 0:
             if f <= 0.0:

@@ -82,6 +82,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     c0 = 1.0 / (nm_beta * dt * dt)
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
+    for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
+        _law._store(cst, e, _law._constants(st, par, e))
     for i in range(m):
         t = t0 + (i + 1) * dt
         frac = (i + 1.0) / m
@@ -118,9 +120,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
-            c = _law._constants(st, par, e)
-            _law._store(cst, e, c)
-            _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], c))
+            _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e)))
         for sweep in range(4):
             # Newton's iterations with each element's branch fixed; then each element's branch is
             # checked against the direction its converged strain actually moved: an element whose
@@ -184,11 +184,15 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             g = (un[e + 1] - un[e]) / h[e]
             virgin = st[e, S_DIR] == 0.0 and g == st[e, 0]
             tv = (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress
+            c = _law._constants_row(cst, e)
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv)
+                te = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c)
             else:
-                te = _law._stress(g, _law._prepared_row(prep, e), _law._constants_row(cst, e))[0]
-                _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
+                q = _law._prepared_row(prep, e)
+                te = _law._stress(g, q, c)[0]
+                _law._commit_counted(g, dirn[e], te, te, st, par, e, s[e], t, gr[e], c,
+                                     q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0)
+            cst[e, _law.C_GD] = st[e, S_GD]
             tau_out[e] = te + tv
             if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
                 st[e, S_DIR] = 0.0
@@ -294,8 +298,9 @@ _HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law._bb.gqh_core_c, _
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
                           _law._stress, _law._store, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law.tangent, _law._close_loops,
-                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted, _law.seed_booker,
-                          _law.generated_ratio, _law.commit_generating)
+                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
+                          _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
+                          _law._commit_generating)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
 
