@@ -52,7 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["gqh_core", "gqh_core_c", "gqh_core_slope_c", "gqh_slope_core", "gqh_ratio", "gqh_slope", "gqh_stress", "gqh_tangent",
+__all__ = ["gqh_core", "gqh_core_c", "gqh_core_slope_c", "gqh_slope_w", "gqh_slope_core", "gqh_ratio", "gqh_slope", "gqh_stress", "gqh_tangent",
            "gqh_branch_ratio", "gqh_branch_slope", "mkz_core", "mkz_slope_core", "mkz_ratio",
            "mkz_slope", "mkz_stress", "mkz_tangent", "mrdf_factor", "gqh_backbone",
            "gqh_modulus_reduction", "mkz_modulus_reduction", "masing_damping", "gqh_masing_damping",
@@ -92,7 +92,16 @@ def gqh_core_slope_c(x, t1, t2, c3, t4, t5):
     >>> t == gqh_core(2.0, -2.0, 2.5, 0.5, 1.0, 1.2), abs(k - gqh_slope_core(2.0, -2.0, 2.5, 0.5, 1.0, 1.2)) < 1e-15
     (True, True)
     """
-    w = t4 * x ** t5
+    return gqh_slope_w(x, t4 * x ** t5, t1, t2, c3, t5)
+
+
+def gqh_slope_w(x, w, t1, t2, c3, t5):
+    """:func:`gqh_core_slope_c` from w = θ4 x^θ5 given: (T, dT/dx) at x > 0 [-]. The power is the
+    costly part; where T is needed at x and x/2 (a Masing/MRDF branch), w(x/2) = w(x) 2^−θ5.
+
+    >>> gqh_slope_w(2.0, 2.0, -2.0, 2.5, 1.0, 1.0) == gqh_core_slope_c(2.0, -2.0, 2.5, 1.0, 1.0, 1.0)
+    True
+    """
     th = t1 + t2 * w / (c3 + w)
     r = ((1.0 + x) * (1.0 + x) - 4.0 * th * x) ** 0.5
     d = 1.0 + x + r
@@ -253,7 +262,7 @@ def mrdf_factor(g_ratio, p1, p2, p3):
 
 
 #: per-point functions that other per-point functions call: compile them with a kernel
-SCALAR_HELPERS = (gqh_core, gqh_core_c, gqh_core_slope_c, gqh_slope_core, gqh_ratio, gqh_slope, mkz_core, mkz_slope_core, mkz_ratio,
+SCALAR_HELPERS = (gqh_core, gqh_core_c, gqh_core_slope_c, gqh_slope_w, gqh_slope_core, gqh_ratio, gqh_slope, mkz_core, mkz_slope_core, mkz_ratio,
                   mkz_slope)
 
 

@@ -246,7 +246,8 @@ def strength_modulus(ps, par, e):
 C_TH1, C_TH2, C_C3, C_TH4, C_TH5 = 0, 1, 2, 3, 4  # GQ/H θ1, θ2, θ3^θ5, θ4, θ5
 C_LIQ, C_TAUS, C_SR, C_GDR, C_TDMAX = 5, 6, 7, 8, 9  # P_LIQ, τ_s, S_r, γ_dr, σ′_v0 tan φ′
 C_GC, C_GD = 10, 11  # γ_c, γ_d (state)
-NCONST = 12
+C_H5 = 12  # 2^−θ5: θ4 (x/2)^θ5 = θ4 x^θ5 2^−θ5 (one power for a branch's f(x) and f(x/2))
+NCONST = 13
 Q_D, Q_S, Q_GR, Q_VIRGIN, Q_N, Q_FM, Q_GM = 0, 1, 2, 3, 4, 5, 6  # d, τ_max, γ_r, no direction yet, open points, F, γ_m
 Q_A = 7  # the current branch's origin: (γ_0, τ_0 [Pa], τ_max κ, κ γ_r, γ_0 − γ_c, τ_d(γ_0 − γ_c)), 6 floats
 Q_B = 13  # the outer branch's origin (n ≥ 3), the same 6 floats
@@ -255,11 +256,11 @@ NPREP = 19
 
 def _constants(st, par, e):
     """Constants of element ``e`` for the scalar functions of the law (``C_*``): GQ/H θ1, θ2,
-    θ3^θ5, θ4, θ5; whether it dilates (P_LIQ), τ_s, S_r, γ_dr, σ′_v0 tan φ′; γ_c and γ_d."""
+    θ3^θ5, θ4, θ5; whether it dilates (P_LIQ), τ_s, S_r, γ_dr, σ′_v0 tan φ′; γ_c and γ_d; 2^−θ5."""
     th5 = par[e, P_TH5]
     return (par[e, P_TH1], par[e, P_TH2], par[e, P_TH3] ** th5, par[e, P_TH4], th5, par[e, P_LIQ],
             par[e, P_TAUS], par[e, P_SR], par[e, P_GDR], par[e, P_SIG0] * par[e, P_TANPHI],
-            st[e, S_GC], st[e, S_GD])
+            st[e, S_GC], st[e, S_GD], 0.5 ** th5)
 
 
 def _gqh(x, c):
@@ -341,11 +342,14 @@ def _branch(y, fm, c):
     elif fm == 1.0:
         f2, k = _gqh(0.5 * x, c)
         phi = 2.0 * f2
-    else:
-        f1, k1 = _gqh(x, c)
-        f2, k2 = _gqh(0.5 * x, c)
+    elif x > 0.0:  # f(x) and f(x/2) from one power
+        w = c[C_TH4] * x ** c[C_TH5]
+        f1, k1 = _bb.gqh_slope_w(x, w, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
+        f2, k2 = _bb.gqh_slope_w(0.5 * x, w * c[C_H5], c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
         phi = fm * (2.0 * f2 - f1) + f1
         k = fm * (k2 - k1) + k1
+    else:
+        phi, k = 0.0, 1.0
     return (phi if y >= 0.0 else -phi), k
 
 
@@ -526,7 +530,7 @@ def _store(a, e, x):
 def _constants_row(a, e):
     """The constants stored by :func:`_store` in row ``e`` of ``a``, as the tuple :func:`_constants` gave."""
     return (a[e, 0], a[e, 1], a[e, 2], a[e, 3], a[e, 4], a[e, 5], a[e, 6], a[e, 7], a[e, 8], a[e, 9],
-            a[e, 10], a[e, 11])
+            a[e, 10], a[e, 11], a[e, 12])
 
 
 def _prepared_row(a, e):
