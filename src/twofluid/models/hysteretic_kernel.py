@@ -3,7 +3,10 @@
 One vertical step's shear sub-steps: Newmark average acceleration (β = 1/4, γ = 1/2) on linear
 elements with consistent mass (:mod:`twofluid.models.shear_column` has the equations and the
 compliant base), Newton iterations on the element stresses of
-:mod:`twofluid.closures.hysteretic` with each element's branch (its direction of motion) fixed,
+:mod:`twofluid.closures.hysteretic` with each element's branch (its direction of motion) fixed
+and what that branch needs of the committed state prepared once per sub-step
+(``closures.hysteretic._prepare``: its reversal points, MRDF factor, origins), the stiffness the
+analytic slope dτ/dγ of the branch that sets each element's stress, evaluated with the stress,
 then a check of each branch against the direction the converged strain moved (the sub-step is
 solved again where one was wrong: an element whose motion reversed within the sub-step is not
 committed on its loading branch), then each element's commit (reversals, damage) and the
