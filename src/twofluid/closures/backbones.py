@@ -52,7 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["gqh_core", "gqh_slope_core", "gqh_ratio", "gqh_slope", "gqh_stress", "gqh_tangent",
+__all__ = ["gqh_core", "gqh_core_c", "gqh_core_slope_c", "gqh_slope_w", "gqh_slope_core", "gqh_ratio", "gqh_slope", "gqh_stress", "gqh_tangent",
            "gqh_branch_ratio", "gqh_branch_slope", "mkz_core", "mkz_slope_core", "mkz_ratio",
            "mkz_slope", "mkz_stress", "mkz_tangent", "mrdf_factor", "gqh_backbone",
            "gqh_modulus_reduction", "mkz_modulus_reduction", "masing_damping", "gqh_masing_damping",
@@ -67,10 +67,47 @@ def gqh_core(x, t1, t2, t3, t4, t5):
     >>> round(gqh_core(1.0, 1.0, 0.0, 1.0, 1.0, 1.0), 12)     # θ = 1: min(x, 1)
     1.0
     """
+    return gqh_core_c(x, t1, t2, t3 ** t5, t4, t5)
+
+
+def gqh_core_c(x, t1, t2, c3, t4, t5):
+    """:func:`gqh_core` with ``c3`` = θ3^θ5 given: a kernel that evaluates one element's backbone
+    many times computes that power once (the same number, so the same result to the bit).
+
+    >>> gqh_core_c(1.0, 0.0, 0.0, 1.0, 1.0, 1.0) == gqh_core(1.0, 0.0, 0.0, 1.0, 1.0, 1.0)
+    True
+    """
     w = t4 * x ** t5
-    th = t1 + t2 * w / (t3 ** t5 + w)
+    th = t1 + t2 * w / (c3 + w)
     r = ((1.0 + x) * (1.0 + x) - 4.0 * th * x) ** 0.5
     return 2.0 * x / (1.0 + x + r)
+
+
+def gqh_core_slope_c(x, t1, t2, c3, t4, t5):
+    """(T, dT/dx) of the GQ/H backbone at x > 0 in one pass (one power, one root), ``c3`` = θ3^θ5:
+    T to the bit as :func:`gqh_core_c` gives it, dT/dx as :func:`gqh_slope_core` (the mean of the
+    two sides, 1/2, at the kink R = 0 of the elastic–perfectly plastic limit θ_τ = 1, x = 1).
+
+    >>> t, k = gqh_core_slope_c(2.0, -2.0, 2.5, 0.5 ** 1.2, 1.0, 1.2)
+    >>> t == gqh_core(2.0, -2.0, 2.5, 0.5, 1.0, 1.2), abs(k - gqh_slope_core(2.0, -2.0, 2.5, 0.5, 1.0, 1.2)) < 1e-15
+    (True, True)
+    """
+    return gqh_slope_w(x, t4 * x ** t5, t1, t2, c3, t5)
+
+
+def gqh_slope_w(x, w, t1, t2, c3, t5):
+    """:func:`gqh_core_slope_c` from w = θ4 x^θ5 given: (T, dT/dx) at x > 0 [-]. The power is the
+    costly part; where T is needed at x and x/2 (a Masing/MRDF branch), w(x/2) = w(x) 2^−θ5.
+
+    >>> gqh_slope_w(2.0, 2.0, -2.0, 2.5, 1.0, 1.0) == gqh_core_slope_c(2.0, -2.0, 2.5, 1.0, 1.0, 1.0)
+    True
+    """
+    th = t1 + t2 * w / (c3 + w)
+    r = ((1.0 + x) * (1.0 + x) - 4.0 * th * x) ** 0.5
+    d = 1.0 + x + r
+    xdth = t2 * t5 * w * c3 / ((c3 + w) * (c3 + w))
+    dr = ((1.0 + x) - 2.0 * th - 2.0 * xdth) / r if r > 0.0 else 0.0
+    return 2.0 * x / d, 2.0 * (d - x * (1.0 + dr)) / (d * d)
 
 
 def gqh_slope_core(x, t1, t2, t3, t4, t5):
@@ -225,7 +262,7 @@ def mrdf_factor(g_ratio, p1, p2, p3):
 
 
 #: per-point functions that other per-point functions call: compile them with a kernel
-SCALAR_HELPERS = (gqh_core, gqh_slope_core, gqh_ratio, gqh_slope, mkz_core, mkz_slope_core, mkz_ratio,
+SCALAR_HELPERS = (gqh_core, gqh_core_c, gqh_core_slope_c, gqh_slope_w, gqh_slope_core, gqh_ratio, gqh_slope, mkz_core, mkz_slope_core, mkz_ratio,
                   mkz_slope)
 
 

@@ -235,65 +235,122 @@ def strength_modulus(ps, par, e):
     return p * tanphi, 218.8 * KPA * par[e, P_K2] * math.sqrt(p / KPA)
 
 
+# ---- the law at a trial strain, written as scalar functions of two tuples of floats: the
+# element's constants over a sub-step (:func:`_constants`) and what its committed state and direction
+# fix for a sub-step's Newton iterations (:func:`_prepare`). The compiled kernel keeps both per element
+# and evaluates the stress many times per sub-step without recomputing them (the MRDF factor, θ3^θ5,
+# the branches' origins) and without passing arrays (each array argument of a compiled call costs a
+# reference count); :func:`skeleton_stress` and :func:`tangent` are the same two steps in one call.
+# Each returns the stress and its derivative dτ/dγ together (one power and one root per backbone
+# evaluation serve both), the derivative of the branch that sets the stress: Newton's stiffness.
+C_TH1, C_TH2, C_C3, C_TH4, C_TH5 = 0, 1, 2, 3, 4  # GQ/H θ1, θ2, θ3^θ5, θ4, θ5
+C_LIQ, C_TAUS, C_SR, C_GDR, C_TDMAX = 5, 6, 7, 8, 9  # P_LIQ, τ_s, S_r, γ_dr, σ′_v0 tan φ′
+C_GC, C_GD = 10, 11  # γ_c, γ_d (state)
+C_H5 = 12  # 2^−θ5: θ4 (x/2)^θ5 = θ4 x^θ5 2^−θ5 (one power for a branch's f(x) and f(x/2))
+NCONST = 13
+Q_D, Q_S, Q_GR, Q_VIRGIN, Q_N, Q_FM, Q_GM = 0, 1, 2, 3, 4, 5, 6  # d, τ_max, γ_r, no direction yet, open points, F, γ_m
+Q_A = 7  # the current branch's origin: (γ_0, τ_0 [Pa], τ_max κ, κ γ_r, γ_0 − γ_c, τ_d(γ_0 − γ_c)), 6 floats
+Q_B = 13  # the outer branch's origin (n ≥ 3), the same 6 floats
+NPREP = 19
+
+
+def _constants(st, par, e):
+    """Constants of element ``e`` for the scalar functions of the law (``C_*``): GQ/H θ1, θ2,
+    θ3^θ5, θ4, θ5; whether it dilates (P_LIQ), τ_s, S_r, γ_dr, σ′_v0 tan φ′; γ_c and γ_d; 2^−θ5."""
+    th5 = par[e, P_TH5]
+    return (par[e, P_TH1], par[e, P_TH2], par[e, P_TH3] ** th5, par[e, P_TH4], th5, par[e, P_LIQ],
+            par[e, P_TAUS], par[e, P_SR], par[e, P_GDR], par[e, P_SIG0] * par[e, P_TANPHI],
+            st[e, S_GC], st[e, S_GD], 0.5 ** th5)
+
+
+def _gqh(x, c):
+    """(:func:`gqh_ratio`, its slope d/dx) at x ≥ 0 with the constants ``c`` (:func:`_constants`)."""
+    if x <= 0.0:
+        return 0.0, 1.0
+    return _bb.gqh_core_slope_c(x, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5])
+
+
+def _dil(ex, c):
+    """(τ_d ≥ 0 [Pa], dτ_d/dγ [Pa]): the dilation stress at ``ex`` = γ − γ_c from the centre of the
+    cycles (0 inside the zone |ex| ≤ γ_d, in sand that generates no pore pressure, and on the side of
+    a static shear τ_s that exceeds the residual strength S_r: flow liquefaction, module docstring
+    "Flow liquefaction"); ``c`` the element's constants."""
+    over = abs(ex) - c[C_GD]
+    if over <= 0.0 or c[C_LIQ] <= 0.0:
+        return 0.0, 0.0
+    ts = c[C_TAUS]
+    if ts * ex > 0.0 and abs(ts) > c[C_SR]:
+        return 0.0, 0.0  # flow liquefaction: no dilation on the side of a static shear above S_r
+    r = over / c[C_GDR]
+    if r >= 1.0:
+        return c[C_TDMAX] * 1.0, 0.0  # capped
+    k = c[C_TDMAX] * 6.0 * r * (1.0 - r) / c[C_GDR]  # smooth onset: S(r) = r²(3 − 2r)
+    return c[C_TDMAX] * (r * r * (3.0 - 2.0 * r)), (k if ex > 0.0 else -k)
+
+
 def _dilation(ex, st, par, e):
-    """Dilation stress τ_d ≥ 0 [Pa] of element ``e`` at ``ex`` = γ − γ_c from the centre of its
-    cycles (0 inside the zone |ex| ≤ γ_d, in sand that generates no pore pressure, and on the side
-    of a static shear τ_s that exceeds the residual strength S_r: flow liquefaction, module
-    docstring "Flow liquefaction")."""
-    over = abs(ex) - st[e, S_GD]
-    if over <= 0.0 or par[e, P_LIQ] <= 0.0:
-        return 0.0
-    ts = par[e, P_TAUS]
-    if ts * ex > 0.0 and abs(ts) > par[e, P_SR]:
-        return 0.0  # flow liquefaction: no dilation on the side of a static shear above S_r
-    r = over / par[e, P_GDR]
-    return par[e, P_SIG0] * par[e, P_TANPHI] * (r * r * (3.0 - 2.0 * r) if r < 1.0 else 1.0)  # smooth onset and cap
+    """Dilation stress τ_d ≥ 0 [Pa] of element ``e`` at ``ex`` = γ − γ_c (:func:`_dil`)."""
+    return _dil(ex, _constants(st, par, e))[0]
 
 
-def _envelope(g, d, tau, st, par, e, s, g0):
-    """``tau`` limited by the strength envelope max(τ_max, τ_d), and raised by the dilation stress
-    gained since the branch's origin ``g0`` when loading outwards beyond γ_d (module docstring,
-    "Cyclic mobility"): τ_d(γ) − τ_d(γ_0) where the origin lies beyond γ_d on the same side, so a
-    branch that turns back outwards within the dilation zone starts from its reversal stress, not
-    from τ_d above it (a jump at the reversal)."""
+def _env(g, d, tau, k, s, ex0, td0, c):
+    """(τ [Pa], dτ/dγ [Pa]): ``tau`` (slope ``k``) limited by the strength envelope max(τ_max, τ_d),
+    and raised by the dilation stress gained since the branch's origin γ_0 (``ex0`` = γ_0 − γ_c,
+    ``td0`` = τ_d there) when loading outwards beyond γ_d (module docstring, "Cyclic mobility"):
+    τ_d(γ) − τ_d(γ_0) where the origin lies beyond γ_d on the same side, so a branch that turns back
+    outwards within the dilation zone starts from its reversal stress, not from τ_d above it (a jump
+    at the reversal)."""
     upper = s
+    ku = 0.0
     lower = -s
-    ex = g - st[e, S_GC]
-    td = _dilation(ex, st, par, e)
+    kl = 0.0
+    ex = g - c[C_GC]
+    td, kd = _dil(ex, c)
     if td > 0.0:
-        ex0 = g0 - st[e, S_GC]
         gain = td
         if ex0 * ex > 0.0:
-            gain = td - _dilation(ex0, st, par, e)
+            gain = td - td0
         if ex > 0.0:
             if td > upper:
                 upper = td
+                ku = kd
             if d > 0.0 and gain > 0.0:
                 tau += gain
+                k += kd
         else:
             if -td < lower:
                 lower = -td
+                kl = -kd
             if d < 0.0 and gain > 0.0:
                 tau -= gain
+                k -= kd
     if tau > upper:
         tau = upper
+        k = ku
     if tau < lower:
         tau = lower
-    return tau
+        k = kl
+    return tau, k
 
 
-def _branch(y, fm, th1, th2, th3, th4, th5):
-    """Φ(y) = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r: a Masing/MRDF branch over τ_max
-    (F = 0: the backbone f, F = 1: Masing's 2 f(y/2))."""
+def _branch(y, fm, c):
+    """(Φ(y), dΦ/dy): Φ = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r, a Masing/MRDF branch
+    over τ_max (F = 0: the backbone f, F = 1: Masing's 2 f(y/2)); ``c`` the element's constants."""
     x = abs(y)
     if fm == 0.0:
-        phi = gqh_ratio(x, th1, th2, th3, th4, th5)
+        phi, k = _gqh(x, c)
     elif fm == 1.0:
-        phi = 2.0 * gqh_ratio(0.5 * x, th1, th2, th3, th4, th5)
+        f2, k = _gqh(0.5 * x, c)
+        phi = 2.0 * f2
+    elif x > 0.0:  # f(x) and f(x/2) from one power
+        w = c[C_TH4] * x ** c[C_TH5]
+        f1, k1 = _bb.gqh_slope_w(x, w, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
+        f2, k2 = _bb.gqh_slope_w(0.5 * x, w * c[C_H5], c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
+        phi = fm * (2.0 * f2 - f1) + f1
+        k = fm * (k2 - k1) + k1
     else:
-        f1 = gqh_ratio(x, th1, th2, th3, th4, th5)
-        phi = fm * (2.0 * gqh_ratio(0.5 * x, th1, th2, th3, th4, th5) - f1) + f1
-    return phi if y >= 0.0 else -phi
+        phi, k = 0.0, 1.0
+    return (phi if y >= 0.0 else -phi), k
 
 
 def masing_weight(st, par, e):
@@ -317,7 +374,7 @@ def masing_weight(st, par, e):
     return x * x * (3.0 - 2.0 * x)
 
 
-def _mrdf(st, par, e, gr):
+def _mrdf(st, par, e, gr, c):
     """F of the unloading–reloading branches of element ``e`` (1: Masing): MRDF's factor at the
     largest strain so far, moved towards Masing's F = 1 by :func:`masing_weight` as the pore pressure
     is generated (a liquefied element flows between its dilation stops on Masing branches)."""
@@ -326,7 +383,7 @@ def _mrdf(st, par, e, gr):
         xm = st[e, S_GM] / gr
         red = 1.0
         if xm > 0.0:
-            red = gqh_ratio(xm, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]) / xm
+            red = _gqh(xm, c)[0] / xm
         f = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
     if par[e, P_LIQ] > 0.0:
         w = masing_weight(st, par, e)
@@ -335,27 +392,37 @@ def _mrdf(st, par, e, gr):
     return f
 
 
-def _from(g, d, g0, t0, s, gr, fm, par, e):
-    """Stress [Pa] at ``g`` of the branch in direction ``d`` from the reversal (``g0``, ``t0`` τ/τ_max).
+def _origin(g0, t0, d, s, gr, fm, c):
+    """What the branch in direction ``d`` from the reversal (``g0``, ``t0`` τ/τ_max) needs of its
+    origin, once per sub-step: (γ_0, τ_0 [Pa], τ_max κ [Pa], κ γ_r, γ_0 − γ_c, τ_d(γ_0 − γ_c) [Pa]).
 
     From a stress the dilation carried above τ_max the branch is wider (κ > 1), so that it still
     reaches the strength the other way (asymptote d τ_max)."""
     kappa = max(1.0, abs(d - t0) / (1.0 + fm)) if abs(t0) > 1.0 else 1.0
-    return t0 * s + s * kappa * _branch((g - g0) / (kappa * gr), fm, par[e, P_TH1], par[e, P_TH2],
-                                        par[e, P_TH3], par[e, P_TH4], par[e, P_TH5])
+    ex0 = g0 - c[C_GC]
+    return g0, t0 * s, s * kappa, kappa * gr, ex0, _dil(ex0, c)[0]
 
 
-def _reversal_branch(g, d, g0, t0, st, par, e, s, gr, fm):
+def _on(g, d, g0, ts0, sk, kg, ex0, td0, s, fm, c):
+    """(τ [Pa], dτ/dγ [Pa]) at ``g`` of the branch in direction ``d`` from the origin (``g0``,
+    ``ts0``, ``sk``, ``kg``, ``ex0``, ``td0``: :func:`_origin`) within the strength envelope, with the
+    dilation gained since the origin."""
+    phi, k = _branch((g - g0) / kg, fm, c)
+    return _env(g, d, ts0 + sk * phi, sk * k / kg, s, ex0, td0, c)
+
+
+def _reversal_branch(g, d, g0, t0, s, gr, fm, c):
     """Stress [Pa] at ``g`` of the branch from the reversal (``g0``, ``t0`` τ/τ_max) in direction
-    ``d`` (:func:`_from`) within the strength envelope, with the dilation gained since ``g0``."""
-    return _envelope(g, d, _from(g, d, g0, t0, s, gr, fm, par, e), st, par, e, s, g0)
+    ``d`` within the strength envelope, with the dilation gained since ``g0``."""
+    o = _origin(g0, t0, d, s, gr, fm, c)
+    return _on(g, d, o[0], o[1], o[2], o[3], o[4], o[5], s, fm, c)[0]
 
 
-def _backbone(g, d, st, par, e, s, gr):
-    """Stress [Pa] of the backbone at ``g`` within the strength envelope, with the dilation gained
-    since the centre of the cycles γ_c (the cap beyond the largest strain so far)."""
-    return _envelope(g, d, s * _branch(g / gr, 0.0, par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4],
-                                       par[e, P_TH5]), st, par, e, s, st[e, S_GC])
+def _backbone(g, d, s, gr, c):
+    """(τ [Pa], dτ/dγ [Pa]) of the backbone at ``g`` within the strength envelope, with the dilation
+    gained since the centre of the cycles γ_c (the cap beyond the largest strain so far)."""
+    phi, k = _branch(g / gr, 0.0, c)
+    return _env(g, d, s * phi, s * k / gr, s, 0.0, 0.0, c)
 
 
 def _open_count(d, st, e):
@@ -387,15 +454,15 @@ def _open_point(k, n, rev, st, e):
     return st[e, S_STK + 2 * k], st[e, S_STK + 2 * k + 1]
 
 
-def _open_stress(g, d, n, rev, st, par, e, s, gr, fm):
+def _open_stress(g, d, n, rev, st, e, s, gr, fm, c):
     """The lower (in direction ``d``) of the branch from the last open reversal point and the outer
     branch that its loop closes onto (the one from the point before its target), before the
     backbone cap and the envelope [Pa]."""
     g0, t0 = _open_point(n - 1, n, rev, st, e)
-    tau = _reversal_branch(g, d, g0, t0, st, par, e, s, gr, fm)
+    tau = _reversal_branch(g, d, g0, t0, s, gr, fm, c)
     if n >= 3:
         g1, t1 = _open_point(n - 3, n, rev, st, e)
-        to = _reversal_branch(g, d, g1, t1, st, par, e, s, gr, fm)
+        to = _reversal_branch(g, d, g1, t1, s, gr, fm, c)
         if d * to < d * tau:
             tau = to
     return tau
@@ -409,6 +476,67 @@ def direction(g, st, e):
     if dg < 0.0:
         return -1.0
     return st[e, S_DIR] if st[e, S_DIR] != 0.0 else 1.0
+
+
+def _prepare(d, st, par, e, s, gr, c):
+    """What element ``e``'s committed state and the direction ``d`` fix for a sub-step with strength
+    ``s`` [Pa] and reference strain ``gr`` (``Q_*``): the open reversal points (:func:`_open_count`)
+    and the origins of the branches from them, the MRDF factor, the largest strain so far."""
+    n, rev = _open_count(d, st, e)
+    virgin = 1.0 if st[e, S_DIR] == 0.0 else 0.0
+    if n == 0:
+        return (d, s, gr, virgin, 0.0, 0.0, st[e, S_GM], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    fm = _mrdf(st, par, e, gr, c)
+    g0, t0 = _open_point(n - 1, n, rev, st, e)
+    a = _origin(g0, t0, d, s, gr, fm, c)
+    b = a
+    if n >= 3:
+        g1, t1 = _open_point(n - 3, n, rev, st, e)
+        b = _origin(g1, t1, d, s, gr, fm, c)
+    return (d, s, gr, virgin, float(n), fm, st[e, S_GM], a[0], a[1], a[2], a[3], a[4], a[5],
+            b[0], b[1], b[2], b[3], b[4], b[5])
+
+
+def _stress(g, q, c):
+    """(τ [Pa], dτ/dγ [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
+    (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), and the derivative of the
+    branch that sets it."""
+    d = q[Q_D]
+    s = q[Q_S]
+    if q[Q_N] == 0.0:  # first loading, or a loop closed onto the backbone: the backbone
+        return _backbone(g, d, s, q[Q_GR], c)
+    fm = q[Q_FM]
+    tau, k = _on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
+    if q[Q_N] >= 3.0:  # the outer branch the current loop closes onto
+        to, ko = _on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        if d * to < d * tau:
+            tau = to
+            k = ko
+    if d * g > q[Q_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
+        tb, kb = _backbone(g, d, s, q[Q_GR], c)
+        if d * tau > d * tb:
+            tau = tb
+            k = kb
+    return tau, k
+
+
+def _store(a, e, x):
+    """Row ``e`` of the work array ``a`` ← the tuple ``x`` (the kernel's per-element ``c``, ``q``)."""
+    for k in range(len(x)):
+        a[e, k] = x[k]
+
+
+def _constants_row(a, e):
+    """The constants stored by :func:`_store` in row ``e`` of ``a``, as the tuple :func:`_constants` gave."""
+    return (a[e, 0], a[e, 1], a[e, 2], a[e, 3], a[e, 4], a[e, 5], a[e, 6], a[e, 7], a[e, 8], a[e, 9],
+            a[e, 10], a[e, 11], a[e, 12])
+
+
+def _prepared_row(a, e):
+    """The prepared tuple stored by :func:`_store` in row ``e`` of ``a``, as :func:`_prepare` gave it."""
+    return (a[e, 0], a[e, 1], a[e, 2], a[e, 3], a[e, 4], a[e, 5], a[e, 6], a[e, 7], a[e, 8], a[e, 9],
+            a[e, 10], a[e, 11], a[e, 12], a[e, 13], a[e, 14], a[e, 15], a[e, 16], a[e, 17], a[e, 18])
 
 
 def skeleton_stress(g, d, st, par, e, s, gr):
@@ -439,50 +567,44 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     >>> [round(float(x) / 1e3, 1) for x in taus[-3:]]  # kPa: at 4 %, after the wiggle, past 4 % again
     [14.7, 13.2, 14.8]
     """
-    n, rev = _open_count(d, st, e)
-    if n == 0:  # first loading, or a loop closed onto the backbone: the backbone
-        return _backbone(g, d, st, par, e, s, gr)
-    tau = _open_stress(g, d, n, rev, st, par, e, s, gr, _mrdf(st, par, e, gr))
-    if d * g > st[e, S_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
-        tb = _backbone(g, d, st, par, e, s, gr)
-        if d * tau > d * tb:
-            tau = tb
-    return tau
+    c = _constants(st, par, e)
+    return _stress(g, _prepare(d, st, par, e, s, gr, c), c)[0]
 
 
-def tangent(g, d, tau, st, par, e, s, gr):
-    """One-sided difference dτ/dγ [Pa] at ``g`` in direction ``d`` (≥ 0), ``tau`` the stress
-    there: the Newton iterations' stiffness. An element that has not moved yet (no direction: its
-    backbone is odd and ``d`` only a guess) takes the central difference, the same for ±γ, so that
-    a motion and its mirror image are solved alike."""
-    h = (1e-6 * gr + 1e-9 * abs(g)) * d
-    if st[e, S_DIR] == 0.0:
-        k = (skeleton_stress(g + h, d, st, par, e, s, gr) - skeleton_stress(g - h, d, st, par, e, s, gr)) / (2.0 * h)
-    else:
-        k = (skeleton_stress(g + h, d, st, par, e, s, gr) - tau) / h
+def tangent(g, d, st, par, e, s, gr):
+    """dτ/dγ ≥ 0 [Pa] of :func:`skeleton_stress` at ``g`` in direction ``d``: the derivative of the
+    branch that sets the stress there, the Newton iterations' stiffness (0 where the skeleton yields).
+    Its backbone and its branches are odd functions about their origins, so an element that has not
+    moved yet (``d`` only a guess) has the same stiffness at ±γ, and a motion and its mirror image
+    are solved alike."""
+    c = _constants(st, par, e)
+    k = _stress(g, _prepare(d, st, par, e, s, gr, c), c)[1]
     return k if k > 0.0 else 0.0
 
 
-def _close_loops(g, d, st, par, e, s, gr):
+def _close_loops(g, d, st, par, e, s, gr, c, fm):
     """Loop closure at the committed strain ``g`` (direction ``d``; the stack already holds this
     sub-step's reversal): drops the innermost open pair once ``g`` has passed its target and the
     outer branch is the active one there, and every point once the backbone is (beyond the largest
     strain so far). Only what no longer sets the stress at ``g`` is dropped, so the stress there is
-    unchanged: closing a loop is never a jump."""
+    unchanged: closing a loop is never a jump. ``c``: the element's constants (:func:`_constants`);
+    ``fm``: the branches' F (:func:`_mrdf`, the same before and after the commit's push), < 0 where
+    not known yet."""
     n = int(st[e, S_NSTK])
     if n == 0:
         return
-    fm = _mrdf(st, par, e, gr)
+    if fm < 0.0:
+        fm = _mrdf(st, par, e, gr, c)
     while n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
         gi, go = st[e, S_STK + 2 * (n - 1)], st[e, S_STK + 2 * (n - 3)]
-        ti = _reversal_branch(g, d, gi, st[e, S_STK + 2 * (n - 1) + 1], st, par, e, s, gr, fm)
-        to = _reversal_branch(g, d, go, st[e, S_STK + 2 * (n - 3) + 1], st, par, e, s, gr, fm)
+        ti = _reversal_branch(g, d, gi, st[e, S_STK + 2 * (n - 1) + 1], s, gr, fm, c)
+        to = _reversal_branch(g, d, go, st[e, S_STK + 2 * (n - 3) + 1], s, gr, fm, c)
         if d * ti < d * to:
             break
         n -= 2
     if d * g > st[e, S_GM]:
-        tb = _backbone(g, d, st, par, e, s, gr)
-        if d * tb <= d * _open_stress(g, d, n, False, st, par, e, s, gr, fm):
+        tb = _backbone(g, d, s, gr, c)[0]
+        if d * tb <= d * _open_stress(g, d, n, False, st, e, s, gr, fm, c):
             n = 0
     st[e, S_NSTK] = n
 
@@ -554,7 +676,7 @@ def commit(g, d, tau, st, par, e, s, t, gr):
     """Commit the converged strain ``g``, reached in direction ``d``, and stress ``tau`` [Pa] of
     element ``e`` at time ``t`` [s], with the sub-step's reference strain ``gr`` [-]: reversals
     and loop closure, the largest strain, damage and liquefaction. Returns the total damage."""
-    return commit_counted(g, d, tau, tau, st, par, e, s, t, gr)
+    return _commit_counted(g, d, tau, tau, st, par, e, s, t, gr, _constants(st, par, e), -1.0)
 
 
 def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
@@ -562,6 +684,13 @@ def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
     ``tau``: in the column, the shear stress the element carries, skeleton and rate (viscous) parts
     together, as the laboratory's CSR is the stress applied to the specimen, whatever part of it
     its rate carries."""
+    return _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, _constants(st, par, e), -1.0)
+
+
+def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
+    """:func:`commit_counted` with the element's constants ``c`` (:func:`_constants`, γ_d as before
+    the commit) and the branches' F ``fm`` (:func:`_mrdf` at ``gr``; < 0: not known, computed where
+    needed) given."""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
@@ -577,7 +706,7 @@ def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau_count
-    _close_loops(g, d, st, par, e, s, gr)
+    _close_loops(g, d, st, par, e, s, gr, c, fm)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
     if st[e, S_LIQ] > 0.0:  # cyclic mobility: the zone widens with the strain travelled inside it
@@ -610,16 +739,23 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     The strength so falls only as fast as the motion keeps loading the element, a rate the time
     step resolves. ``save``: a work row of NSTATE floats. ``tau_rate`` [Pa]: the rate (viscous) part
     of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
+    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, _constants(st, par, e))
+
+
+def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
+    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given."""
     s, gmx = strength_modulus(ps, par, e)
     gr = s / gmx
-    tau = skeleton_stress(g, d, st, par, e, s, gr)
+    q = _prepare(d, st, par, e, s, gr, c)
+    tau = _stress(g, q, c)[0]
+    fm = q[Q_FM] if q[Q_N] > 0.0 else -1.0
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
-        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+        _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
         return tau
     for k in range(NSTATE):
         save[k] = st[e, k]
-    commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+    _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
     q1 = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old)
     if q1 >= 1.0 - 1e-12 or s <= par[e, P_SR] * (1.0 + 1e-12):
         return tau  # no generation, or the strength already at its floor: the explicit count holds
@@ -640,8 +776,9 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
             st[e, k] = save[k]
         s, gmx = strength_modulus(ps * q, par, e)
         gr = s / gmx
-        tau = skeleton_stress(g, d, st, par, e, s, gr)
-        commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr)
+        qq = _prepare(d, st, par, e, s, gr, c)
+        tau = _stress(g, qq, c)[0]
+        _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
         f = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old) - q
         if it == 0:
             if f <= 0.0:
@@ -728,7 +865,7 @@ def static_state(st, par, e, tau_static, ps):
         else:
             hi = mid
     g = d * hi * gr
-    tau = s * _branch(g / gr, 0.0, th1, th2, th3, th4, th5)
+    tau = s * _branch(g / gr, 0.0, _constants(st, par, e))[0]
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau

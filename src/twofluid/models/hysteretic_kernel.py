@@ -3,7 +3,10 @@
 One vertical step's shear sub-steps: Newmark average acceleration (β = 1/4, γ = 1/2) on linear
 elements with consistent mass (:mod:`twofluid.models.shear_column` has the equations and the
 compliant base), Newton iterations on the element stresses of
-:mod:`twofluid.closures.hysteretic` with each element's branch (its direction of motion) fixed,
+:mod:`twofluid.closures.hysteretic` with each element's branch (its direction of motion) fixed
+and what that branch needs of the committed state prepared once per sub-step
+(``closures.hysteretic._prepare``: its reversal points, MRDF factor, origins), the stiffness the
+analytic slope dτ/dγ of the branch that sets each element's stress, evaluated with the stress,
 then a check of each branch against the direction the converged strain moved (the sub-step is
 solved again where one was wrong: an element whose motion reversed within the sub-step is not
 committed on its loading branch), then each element's commit (reversals, damage) and the
@@ -77,9 +80,13 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     psv = np.zeros(ne)
     flips = np.zeros(ne, dtype=np.int64)
     save = np.empty(st.shape[1])
+    cst = np.empty((ne, _law.NCONST))  # each element's constants and its prepared branches for the
+    prep = np.empty((ne, _law.NPREP))  # sub-step's Newton iterations (closures.hysteretic._prepare)
     c0 = 1.0 / (nm_beta * dt * dt)
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
+    for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
+        _law._store(cst, e, _law._constants(st, par, e))
     for i in range(m):
         t = t0 + (i + 1) * dt
         frac = (i + 1.0) / m
@@ -116,6 +123,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
+            _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e)))
         for sweep in range(4):
             # Newton's iterations with each element's branch fixed; then each element's branch is
             # checked against the direction its converged strain actually moved: an element whose
@@ -133,16 +141,16 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     _body_force(m1, body, first, res)
                 for e in range(ne):
                     g = (un[e + 1] - un[e]) / h[e]
-                    te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
+                    c = _law._constants_row(cst, e)
+                    q = _law._prepared_row(prep, e)
+                    te, ke = _law._stress(g, q, c)  # the stress and the slope of its branch
                     res[e] -= te
                     res[e + 1] += te
                     if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
                         # the chord between the last two iterates: iterates that alternate across a kink
                         # of the strength envelope converge like regula falsi instead of cycling
                         ke = (te - t_prev[e]) / (g - g_prev[e])
-                        kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
-                    else:
-                        kk[e] = _law.tangent(g, dirn[e], te, st, par, e, s[e], gr[e]) / h[e]
+                    kk[e] = (ke if ke > 0.0 else 0.0) / h[e]
                     g_prev[e] = g
                     t_prev[e] = te
                 _nb.jacobian_bands(md, mo, cd, co, kk, c0, cc1, jd, jo)
@@ -167,6 +175,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     dirn[e] = -dirn[e]
                     flips[e] = 1  # once: an element at its reversal point keeps the second choice
                     changed += 1
+                else:
+                    continue
+                _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e)))
             if changed == 0:
                 break
         if not converged:
@@ -176,11 +187,15 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             g = (un[e + 1] - un[e]) / h[e]
             virgin = st[e, S_DIR] == 0.0 and g == st[e, 0]
             tv = (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress
+            c = _law._constants_row(cst, e)
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                te = _law.commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv)
+                te = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c)
             else:
-                te = _law.skeleton_stress(g, dirn[e], st, par, e, s[e], gr[e])
-                _law.commit(g, dirn[e], te, st, par, e, s[e], t, gr[e])
+                q = _law._prepared_row(prep, e)
+                te = _law._stress(g, q, c)[0]
+                _law._commit_counted(g, dirn[e], te, te, st, par, e, s[e], t, gr[e], c,
+                                     q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0)
+            cst[e, _law.C_GD] = st[e, S_GD]
             tau_out[e] = te + tv
             if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
                 st[e, S_DIR] = 0.0
@@ -280,13 +295,15 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law.gqh_ratio, _law.strength_modulus, _law._dilation, _law._envelope,
-                          _law.masing_weight,
-                          _law._branch, _law._mrdf, _law._from, _law._reversal_branch, _law._backbone,
-                          _law._open_count, _law._open_point,
-                          _law._open_stress, _law.direction, _law.skeleton_stress, _law.tangent, _law._close_loops,
-                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted, _law.seed_booker,
-                          _law.generated_ratio, _law.commit_generating)
+_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law._bb.gqh_core_c, _law._bb.gqh_core_slope_c, _law._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+                          _law._constants, _law._gqh, _law._dil, _law._dilation, _law._env, _law.masing_weight,
+                          _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
+                          _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
+                          _law._stress, _law._store, _law._constants_row, _law._prepared_row,
+                          _law.skeleton_stress, _law.tangent, _law._close_loops,
+                          _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
+                          _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
+                          _law._commit_generating)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
 
