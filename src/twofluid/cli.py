@@ -231,6 +231,10 @@ def _cmd_element_test(args) -> int:
         from .casefile.schema import CaseError
 
         raise CaseError("element-test", "--alpha", "a static shear bias needs --model hysteretic")
+    if args.csr_n_slope is not None:
+        from .casefile.schema import CaseError
+
+        raise CaseError("element-test", "--csr-n-slope", "a CSR-N slope needs --model hysteretic")
     check_options({"--csr": args.csr, "--gamma": args.gamma, "--sigma-v0": args.sigma_v0, "--dr": args.dr,
                    "--porosity": args.porosity, "--A": args.A, "--k2max": args.k2max,
                    "--gamma-ref": args.gamma_ref, "--max-cycles": args.max_cycles,
@@ -276,6 +280,11 @@ def _element_test_hysteretic(args) -> int:
 
         raise CaseError("element-test", "--alpha", f"{args.alpha:g} is outside the valid range [0, 0.35] "
                         "(the range of Idriss & Boulanger's K_alpha)")
+    if args.csr_n_slope is not None and not 0.05 <= args.csr_n_slope <= 0.6:
+        from .casefile.schema import CaseError
+
+        raise CaseError("element-test", "--csr-n-slope", f"{args.csr_n_slope:g} is outside the valid range "
+                        "[0.05, 0.6]")
     if args.out:
         from .io.folders import check_out_dir
 
@@ -284,6 +293,8 @@ def _element_test_hysteretic(args) -> int:
                 k2max=30.0 if args.k2max is None else args.k2max)
     if args.alpha:
         soil["alpha"] = args.alpha
+    if args.csr_n_slope is not None:
+        soil["csr_n_slope"] = args.csr_n_slope
     sig = args.sigma_v0 * 1e3
     if args.curve:
         rows = csr_n_curve(sigma_v0=sig, **soil)
@@ -443,6 +454,8 @@ def parser():
     et.add_argument("--qc1ncs", type=float, help="hysteretic: q_c1Ncs, the CPT route")
     et.add_argument("--alpha", type=float, help="hysteretic: static shear stress ratio tau_s/sigma'_v0 "
                     "in [0, 0.35] the cycles ride on (a slope's); prints the model's CRR ratio beside K_alpha")
+    et.add_argument("--csr-n-slope", type=float, help="hysteretic: slope b of CSR ~ N^-b from the soil's own "
+                    "cyclic tests, in [0.05, 0.6] (default: the b the magnitude scaling factor implies)")
     et.add_argument("--curve", action="store_true", help="hysteretic: the CSR-N curve against the "
                     "correlation (printed; csr_n.csv and csr_n.png with --out)")
     et.add_argument("--drained", action="store_true", help="drained test (P_s held, n follows n-bar)")

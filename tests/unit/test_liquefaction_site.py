@@ -259,6 +259,8 @@ BAD = [  # (site, layers, sections, words)
     (None, [CRUST, {**SAND, "viscosity_law": "power_law", "viscosity_reference_rate": 0.0}], {},
      ["[layers 2 'sand'] viscosity_reference_rate", "(0, 1000]"]),
     (None, None, {"report": {"depths": [2.0], "spectrum_damping": 0.5}}, ["[report] spectrum_damping", "[0, 0.5)"]),
+    (None, [CRUST, {**SAND, "csr_n_slope": 0.01}], {}, ["[layers 2 'sand'] csr_n_slope", "[0.05, 0.6]"]),
+    (None, [CRUST, {**SAND, "csr_n_slope": 0.7}], {}, ["[layers 2 'sand'] csr_n_slope", "0.6"]),
     (None, None, {"report": {"depths": [2.0], "spectrum_periods": [0.5, 0.1]}},
      ["[report] spectrum_periods", "increasing"]),
 ]

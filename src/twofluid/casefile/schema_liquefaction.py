@@ -130,6 +130,11 @@ LAYER_KEYS = [
     K("qc1ncs", float, 0.0, "-", "hysteretic model: clean-sand equivalent normalised CPT tip resistance "
       "q_c1Ncs, instead of n160cs (Boulanger & Idriss 2014 CPT route; also used by the simplified "
       "procedure). 0: not given", lo=0.0, hi=250.0),
+    K("csr_n_slope", float, 0.0, "-", "hysteretic model: slope b of the layer's cyclic strength curve "
+      "CSR ∝ N^−b from its own cyclic tests, in [0.05, 0.6], instead of the b that the magnitude scaling "
+      "factor of Boulanger & Idriss (2014) implies for its (N1)60cs or q_c1Ncs (0.10 at (N1)60cs = 10); "
+      "the CRR at 15 cycles is unchanged and the simplified procedure takes MSF_max = 1.8^(b/0.34) for the "
+      "layer. 0: from the MSF", lo=0.0, hi=0.6),
     K("friction_angle", float, 0.0, "deg", "hysteretic model: φ′ of the strength τ_max = σ′_v tan φ′; 0: "
       "Bolton (1986), 33° + 3 I_R from Dr and σ′_m", lo=0.0, hi=50.0),
     K("gqh_theta", FLOATS, [], "-", "hysteretic model: GQ/H backbone θ1…θ5 (Groholski et al. 2016); "
@@ -265,7 +270,7 @@ def layer_porosity(layer: dict) -> float:
     return layer["porosity"] if layer["porosity"] > 0.0 else layer["void_ratio"] / (1.0 + layer["void_ratio"])
 
 
-_SATURATED_ONLY = ("particle_diameter", "hydraulic_conductivity", "porosity", "void_ratio")
+_SATURATED_ONLY = ("particle_diameter", "hydraulic_conductivity", "porosity", "void_ratio", "csr_n_slope")
 
 
 def _check_hysteretic(case: dict, source: str) -> None:
@@ -286,6 +291,9 @@ def _check_hysteretic(case: dict, source: str) -> None:
                             "with 0 < p1 ≤ 1, 0 ≤ p2 ≤ p1 and p3 > 0 (or empty: fitted)")
         if la["n160cs"] > 0.0 and la["qc1ncs"] > 0.0:
             raise CaseError(source, f"{layer_label(case, i)} qc1ncs", "give n160cs or qc1ncs, not both")
+        if 0.0 < la["csr_n_slope"] < 0.05:
+            raise CaseError(source, f"{layer_label(case, i)} csr_n_slope", f"{la['csr_n_slope']:g} is outside "
+                            "the valid range [0.05, 0.6] (or 0: from the magnitude scaling factor)")
 
 
 def report_depths(case: dict) -> list[float]:

@@ -7,8 +7,8 @@ test and the simplified table agree. This module gathers the correlations it nee
 - relative density Dr [%] from (N1)60cs and from q_c1Ncs, and back (Idriss & Boulanger 2008);
 - the CPT route of Boulanger & Idriss (2014): CRR_M7.5, C_σ, K_σ and MSF_max from q_c1Ncs,
   and MSF_max from (N1)60cs;
-- the slope b of the CSR–N curve implied by MSF_max, and the number of uniform cycles to
-  liquefaction N_L = 15 (CRR/CSR)^(1/b);
+- the slope b of the CSR–N curve implied by MSF_max (and the MSF_max a given b implies), and the
+  number of uniform cycles to liquefaction N_L = 15 (CRR/CSR)^(1/b);
 - the residual strength S_r of liquefied sand (Idriss & Boulanger 2008), with and without
   void redistribution;
 - the static-shear correction K_α (Idriss & Boulanger 2003, in I&B 2008);
@@ -48,7 +48,7 @@ from .simplified import C_D, PA
 
 __all__ = ["dr_from_n160cs", "n160cs_from_dr", "dr_from_qc1ncs", "qc1ncs_from_dr",
            "crr_75_cpt", "c_sigma_cpt", "k_sigma_cpt", "msf_max_cpt", "msf_max_spt",
-           "N_CYCLES_M75", "B_CLEAN_SAND", "MSF_MAX_CLEAN_SAND", "csr_slope_b",
+           "N_CYCLES_M75", "B_CLEAN_SAND", "MSF_MAX_CLEAN_SAND", "csr_slope_b", "msf_max_from_slope",
            "cycles_to_liquefaction", "csr_for_cycles", "residual_strength_ratio_ib2008",
            "residual_strength_ib2008", "relative_state_index", "k_alpha_ib2003",
            "seed_booker_ru", "seed_booker_cycle_ratio", "limiting_shear_strain_pct",
@@ -193,6 +193,17 @@ def csr_slope_b(msf_max):
     """
     m = np.asarray(msf_max, dtype=float)
     return B_CLEAN_SAND * np.log(m) / math.log(MSF_MAX_CLEAN_SAND)
+
+
+def msf_max_from_slope(b):
+    """MSF_max = 1.8^(b/0.34) [-], the inverse of :func:`csr_slope_b`: the magnitude scaling
+    factor's cap that a CSR–N slope b [-] (> 0) implies, for a soil whose slope is known from its
+    own cyclic tests rather than from (N1)60cs or q_c1Ncs.
+
+    >>> round(float(msf_max_from_slope(0.34)), 6), round(float(msf_max_from_slope(csr_slope_b(1.2233))), 6)
+    (1.8, 1.2233)
+    """
+    return MSF_MAX_CLEAN_SAND ** (np.asarray(b, dtype=float) / B_CLEAN_SAND)
 
 
 def cycles_to_liquefaction(csr, crr_m75, b, c_multidirectional=1.0):

@@ -142,7 +142,7 @@ def check_relative_density(dr_percent, source: str, key: str) -> None:
 
 def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relative_density,
                          liquefiable, a_max_g, magnitude, *, msf_form: str = "ib2014", n160cs=None,
-                         qc1ncs=None) -> SimplifiedResult:
+                         qc1ncs=None, csr_n_slope=None) -> SimplifiedResult:
     """Factor of safety and post-liquefaction settlement of each row of a profile.
 
     Parameters
@@ -168,6 +168,11 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
         Dr = 0.478 q^0.264 − 1.063; one with (N1)60cs takes it and Dr = √(N/46); the others
         (N1)60cs = 46 Dr² from ``relative_density``. The liquefaction column's hysteretic model is
         calibrated to the same relations (:mod:`twofluid.models.hysteretic_sand`).
+    csr_n_slope : array (n,) or scalar, optional
+        A row's slope b of CSR ∝ N^−b from its own cyclic tests, in [0.05, 0.6] (0: from its
+        density): with ``msf_form = "ib2014"`` the row's MSF_max is then 1.8^(b/0.34)
+        (:func:`twofluid.geotech.correlations.msf_max_from_slope`), the cap that b implies, as
+        in the liquefaction column's law.
     msf_form : {"ib2014", "ib2008"}
         Magnitude scaling factor: Boulanger & Idriss (2014), density-dependent
         (default), or Idriss & Boulanger (2008).
@@ -232,6 +237,9 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
             _fail(name, "must be >= 0 in every row (0: not given)")
         return x
     nspt, qcpt = given("n160cs", n160cs), given("qc1ncs", qc1ncs)
+    slope = given("csr_n_slope", csr_n_slope)
+    if np.any((slope > 0.0) & ((slope < 0.05) | (slope > 0.6))):
+        _fail("csr_n_slope", "must be 0 (not given) or in [0.05, 0.6] in every row")
     cpt, spt = qcpt > 0.0, (nspt > 0.0) & ~(qcpt > 0.0)
     dr = np.where(cpt, np.clip(co.dr_from_qc1ncs(np.maximum(qcpt, 1.0)), 5.0, 100.0) / 100.0,
                   np.where(spt, np.minimum(np.sqrt(nspt / 46.0), 1.0), dr))
@@ -242,6 +250,7 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
     crr = np.where(cpt, co.crr_75_cpt(qcpt), sp.crr_75(n160))
     if msf_form == "ib2014":
         msf_max = np.where(cpt, co.msf_max_cpt(qcpt), co.msf_max_spt(n160))
+        msf_max = np.where(slope > 0.0, co.msf_max_from_slope(slope), msf_max)
         msf = 1.0 + (msf_max - 1.0) * (8.64 * np.exp(-mag / 4.0) - 1.325)
     else:
         msf = sp.msf_ib2008(mag) * np.ones(n)

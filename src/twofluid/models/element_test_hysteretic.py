@@ -50,16 +50,19 @@ class HystereticElementTest:
 
 def element_test(*, csr=None, gamma_amplitude=None, sigma_v0=100e3, n160cs=None, qc1ncs=None, dr=None,
                  k2max=30.0, friction_angle=None, max_cycles=100, steps_per_cycle=100,
-                 alpha=0.0) -> HystereticElementTest:
+                 alpha=0.0, csr_n_slope=None) -> HystereticElementTest:
     """Undrained cyclic simple shear at ``csr`` (stress control) or ``gamma_amplitude`` (strain
     control) of a soil given by (N1)60cs, q_c1Ncs or Dr [%] (default Dr 47 %) at σ′_v0 [Pa], on a
-    static shear stress ratio ``alpha`` = τ_s/σ′_v0 ≥ 0 (module docstring)."""
+    static shear stress ratio ``alpha`` = τ_s/σ′_v0 ≥ 0 (module docstring); ``csr_n_slope`` in
+    [0.05, 0.6] replaces the CSR–N slope b that the magnitude scaling factor implies."""
     if (csr is None) == (gamma_amplitude is None):
         raise ValueError("element_test: give one of csr or gamma_amplitude")
+    if csr_n_slope is not None and not 0.05 <= csr_n_slope <= 0.6:
+        raise ValueError(f"element_test: csr_n_slope = {csr_n_slope:g} is outside the valid range [0.05, 0.6]")
     if dr is None and n160cs is None and qc1ncs is None:
         dr = 47.0
     par = hs.parameters(sigma_v0=[sigma_v0], n160cs=n160cs, qc1ncs=qc1ncs, dr=dr, k2max=k2max,
-                        friction_angle=friction_angle)
+                        friction_angle=friction_angle, csr_n_slope=csr_n_slope)
     if not 0.0 <= alpha < 1.0:
         raise ValueError(f"element_test: alpha = {alpha:g} is outside the valid range [0, 1)")
     st = law.new_state(1, par)

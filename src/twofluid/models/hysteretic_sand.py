@@ -95,12 +95,14 @@ def derive(*, n160cs=None, qc1ncs=None, dr=None, sigma_v0, friction_angle=None):
 
 def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, friction_angle=None,
                theta=(0.0, 0.0, 1.0, 1.0, 1.0), mrdf=(1.0, 0.0, 1.0), liquefiable=True,
-               g_max_fixed=0.0, **overrides) -> np.ndarray:
+               g_max_fixed=0.0, csr_n_slope=None, **overrides) -> np.ndarray:
     """The (n, NPARAM) parameter array of :mod:`twofluid.closures.hysteretic` for n elements.
 
     Every argument is a scalar or an (n,) array (``theta`` (5,) or (n, 5), ``mrdf`` (3,) or (n, 3)).
     ``g_max_fixed`` > 0 marks an element above the water table: fixed G_max [Pa] and effective
-    stress σ′_v0, no pore pressure. ``overrides`` replace :data:`DEFAULTS`.
+    stress σ′_v0, no pore pressure. ``csr_n_slope`` (> 0; None or NaN: derived) replaces the CSR–N
+    slope b that :func:`derive` takes from the magnitude scaling factor, the CRR at 15 cycles kept
+    (a soil whose slope is known from its own cyclic tests). ``overrides`` replace :data:`DEFAULTS`.
 
     >>> p = parameters(sigma_v0=[50e3, 100e3], n160cs=10.0)
     >>> p.shape, bool(p[1, law.P_SR] > p[0, law.P_SR])
@@ -111,6 +113,7 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
     each = lambda x: np.broadcast_to(np.asarray(x if x is not None else np.nan, dtype=float), (ne,))
     n_a, q_a, d_a = each(n160cs), each(qc1ncs), each(dr)
     phi_a = each(friction_angle)
+    b_a = each(csr_n_slope)
     opts = dict(DEFAULTS, **overrides)
     par = np.zeros((ne, law.NPARAM))
     for e in range(ne):
@@ -125,7 +128,7 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
         par[e, law.P_TANPHI] = c["tan_phi"]
         par[e, law.P_SR] = c["residual_strength"]
         par[e, law.P_CRR] = c["crr"]
-        par[e, law.P_B] = c["b"]
+        par[e, law.P_B] = b_a[e] if np.isfinite(b_a[e]) and b_a[e] > 0.0 else c["b"]
         par[e, law.P_GLIM] = max(c["gamma_lim"], opts["gamma_d0"])
         par[e, law.P_DR] = c["dr"]
         par[e, law.P_DGD] = c["gamma_lim"] / opts["gamma_d_steps"]

@@ -119,9 +119,10 @@ def profile_stresses(col, site, case: dict) -> dict:
     liq[ns:] = False
     n160 = np.array([layers[i].get("n160cs", 0.0) for i in owner], dtype=float)
     qc1n = np.array([layers[i].get("qc1ncs", 0.0) for i in owner], dtype=float)
+    slope = np.array([layers[i].get("csr_n_slope", 0.0) for i in owner], dtype=float)
     return {"z_top_m": z_top, "z_bottom_m": z_bot, "sigma_v_Pa": sig_eff + u_hydro,
             "sigma_v_eff_Pa": sig_eff, "relative_density": dr, "liquefiable": liq, "layer_of": owner,
-            "n160cs": n160, "qc1ncs": qc1n}
+            "n160cs": n160, "qc1ncs": qc1n, "csr_n_slope": slope}
 
 
 def simplified_rows(col, site, case: dict, a_max_g: float, top_first: bool = False):
@@ -135,7 +136,7 @@ def simplified_rows(col, site, case: dict, a_max_g: float, top_first: bool = Fal
     m = case["ground_motion"]["magnitude"]
     return simplified_procedure(p["z_top_m"], p["z_bottom_m"], p["sigma_v_Pa"], p["sigma_v_eff_Pa"],
                                 p["relative_density"], p["liquefiable"], min(max(a_max_g, 0.0), 3.0), m,
-                                n160cs=p["n160cs"], qc1ncs=p["qc1ncs"])
+                                n160cs=p["n160cs"], qc1ncs=p["qc1ncs"], csr_n_slope=p["csr_n_slope"])
 
 
 ELEMENT_COLUMNS = ["depth_top_m", "depth_bottom_m", "depth_m", "layer", "saturated", "peak_r_u",

@@ -216,6 +216,7 @@ def hysteretic_parameters(case: dict, site: Site, sigma_v0: np.ndarray, crust: C
         par = parameters(sigma_v0=sig, n160cs=positive(per(owner, "n160cs")),
                          qc1ncs=positive(per(owner, "qc1ncs")), dr=per(owner, "relative_density"),
                          k2max=k2, friction_angle=positive(per(owner, "friction_angle")),
+                         csr_n_slope=positive(per(owner, "csr_n_slope")),
                          liquefiable=liquefiable, g_max_fixed=g_fix)
         for i in sorted(set(owner.tolist())):
             idx = np.flatnonzero(owner == i)
