@@ -137,7 +137,7 @@ import numpy as np
 
 from . import backbones as _bb
 
-__all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "tangent", "direction", "masing_weight",
+__all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "direction", "masing_weight",
            "commit", "commit_counted", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
 
 KPA = 1000.0
@@ -240,7 +240,7 @@ def strength_modulus(ps, par, e):
 # fix for a sub-step's Newton iterations (:func:`_prepare`). The compiled kernel keeps both per element
 # and evaluates the stress many times per sub-step without recomputing them (the MRDF factor, θ3^θ5,
 # the branches' origins) and without passing arrays (each array argument of a compiled call costs a
-# reference count); :func:`skeleton_stress` and :func:`tangent` are the same two steps in one call.
+# reference count); :func:`skeleton_stress` is the same two steps in one call.
 # Each returns the stress and its derivative dτ/dγ together (one power and one root per backbone
 # evaluation serve both), the derivative of the branch that sets the stress: Newton's stiffness.
 C_TH1, C_TH2, C_C3, C_TH4, C_TH5 = 0, 1, 2, 3, 4  # GQ/H θ1, θ2, θ3^θ5, θ4, θ5
@@ -569,17 +569,6 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     """
     c = _constants(st, par, e)
     return _stress(g, _prepare(d, st, par, e, s, gr, c), c)[0]
-
-
-def tangent(g, d, st, par, e, s, gr):
-    """dτ/dγ ≥ 0 [Pa] of :func:`skeleton_stress` at ``g`` in direction ``d``: the derivative of the
-    branch that sets the stress there, the Newton iterations' stiffness (0 where the skeleton yields).
-    Its backbone and its branches are odd functions about their origins, so an element that has not
-    moved yet (``d`` only a guess) has the same stiffness at ±γ, and a motion and its mirror image
-    are solved alike."""
-    c = _constants(st, par, e)
-    k = _stress(g, _prepare(d, st, par, e, s, gr, c), c)[1]
-    return k if k > 0.0 else 0.0
 
 
 def _close_loops(g, d, st, par, e, s, gr, c, fm):
