@@ -121,14 +121,32 @@ def isolation(pga: float, k: float = 1e-6) -> None:
           "effective-stress / total-stress run, before and after it")
     print("| depth | CRR | CRR 30^b | peak r_u | r_u > 0.95 at | before: ES / TS | after: ES / TS | S_r/sigma'_v0 |")
     print("|---|---|---|---|---|---|---|---|")
+    a, a2 = t <= first, t2 <= first  # before the first liquefaction, in each run
+
+    def peak(x, m, e):
+        return float(np.abs(x[m, e]).max() / par[e, law.P_SIG0]) if m.any() else float("nan")
+
     for e in sorted(loose, key=lambda i: depth[i]):
-        s0 = par[e, law.P_SIG0]
-        a, a2 = t <= first, t2 <= first
-        pk = lambda x, m: float(np.abs(x[m, e]).max() / s0) if m.any() else float("nan")
         tl = f"{t[np.argmax(liq[:, e])]:.2f} s" if liq[:, e].any() else "-"
         print(f"| {depth[e]:.2f} m | {par[e, law.P_CRR]:.3f} | {par[e, law.P_CRR] * 30.0 ** par[e, law.P_B]:.3f} | "
-              f"{ru[:, e].max():.2f} | {tl} | {pk(tau, a):.3f} / {pk(tau2, a2):.3f} | {pk(tau, ~a):.3f} / {pk(tau2, ~a2):.3f} | "
-              f"{par[e, law.P_SR] / s0:.3f} |", flush=True)
+              f"{ru[:, e].max():.2f} | {tl} | {peak(tau, a, e):.3f} / {peak(tau2, a2, e):.3f} | "
+              f"{peak(tau, ~a, e):.3f} / {peak(tau2, ~a2, e):.3f} | {par[e, law.P_SR] / par[e, law.P_SIG0]:.3f} |",
+              flush=True)
+
+
+def _derived(key, change) -> None:
+    """Every element's correlated parameter ``key`` (:func:`twofluid.models.hysteretic_sand.derive`)
+    passed through ``change``: a diagnostic, not the shipped calibration."""
+    from twofluid.models import hysteretic_sand
+
+    derive = hysteretic_sand.derive
+
+    def changed(*args, **kw):
+        out = derive(*args, **kw)
+        out[key] = change(out[key])
+        return out
+
+    hysteretic_sand.derive = changed
 
 
 def _fs_zone(table, limit):
@@ -163,19 +181,11 @@ def main(argv) -> None:
                     sys.exit(f"layered_determinacy: --set {key}: not one of {', '.join(hysteretic_sand.DEFAULTS)}")
                 hysteretic_sand.DEFAULTS[key] = float(val)
     for a in argv:
-        if a.startswith("--b-min=") or a.startswith("--sr-scale="):
-            from twofluid.models import hysteretic_sand
-            value, derive = float(a.split("=")[1]), hysteretic_sand.derive
-
-            def _derive(*args, _key=a[2:4], _value=value, _derive=derive, **kw):
-                out = _derive(*args, **kw)
-                if _key == "b-":
-                    out["b"] = max(out["b"], _value)
-                else:
-                    out["residual_strength"] *= _value
-                return out
-
-            hysteretic_sand.derive = _derive
+        name, _, value = a.partition("=")
+        if name == "--b-min":
+            _derived("b", lambda b, x=float(value): max(b, x))
+        elif name == "--sr-scale":
+            _derived("residual_strength", lambda sr, x=float(value): sr * x)
     k_iso = 1e-6
     for a in argv:
         if a.startswith("--k="):

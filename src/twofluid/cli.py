@@ -280,11 +280,14 @@ def _element_test_hysteretic(args) -> int:
 
         raise CaseError("element-test", "--alpha", f"{args.alpha:g} is outside the valid range [0, 0.35] "
                         "(the range of Idriss & Boulanger's K_alpha)")
-    if args.csr_n_slope is not None and not 0.05 <= args.csr_n_slope <= 0.6:
+    if args.csr_n_slope is not None:
         from .casefile.schema import CaseError
+        from .geotech.correlations import CSR_N_SLOPE_RANGE
 
-        raise CaseError("element-test", "--csr-n-slope", f"{args.csr_n_slope:g} is outside the valid range "
-                        "[0.05, 0.6]")
+        lo, hi = CSR_N_SLOPE_RANGE
+        if not lo <= args.csr_n_slope <= hi:
+            raise CaseError("element-test", "--csr-n-slope", f"{args.csr_n_slope:g} is outside the valid range "
+                            f"[{lo:g}, {hi:g}]")
     if args.out:
         from .io.folders import check_out_dir
 

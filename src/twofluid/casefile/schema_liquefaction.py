@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..geotech.correlations import CSR_N_SLOPE_RANGE
 from ..geotech.profile import SIGMA_EFF_MAX_PA
 from ..io.tables import TableError, read_columns
 from .schema import (FLOATS, REQUIRED, SCHEMA, CaseError, CaseWarning, K, Suffixes, given_keys, given_section_keys,
@@ -134,7 +135,7 @@ LAYER_KEYS = [
       "CSR ∝ N^−b from its own cyclic tests, in [0.05, 0.6], instead of the b that the magnitude scaling "
       "factor of Boulanger & Idriss (2014) implies for its (N1)60cs or q_c1Ncs (0.10 at (N1)60cs = 10); "
       "the CRR at 15 cycles is unchanged and the simplified procedure takes MSF_max = 1.8^(b/0.34) for the "
-      "layer. 0: from the MSF", lo=0.0, hi=0.6),
+      "layer. 0: from the MSF", lo=0.0, hi=CSR_N_SLOPE_RANGE[1]),
     K("friction_angle", float, 0.0, "deg", "hysteretic model: φ′ of the strength τ_max = σ′_v tan φ′; 0: "
       "Bolton (1986), 33° + 3 I_R from Dr and σ′_m", lo=0.0, hi=50.0),
     K("gqh_theta", FLOATS, [], "-", "hysteretic model: GQ/H backbone θ1…θ5 (Groholski et al. 2016); "
@@ -291,9 +292,10 @@ def _check_hysteretic(case: dict, source: str) -> None:
                             "with 0 < p1 ≤ 1, 0 ≤ p2 ≤ p1 and p3 > 0 (or empty: fitted)")
         if la["n160cs"] > 0.0 and la["qc1ncs"] > 0.0:
             raise CaseError(source, f"{layer_label(case, i)} qc1ncs", "give n160cs or qc1ncs, not both")
-        if 0.0 < la["csr_n_slope"] < 0.05:
+        lo, hi = CSR_N_SLOPE_RANGE
+        if 0.0 < la["csr_n_slope"] < lo:
             raise CaseError(source, f"{layer_label(case, i)} csr_n_slope", f"{la['csr_n_slope']:g} is outside "
-                            "the valid range [0.05, 0.6] (or 0: from the magnitude scaling factor)")
+                            f"the valid range [{lo:g}, {hi:g}] (or 0: from the magnitude scaling factor)")
 
 
 def report_depths(case: dict) -> list[float]:

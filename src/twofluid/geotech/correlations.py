@@ -48,7 +48,7 @@ from .simplified import C_D, PA
 
 __all__ = ["dr_from_n160cs", "n160cs_from_dr", "dr_from_qc1ncs", "qc1ncs_from_dr",
            "crr_75_cpt", "c_sigma_cpt", "k_sigma_cpt", "msf_max_cpt", "msf_max_spt",
-           "N_CYCLES_M75", "B_CLEAN_SAND", "MSF_MAX_CLEAN_SAND", "csr_slope_b", "msf_max_from_slope",
+           "N_CYCLES_M75", "B_CLEAN_SAND", "MSF_MAX_CLEAN_SAND", "CSR_N_SLOPE_RANGE", "csr_slope_b", "msf_max_from_slope",
            "cycles_to_liquefaction", "csr_for_cycles", "residual_strength_ratio_ib2008",
            "residual_strength_ib2008", "relative_state_index", "k_alpha_ib2003",
            "seed_booker_ru", "seed_booker_cycle_ratio", "limiting_shear_strain_pct",
@@ -57,6 +57,7 @@ __all__ = ["dr_from_n160cs", "n160cs_from_dr", "dr_from_qc1ncs", "qc1ncs_from_dr
 N_CYCLES_M75 = 15.0  # equivalent uniform cycles of an M 7.5 event (Seed et al. 1975; I&B 2008)
 B_CLEAN_SAND = 0.34  # slope of CSR–N of clean sand used by Idriss (1999) for his MSF ...
 MSF_MAX_CLEAN_SAND = 1.8  # ... whose cap (M <= 5.25) it implies
+CSR_N_SLOPE_RANGE = (0.05, 0.6)  # a CSR–N slope b given from a soil's own cyclic tests (csr_n_slope) [-]
 QC1NCS_CSIGMA_MAX = 211.0  # B&I (2014): C_sigma evaluated at q_c1Ncs <= 211 (where it reaches 0.3)
 
 

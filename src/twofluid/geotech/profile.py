@@ -238,8 +238,9 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
         return x
     nspt, qcpt = given("n160cs", n160cs), given("qc1ncs", qc1ncs)
     slope = given("csr_n_slope", csr_n_slope)
-    if np.any((slope > 0.0) & ((slope < 0.05) | (slope > 0.6))):
-        _fail("csr_n_slope", "must be 0 (not given) or in [0.05, 0.6] in every row")
+    lo, hi = co.CSR_N_SLOPE_RANGE
+    if np.any((slope > 0.0) & ((slope < lo) | (slope > hi))):
+        _fail("csr_n_slope", f"must be 0 (not given) or in [{lo:g}, {hi:g}] in every row")
     cpt, spt = qcpt > 0.0, (nspt > 0.0) & ~(qcpt > 0.0)
     dr = np.where(cpt, np.clip(co.dr_from_qc1ncs(np.maximum(qcpt, 1.0)), 5.0, 100.0) / 100.0,
                   np.where(spt, np.minimum(np.sqrt(nspt / 46.0), 1.0), dr))

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..closures import hysteretic as law
+from ..geotech.correlations import CSR_N_SLOPE_RANGE
 from . import hysteretic_kernel as hk
 from . import hysteretic_sand as hs
 
@@ -57,8 +58,9 @@ def element_test(*, csr=None, gamma_amplitude=None, sigma_v0=100e3, n160cs=None,
     [0.05, 0.6] replaces the CSR–N slope b that the magnitude scaling factor implies."""
     if (csr is None) == (gamma_amplitude is None):
         raise ValueError("element_test: give one of csr or gamma_amplitude")
-    if csr_n_slope is not None and not 0.05 <= csr_n_slope <= 0.6:
-        raise ValueError(f"element_test: csr_n_slope = {csr_n_slope:g} is outside the valid range [0.05, 0.6]")
+    lo, hi = CSR_N_SLOPE_RANGE
+    if csr_n_slope is not None and not lo <= csr_n_slope <= hi:
+        raise ValueError(f"element_test: csr_n_slope = {csr_n_slope:g} is outside the valid range [{lo:g}, {hi:g}]")
     if dr is None and n160cs is None and qc1ncs is None:
         dr = 47.0
     par = hs.parameters(sigma_v0=[sigma_v0], n160cs=n160cs, qc1ncs=qc1ncs, dr=dr, k2max=k2max,
