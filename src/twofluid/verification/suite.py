@@ -195,9 +195,9 @@ def verify(out: str | Path | None = None, quick: bool = False, slis: bool = True
     tab = slis_inventory = None
     if slis:
         tab = slis_check.slis_table(rows=[0, 3] if quick else None)
-        rows += slis_check.gate_rows(tab)  # all twelve rows only
-        if not quick and all(np.isfinite(r["t1_kynch"]) for r in tab):  # a diagnostic, not a gate
+        if not quick and all(np.isfinite(r["t1_kynch"]) for r in tab):  # the gate's second part
             slis_inventory = slis_check.inventory_table(tab)
+        rows += slis_check.gate_rows(tab, slis_inventory)  # all twelve rows only
         if log:
             log(f"  slis: {len(tab)} rows ({time.perf_counter() - t0:.1f} s so far)")
     ann = None
