@@ -55,7 +55,6 @@ from ..models.liquefaction_1d import ColumnState, FlowStop, LiquefactionColumn, 
 from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings, StepFailure
-from ..verification.terzaghi import consolidation_coefficient
 from . import liquefaction_report as report
 from .liquefaction_site import Site, crust_for, hysteretic_parameters, sand_for, site_arrays
 
@@ -366,6 +365,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     out.mkdir(parents=True, exist_ok=True)
     write_resolved_case(out / "case.resolved.toml", case)
     col, state = b.column, b.state
+    c_v0 = report.initial_consolidation_coefficient(col, case["site"]["initial_excess_ratio"])  # before the run softens A
     H = col.ground_surface
     rep = case["report"]
     depths = sorted(set(schema_liquefaction.report_depths(case)) | {H - y for y in case["output"]["probes"]})  # y above the base
@@ -447,7 +447,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
         except (StepFailure, FloatingPointError, ValueError):
             total = None
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
-                              settle_shaking, total)
+                              settle_shaking, total, c_v0)
     if srec is not None:
         from .liquefaction_slope import slope_summary
 
@@ -475,16 +475,15 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
 
 
 def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow, settle_shaking,
-             total=None):
+             total=None, c_v=None):
     """summary.json, and the per-element and per-layer arrays behind the CSV tables and figures."""
     col, site = b.column, b.site
     mesh = col.v.mesh
     H = col.ground_surface
     n0 = col.n0
     k = hydraulic_conductivity(col, n0)
-    beta = col.v.clo.drag(n0, 0.0, col.v.mat.d, col.v.mat.rho_f, col.v.mat.mu_f, **col.v.clo.drag_params)
-    nb0 = b.state.vertical.n_bar
-    c_v = consolidation_coefficient(n0, nb0, col.sigma_v0, col.v.clo.A, beta)
+    if c_v is None:  # c_v of the initial state: only before the run (the reconsolidation softens A)
+        c_v = report.initial_consolidation_coefficient(col, case["site"]["initial_excess_ratio"])
     solids = col.v.solids_volume(last.vertical)
     first = rec.first
     liq = np.isfinite(first)

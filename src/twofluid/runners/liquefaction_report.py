@@ -1,5 +1,6 @@
 """What an engineer reads from a liquefaction run, besides the time loop's own records.
 
+- :func:`initial_consolidation_coefficient` — c_v of the initial state, per element;
 - :func:`final_settlement` — the settlement the column will reach once the remaining excess pore
   pressure has dissipated, from the skeleton law at fixed n̄ (the constrained modulus, integrated);
 - :func:`sand_boil` — a quick surface after the shaking (when, how long, upward seepage);
@@ -19,10 +20,30 @@ import numpy as np
 from ..geotech import response_spectrum, simplified_procedure
 from ..postprocess import median
 
-__all__ = ["final_settlement", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
+__all__ = ["initial_consolidation_coefficient", "final_settlement", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
 
 G = 9.80665  # standard gravity [m/s²]: accelerations reported in g
 DEFAULT_PERIODS = np.logspace(np.log10(0.02), np.log10(5.0), 60)
+
+
+def initial_consolidation_coefficient(col, excess_ratio: float = 0.0) -> np.ndarray:
+    """c_v = k M/(ρ_f g) = n² M/β [m²/s] of the column's initial state, per saturated element.
+
+    M = P_s (1 − n̄)/(A (1 − n)) is the constrained modulus (docs/liquefaction.md), β the drag at zero
+    slip; all of the state the run starts from, rebuilt from what the run does not change: the
+    initial porosity ``col.n0``, σ′_v0 ``col.sigma_v0``, P_s = (1 − r_u0) σ′_v0 (``excess_ratio``,
+    ``[site] initial_excess_ratio``) and n̄ = 1 − (1 − n)(1 − A ln(P_s/p_ref)) (the column's
+    ``initial_state``). So the value does not depend on how long the run went on.
+    """
+    from ..closures.solids_pressure import reference_porosity_for
+    from ..verification.terzaghi import consolidation_coefficient
+
+    v = col.v
+    n0 = np.asarray(col.n0, dtype=float)
+    ps = (1.0 - excess_ratio) * np.asarray(col.sigma_v0, dtype=float)
+    n_bar = reference_porosity_for(n0, ps, v.clo.A, v.clo.p_ref)
+    beta = v.clo.drag(n0, 0.0, v.mat.d, v.mat.rho_f, v.mat.mu_f, **v.clo.drag_params)
+    return consolidation_coefficient(n0, n_bar, ps, v.clo.A, beta)
 
 
 def final_settlement(col, s) -> tuple[float, np.ndarray]:
