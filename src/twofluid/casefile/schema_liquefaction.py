@@ -232,7 +232,14 @@ _REPORT = [
       hi_open=True),
 ]
 
+#: [time] end when not given: the run goes on to dissipation ([reconsolidation] dissipated_r_u), capped here
+DEFAULT_END_CAP_S = 86400.0
+_TIME = [K("end", float, DEFAULT_END_CAP_S, "s", "latest end: the run ends once the excess pore pressure has "
+           "dissipated ([reconsolidation] dissipated_r_u), at this time at the latest (summary.json: end_cap_s)",
+           lo=0.0, lo_open=True)] + [k for k in SCHEMA["time"] if k.name != "end"]
+
 SECTIONS_LIQUEFACTION = {
+    "time": _TIME,
     "materials": _MATERIALS,
     "site": _SITE,
     "closures.drag": SCHEMA["closures.drag"],

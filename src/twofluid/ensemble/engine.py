@@ -21,7 +21,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from ..runners.common import sigterm_as_interrupt
-from .results import ResultsTable, figure_at, figure_stats
+from .results import ResultsTable, figure_at, figure_stats, with_settlement_companions
 
 __all__ = ["run_member", "run_members", "run_ensemble", "cluster_client", "ensemble_out_dir", "check_workers"]
 
@@ -275,12 +275,13 @@ def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, schedul
     workers = check_workers(workers)
     out = check_out_dir(ensemble_out_dir(spec) if out_dir is None else out_dir, "ensemble output folder")
     ms = make_members(spec)
+    collect = with_settlement_companions(spec.collect)  # beside a settlement: final or not, and the final one
     summary = {"ensemble": spec.name, "description": spec.description, "file": spec.source,
                "base_case": spec.base.get("_source", ""), "varied": spec.varied(), "collect": spec.collect,
                "scheduler": scheduler or "LocalCluster"}
     with OutputFolder(out, keep=("members.csv", "members.previous.csv", "runs"), keep_check=_members_table_check):
         try:
-            rows, record = run_members(ms, spec.collect, out, keep_runs=spec.keep_runs, workers=workers,
+            rows, record = run_members(ms, collect, out, keep_runs=spec.keep_runs, workers=workers,
                                        scheduler=scheduler, progress=progress, client=client)
         except KeyboardInterrupt:
             write_json(out / "ensemble.json", {**summary, "status": "interrupted",
@@ -291,7 +292,7 @@ def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, schedul
         summary["completed"] = sum(r["status"] == "completed" for r in rows)
         summary["failed"] = [{"member": r["member"], "reason": r["reason"]} for r in rows
                              if r["status"] != "completed"]
-        summary["figures"] = figure_stats(rows, spec.collect)
+        summary["figures"] = figure_stats(rows, collect)
         if spec.fragility:
             summary["fragility"] = ens_plots.fragility_fits(rows, spec.fragility)
         write_json(out / "ensemble.json", summary)

@@ -3,7 +3,10 @@
 One row per member: ``member`` (its index), ``hash`` (of its resolved case), ``status``
 (completed or failed), ``reason``, ``wall_time_s`` and ``cpu_time_s`` (of the member's
 process while it ran: less than the wall time when the CPU is shared), the varied parameters and the
-collected figures. A figure that is a list or a table is written as JSON in its cell.
+collected figures. A figure that is a list or a table is written as JSON in its cell. Beside a
+settlement a member reached, the ensemble also collects whether it is final and the predicted final
+settlement (:func:`with_settlement_companions`), and ``ensemble.json`` says how many members' settlements
+are final (:func:`figure_stats`).
 Rows are flushed as members finish, so an interrupted ensemble keeps every finished row.
 """
 from __future__ import annotations
@@ -19,7 +22,8 @@ import numpy as np
 from ..io.folders import create, write_all, write_atomic
 from ..io.results import plain
 
-__all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "encode", "decode", "FIXED"]
+__all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "with_settlement_companions", "encode", "decode",
+           "FIXED"]
 
 FIXED = ["member", "hash", "status", "reason", "wall_time_s", "cpu_time_s"]
 
@@ -82,11 +86,13 @@ def encode(v) -> str:
     """A cell: "" for None and non-finite numbers, numbers and strings as they are, lists and
     tables as JSON (non-finite entries null).
 
-    >>> encode(float("nan")), encode([1.0, float("inf")]), encode(0.5)
-    ('', '[1.0,null]', '0.5')
+    >>> encode(float("nan")), encode([1.0, float("inf")]), encode(0.5), encode(True)
+    ('', '[1.0,null]', '0.5', 'true')
     """
     if v is None:
         return ""
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"  # JSON's spelling: decoded back to a bool
     if isinstance(v, (list, dict)):
         return json.dumps(plain(v), separators=(",", ":"), allow_nan=False)
     if isinstance(v, (float, np.floating)):
@@ -97,8 +103,8 @@ def encode(v) -> str:
 def decode(text: str):
     """Inverse of :func:`encode` (numbers, JSON, else the text).
 
-    >>> decode(encode([1.0, None])), decode(encode(0.1)), decode(""), decode("x.AT2")
-    ([1.0, None], 0.1, None, 'x.AT2')
+    >>> decode(encode([1.0, None])), decode(encode(0.1)), decode(""), decode("x.AT2"), decode(encode(False))
+    ([1.0, None], 0.1, None, 'x.AT2', False)
     """
     if text == "":
         return None
@@ -181,21 +187,83 @@ class ResultsTable:
             os.close(fd)
 
 
+FINAL_FLAG = "settlement_final"  # summary.json: whether the run's settlement is final
+
+
+def _reached_settlement(path: str) -> bool:
+    """A figure that is a settlement a run reached (not a final, predicted or simplified-procedure one,
+    nor the one at the end of shaking)."""
+    last = path.split(".")[-1]
+    return ("settlement" in last and last.startswith("settlement") and "final" not in last
+            and "simplified" not in path and "end_of_shaking" not in last)
+
+
+def _final_of(path: str) -> str:
+    """The predicted final settlement beside a reached one: ``layers.2.settlement_end_m`` →
+    ``layers.2.predicted_final_settlement_m``; the column's own otherwise."""
+    head = path.rsplit(".", 1)[0] + "." if "." in path else ""
+    return head + "predicted_final_settlement_m" if head.startswith("layers.") else "predicted_final_settlement_m"
+
+
+def with_settlement_companions(collect: list[str]) -> list[str]:
+    """``collect`` with, after it, whether the settlement is final and the predicted final settlement for
+    every collected settlement a run reached (none added twice).
+
+    >>> with_settlement_companions(["settlement_end_m", "layers.2.settlement_end_m", "steps"])
+    ['settlement_end_m', 'layers.2.settlement_end_m', 'steps', 'settlement_final', 'predicted_final_settlement_m', 'layers.2.predicted_final_settlement_m']
+    >>> with_settlement_companions(["simplified_procedure.settlement_run_m"])
+    ['simplified_procedure.settlement_run_m']
+    """
+    out = list(collect)
+    for f in collect:
+        if _reached_settlement(f):
+            for c in (FINAL_FLAG, _final_of(f)):
+                if c not in out:
+                    out.append(c)
+    return out
+
+
 def figure_stats(rows: list[dict], figures: list[str]) -> dict:
-    """{figure: {unit, count, min, mean, std, max}} over the completed members' scalar values.
+    """{figure: {unit, count, min, mean, std, max}} over the completed members' scalar values; a
+    true/false figure gives its count of true (``true``). Beside a settlement a run reached (when
+    ``settlement_final`` was collected): ``final``, how many members' settlements are final, in words,
+    ``members_final``, and ``predicted_final``, the statistics of the predicted final settlement.
 
     >>> rows = [{"status": "completed", "h_m": 1.0}, {"status": "completed", "h_m": 3.0},
     ...         {"status": "failed", "h_m": None}]
     >>> figure_stats(rows, ["h_m"])
     {'h_m': {'unit': 'm', 'count': 2, 'min': 1.0, 'mean': 2.0, 'std': 1.0, 'max': 3.0}}
+    >>> rows = [{"status": "completed", "settlement_end_m": a, "settlement_final": f,
+    ...          "predicted_final_settlement_m": 0.2} for a, f in ((0.1, False), (0.2, True))]
+    >>> st = figure_stats(rows, with_settlement_companions(["settlement_end_m"]))
+    >>> st["settlement_end_m"]["final"], st["settlement_end_m"]["predicted_final"]["mean"]
+    ('1 of 2 members final; the others stopped before dissipation (predicted final settlement: predicted_final_settlement_m)', 0.2)
+    >>> st["settlement_final"]
+    {'unit': '-', 'count': 2, 'true': 1}
     """
     out = {}
+    done = [r for r in rows if r["status"] == "completed"]
     for f in figures:
-        vals = np.array([r[f] for r in rows if r["status"] == "completed"
-                         and isinstance(r.get(f), (int, float)) and not isinstance(r.get(f), bool)], float)
-        entry = {"unit": unit_of(f), "count": int(vals.size)}
-        if vals.size:
-            entry.update(min=float(vals.min()), mean=float(vals.mean()), std=float(vals.std()),
-                         max=float(vals.max()))
-        out[f] = entry
+        flags = [r[f] for r in done if isinstance(r.get(f), bool)]
+        if flags:
+            out[f] = {"unit": "-", "count": len(flags), "true": int(sum(flags))}
+            continue
+        out[f] = _stats(done, f)
+        if _reached_settlement(f) and FINAL_FLAG in figures:
+            final = [r.get(FINAL_FLAG) for r in done if isinstance(r.get(f), (int, float))]
+            k = sum(x is True for x in final)
+            out[f]["members_final"] = k
+            out[f]["final"] = ("all members final" if k == len(final) else
+                               f"{k} of {len(final)} members final; the others stopped before dissipation "
+                               f"(predicted final settlement: {_final_of(f)})")
+            out[f]["predicted_final"] = _stats(done, _final_of(f))
     return out
+
+
+def _stats(rows: list[dict], f: str) -> dict:
+    vals = np.array([r[f] for r in rows if isinstance(r.get(f), (int, float)) and not isinstance(r.get(f), bool)],
+                    float)
+    entry = {"unit": unit_of(f), "count": int(vals.size)}
+    if vals.size:
+        entry.update(min=float(vals.min()), mean=float(vals.mean()), std=float(vals.std()), max=float(vals.max()))
+    return entry

@@ -507,7 +507,8 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                 "bedrock_impedance_Pa_s_m": c_base,
                 "impedance_ratio_bottom_element": float(np.sqrt(rho0 * g0)) / c_base}
     # dissipation: the settlement the column will reach once the excess pore pressure is gone
-    final, _ = report.final_settlement(col, last)
+    final_el = report.final_contributions(col, last)
+    final = float(final_el.sum())
     ru_end = float(np.max(col.excess_ratio(last)))
     done = case["reconsolidation"]["dissipated_r_u"]
     dissipated = done > 0.0 and ru_end < done
@@ -557,6 +558,7 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                        liquefied_depth_range_m=_zone(np.isin(np.arange(ns), e) & rec.ever, col),
                        liquefied_thickness_m=float(mesh.lengths[e][rec.ever[e]].sum()),
                        settlement_end_m=float(contrib_end[e].sum()),
+                       predicted_final_settlement_m=float(final_el[e].sum()),
                        max_settlement_contribution_m=float(rec.max_contribution[e].sum()))
         else:
             row.update(unit_weight_N_m3=la["unit_weight"])
@@ -609,6 +611,7 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
         "surface": boil,
         "settlement_end_of_shaking_m": settle_shaking,
         "settlement_end_m": rec.settle[-1],
+        **report.settlement_fields(rec.settle[-1], final, dissipated, b.t_end, last.t),
         "settlement_end_percent_of_depth": 100.0 * rec.settle[-1] / H,
         "settlement_definition": "sum over saturated elements of h (n0 - n)/(1 - n): compression of the skeleton",
         "dissipation": {"dissipated": dissipated, "criterion_max_r_u": done, "max_r_u_end": ru_end,
@@ -642,7 +645,7 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
         s["spectra"]["max_amplification"] = float(np.nanmax(spec["amplification"]))
         s["spectra"]["period_of_max_amplification_s"] = float(spec["period_s"][np.nanargmax(spec["amplification"])])
     extra = {"simplified_run": simp_run, "simplified_input": simp_in, "spectra": spec,
-             "owner": owner_all, "layer_names": [la["name"] for la in case["layers"]]}
+             "owner": owner_all, "layer_names": [la["name"] for la in case["layers"]], "final_contribution": final_el}
     return s, extra
 
 

@@ -3,6 +3,7 @@
 - :func:`initial_consolidation_coefficient` — c_v of the initial state, per element;
 - :func:`final_settlement` — the settlement the column will reach once the remaining excess pore
   pressure has dissipated, from the skeleton law at fixed n̄ (the constrained modulus, integrated);
+  :func:`settlement_fields` — whether the settlement a run reached is final, beside the final one;
 - :func:`sand_boil` — a quick surface after the shaking (when, how long, upward seepage);
 - :func:`spectra` — 5 %-damped response spectra of the input and of the surface, and their ratio;
 - :func:`simplified_rows` — the simplified procedure (Idriss & Boulanger 2008, 2014) on the same
@@ -20,7 +21,8 @@ import numpy as np
 from ..geotech import response_spectrum, simplified_procedure
 from ..postprocess import median
 
-__all__ = ["initial_consolidation_coefficient", "final_settlement", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
+__all__ = ["initial_consolidation_coefficient", "final_settlement", "final_contributions", "settlement_fields",
+           "FINAL_FRACTION", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
 
 G = 9.80665  # standard gravity [m/s²]: accelerations reported in g
 DEFAULT_PERIODS = np.logspace(np.log10(0.02), np.log10(5.0), 60)
@@ -63,6 +65,51 @@ def final_settlement(col, s) -> tuple[float, np.ndarray]:
     n_f = 1.0 - (1.0 - v.n_bar) / (1.0 - clo.A * np.log(target / clo.p_ref))
     h = col.v.mesh.lengths
     return float(np.sum(h * (col.n0 - n_f) / (1.0 - n_f))), n_f
+
+
+def final_contributions(col, s) -> np.ndarray:
+    """Each saturated element's share of :func:`final_settlement` [m]: h (n0 − n_f)/(1 − n_f)."""
+    n_f = final_settlement(col, s)[1]
+    return col.v.mesh.lengths * (col.n0 - n_f) / (1.0 - n_f)
+
+
+#: a settlement is final once the excess pore pressure has dissipated (the run's criterion), or once the
+#: run has reached this fraction of the final settlement (a run with no dissipation criterion)
+FINAL_FRACTION = 0.99
+
+
+def settlement_fields(reached_m: float, final_m: float, dissipated: bool, end_cap_s: float,
+                      stopped_at_s: float) -> dict:
+    """summary.json's statement of whether the reached settlement is final (docs/outputs.md).
+
+    ``settlement_final``: the excess pore pressure has dissipated, or the run reached
+    :data:`FINAL_FRACTION` of ``final_m`` (the settlement at full dissipation, :func:`final_settlement`);
+    ``settlement_fraction_reached``: reached/final (1 where nothing is left to settle);
+    ``predicted_final_settlement_m``: ``final_m``; ``end_cap_s``: the latest end ([time] end), which a run
+    ends at only if the pore pressure has not dissipated by then; ``settlement_state``: one line.
+
+    >>> f = settlement_fields(0.0737, 0.175, False, 3600.0, 3600.0)
+    >>> f["settlement_final"], round(f["settlement_fraction_reached"], 3)
+    (False, 0.421)
+    >>> print(f["settlement_state"])
+    partial: 7.37 cm reached, 42 % of the predicted final 17.5 cm (stopped at the 3600 s cap before dissipation)
+    >>> print(settlement_fields(0.1, 0.1005, True, 86400.0, 812.0)["settlement_state"])
+    final: 10 cm (the excess pore pressure dissipated at 812 s)
+    """
+    fraction = reached_m / final_m if final_m > 0.0 else 1.0
+    final = bool(dissipated or fraction >= FINAL_FRACTION)
+    if final:
+        when = (f"the excess pore pressure dissipated at {stopped_at_s:.4g} s" if dissipated else
+                f"{100.0 * fraction:.0f} % of the predicted final {100.0 * final_m:.3g} cm at {stopped_at_s:.4g} s")
+        state = f"final: {100.0 * reached_m:.3g} cm ({when})"
+    else:
+        cap = (f"at the {end_cap_s:.6g} s cap" if stopped_at_s >= end_cap_s * (1.0 - 1e-9) else
+               f"at {stopped_at_s:.6g} s, before the {end_cap_s:.6g} s cap,")
+        state = (f"partial: {100.0 * reached_m:.3g} cm reached, {100.0 * fraction:.0f} % of the predicted final "
+                 f"{100.0 * final_m:.3g} cm (stopped {cap} before dissipation)")
+    return {"settlement_final": final, "settlement_fraction_reached": float(fraction),
+            "predicted_final_settlement_m": float(final_m), "end_cap_s": float(end_cap_s),
+            "settlement_state": state}
 
 
 def sand_boil(t, ru_top, flux_top, shaking_end: float, ru_liq: float) -> dict:
@@ -163,7 +210,7 @@ def simplified_rows(col, site, case: dict, a_max_g: float, top_first: bool = Fal
 ELEMENT_COLUMNS = ["depth_top_m", "depth_bottom_m", "depth_m", "layer", "saturated", "peak_r_u",
                    "time_first_liquefied_s", "peak_shear_strain", "max_settlement_contribution_m",
                    "settlement_contribution_end_m", "FS_simplified_run", "FS_simplified_input",
-                   "eps_v_simplified_run", "FS_note"]
+                   "eps_v_simplified_run", "FS_note", "settlement_contribution_final_m"]
 #: the ``FS_note`` of a row whose FS is empty: the simplified procedure finds it cannot liquefy (not
 #: liquefiable, above the water table, or no cyclic stress)
 NOT_LIQUEFIABLE = "NL"
@@ -219,12 +266,14 @@ LAYER_COLUMNS = ["layer", "depth_top_m", "depth_bottom_m", "saturated", "liquefi
                  "hydraulic_conductivity_m_s", "peak_r_u", "time_first_liquefied_s", "liquefied_top_m",
                  "liquefied_bottom_m", "liquefied_thickness_m", "peak_shear_strain", "settlement_end_m",
                  "max_settlement_contribution_m", "FS_min_simplified_input", "FS_min_simplified_run",
-                 "settlement_simplified_input_m", "settlement_simplified_run_m", "FS_note"]
+                 "settlement_simplified_input_m", "settlement_simplified_run_m", "FS_note",
+                 "predicted_final_settlement_m", "settlement_final"]
 
 
 def write_tables(out, summary: dict, extra: dict, rec) -> None:
-    """layers.csv (one row per layer), elements.csv (one row per element of the column, depths
-    from the ground surface, top first), surface_motion.csv (absolute surface acceleration per
+    """layers.csv (one row per layer; beside the settlement reached, the predicted final one and
+    whether the run's settlement is final), elements.csv (one row per element of the column, depths
+    from the ground surface, top first; beside the contribution reached, the final one), surface_motion.csv (absolute surface acceleration per
     shear sub-step) and spectra.csv (input and surface S_a and their ratio)."""
     rows = []
     for la in summary["layers"]:
@@ -236,7 +285,8 @@ def write_tables(out, summary: dict, extra: dict, rec) -> None:
                      la.get("max_settlement_contribution_m", 0.0), la["simplified_min_FS_input"],
                      la["simplified_min_FS_run"], la["simplified_settlement_input_m"],
                      la["simplified_settlement_run_m"],
-                     _fs_note(la["simplified_min_FS_input"], la["simplified_min_FS_run"])])
+                     _fs_note(la["simplified_min_FS_input"], la["simplified_min_FS_run"]),
+                     la.get("predicted_final_settlement_m", 0.0), "yes" if summary["settlement_final"] else "no"])
     _write_csv(out / "layers.csv", LAYER_COLUMNS, rows)
     run, inp = extra["simplified_run"], extra["simplified_input"]
     col = rec.col
@@ -252,7 +302,8 @@ def write_tables(out, summary: dict, extra: dict, rec) -> None:
                      float(rec.peak_strain[e]), float(rec.max_contribution[e]) if wet else 0.0,
                      float(rec.last_contribution[e]) if wet else 0.0,
                      float(run.FS[e]), float(inp.FS[e]), float(run.eps_v[e]),
-                     _fs_note(float(run.FS[e]), float(inp.FS[e]))])
+                     _fs_note(float(run.FS[e]), float(inp.FS[e])),
+                     float(extra["final_contribution"][e]) if wet else 0.0])
     _write_csv(out / "elements.csv", ELEMENT_COLUMNS, rows)
     if rec.surface_t:
         _write_numbers(out / "surface_motion.csv", ["time_s", "surface_acceleration_m_s2"],
