@@ -91,7 +91,7 @@ def _cmd_fluidization_curve(args) -> int:
     from .io.folders import check_out_dir
 
     check_out_dir(out, "fluidization-curve --out", own=False)
-    curve = fluidization_curve(case, points=args.points)
+    curve = fluidization_curve(case, points=args.points, exponent=args.rz_exponent)
     paths = write_curve(curve, out, plot=not args.no_plots)
     f = curve["figures"]
     print(f"{curve['case']}: fluidization curve ({f['method']}): U_mf = {f['U_mf_m_s']:.4g} m/s at n_mf = "
@@ -399,6 +399,9 @@ def parser():
     fc.add_argument("--out", help="folder for fluidization_curve.csv and .png "
                     "(default: twofluid-out/<case name>-fluidization-curve)")
     fc.add_argument("--points", type=int, default=60, help="velocities on the curve (default 60)")
+    fc.add_argument("--rz-exponent", choices=("khan_richardson", "richardson_zaki_1954"), default="khan_richardson",
+                    help="k of the Richardson-Zaki comparison: Khan & Richardson (1989, default) or Richardson & Zaki "
+                    "(1954) with the wall term d/D (D: a round column of the case's cross-section)")
     fc.add_argument("--no-plots", action="store_true", help="write the CSV only")
     fc.set_defaults(func=_cmd_fluidization_curve)
     c = sub.add_parser("cases", help="list the bundled cases")

@@ -17,7 +17,8 @@ has no interlocking of a packed bed, so the overshoot of ΔP above the bed weigh
 velocity shows in experiments is not there. The curve runs from U_mf/5 up to the velocity at
 which the porosity reaches 0.9 or the bed reaches the column's top, whichever is lower.
 Beside it: Richardson & Zaki's porosity and height (U = U_t n^k, k of Khan & Richardson 1989,
-U_t of the case's law; packed at n_mf below U_t n_mf^k), Ergun's pressure drop of the packed bed at n_mf, and the buoyant
+U_t of the case's law; packed at n_mf below U_t n_mf^k; with ``--rz-exponent richardson_zaki_1954``
+U = U_i n^k, k and U_i of Richardson & Zaki 1954 with their wall term d/D), Ergun's pressure drop of the packed bed at n_mf, and the buoyant
 weight of the solids per area, (ρ_s − ρ_f) g cos θ V_s/A.
 """
 from __future__ import annotations
@@ -41,14 +42,17 @@ def _ergun_drop(u, n, h, mat) -> float:
                 / (n ** 3 * d))
 
 
-def fluidization_curve(case: dict, points: int = 60, n_max: float = 0.9) -> dict:
+def fluidization_curve(case: dict, points: int = 60, n_max: float = 0.9, exponent: str = "khan_richardson") -> dict:
     """The curve of ``case`` (a resolved 1D case, bottom inlet): {"rows": [...], "figures": {...}}.
 
     ``rows`` follow :data:`COLUMNS`, the velocity decreasing (the defluidization branch, module
     docstring); ``points`` velocities, log-spaced from the top velocity down to U_mf/5, with
     U_mf itself among them. ``figures``: U_mf, U_t, n_mf, the solids volume and the weight per area.
+    ``exponent``: the Richardson–Zaki comparison's k, ``"khan_richardson"`` (1989, no wall term, U = U_t n^k)
+    or ``"richardson_zaki_1954"`` (their correlation with the wall term d/D and U = U_i n^k,
+    :func:`twofluid.casefile.bed.richardson_zaki_1954_exponent`; D of a round column of the cross-section).
     """
-    from .casefile.bed import _bed_state, height_of_volume, packed_porosity
+    from .casefile.bed import _bed_state, column_diameter, height_of_volume, packed_porosity, richardson_zaki_1954_exponent
     from .casefile.builder import build
     from .casefile.schema import CaseError
     from .closures import drag as drag_laws
@@ -69,6 +73,14 @@ def fluidization_curve(case: dict, points: int = 60, n_max: float = 0.9) -> dict
     u_t = drag_laws.terminal_velocity(clo.drag, mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g, **clo.drag_params)
     k = float(drag_laws.khan_richardson_exponent(drag_laws.archimedes_number(mat.d, mat.rho_s, mat.rho_f,
                                                                                mat.mu_f, mat.g)))
+    u_ref, source = u_t, "Khan & Richardson (1989), no wall term"
+    if exponent == "richardson_zaki_1954":  # their k and intercept with the wall term (equations 33-41)
+        wall = float(mat.d) / column_diameter(area)
+        k = float(richardson_zaki_1954_exponent(mat.rho_f * u_t * mat.d / mat.mu_f, wall))
+        u_ref, source = u_t * 10.0 ** -wall, f"Richardson & Zaki (1954) with the wall term d/D = {wall:.4g}"
+    elif exponent != "khan_richardson":
+        raise CaseError(src, "fluidization-curve --rz-exponent", f"{exponent!r}: valid are khan_richardson, "
+                        "richardson_zaki_1954")
     total = float(mesh.volumes.sum())
     n_top = min(n_max, 1.0 - solids / total)  # the bed fills the column at 1 − V_s/V_column
     if not n_top > n_mf:
@@ -83,7 +95,7 @@ def fluidization_curve(case: dict, points: int = 60, n_max: float = 0.9) -> dict
         s = u / n
         beta = float(clo.saturated_drag(np.array([n]), np.array([s]), mat.d, mat.rho_f, mat.mu_f,
                                         **clo.drag_params)[0])
-        n_rz = min(max((u / u_t) ** (1.0 / k), n_mf), 1.0)  # packed until U_t n_mf^k
+        n_rz = min(max((u / u_ref) ** (1.0 / k), n_mf), 1.0)  # packed until U_t n_mf^k
         h_rz = height_of_volume(mesh, solids / (1.0 - n_rz)) if n_rz < 1.0 else float("nan")
         h_mf = height_of_volume(mesh, solids / (1.0 - n_mf))
         rows.append({"U_m_s": float(u), "state": "packed" if u <= u_mf else "fluidized", "porosity": n,
@@ -93,6 +105,7 @@ def fluidization_curve(case: dict, points: int = 60, n_max: float = 0.9) -> dict
                      "buoyant_weight_per_area_Pa": weight})
     figures = {"U_mf_m_s": u_mf, "U_t_m_s": u_t, "packed_porosity_n_mf": n_mf, "solids_volume_m3": solids,
                "buoyant_weight_per_area_Pa": weight, "richardson_zaki_exponent": k,
+               "richardson_zaki_exponent_source": source, "richardson_zaki_velocity_m_s": u_ref,
                "method": "uniform equilibria of the case's drag law (no runs); defluidization branch"}
     return {"rows": rows, "figures": figures, "case": case["case"]["name"]}
 

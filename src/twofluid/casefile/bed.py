@@ -19,7 +19,96 @@ from ..scipy_kernels import brentq  # scipy.optimize's, without importing scipy.
 from .schema import CaseError, CaseWarning
 
 __all__ = ["volume_below", "height_of_volume", "bed_porosity", "fluidized_porosity", "initial_bed",
-           "packed_porosity", "bed_figures", "equilibrium_warning"]
+           "packed_porosity", "bed_figures", "equilibrium_warning", "flow_rate_inputs", "column_diameter",
+           "richardson_zaki_1954_exponent", "L_MIN", "M3_H"]
+
+L_MIN = 1e-3 / 60.0  # [m³/s] per L/min
+M3_H = 1.0 / 3600.0  # [m³/s] per m³/h
+
+
+def flow_rate_inputs(case: dict, source: str) -> None:
+    """Convert a 1D case's process-engineering inputs to the model's, in place (at the edge).
+
+    ``[mesh] diameter`` D [m] of a round column sets ``area`` = π D²/4 (and is then dropped: the
+    resolved case holds the area). An inlet's ``flow_rates_l_min`` [L/min] or ``flow_rates_m3_h``
+    [m³/h] become its ``velocities`` [m/s], the superficial velocity Q/A over the bottom
+    cross-section A (the inlet's face), so the resolved case and everything after it hold SI
+    velocities only. CaseError for a diameter with an ``area`` given too, a tapered column, or a
+    flow rate beside velocities/porosities or on a boundary that is not an inlet.
+
+    >>> case = {"mesh": {"diameter": 0.05, "area": 1.0, "area_top": -1.0},
+    ...         "boundary": {"bottom": {"kind": "inlet", "times": [0.0], "velocities": [], "porosities": [],
+    ...                                 "flow_rates_l_min": [2.0], "flow_rates_m3_h": []},
+    ...                      "top": {"kind": "outlet", "velocities": [], "porosities": [],
+    ...                              "flow_rates_l_min": [], "flow_rates_m3_h": []}}}
+    >>> flow_rate_inputs(case, "bed.toml")
+    >>> round(case["mesh"]["area"], 8), round(case["boundary"]["bottom"]["velocities"][0], 6)
+    (0.0019635, 0.016977)
+    """
+    mesh = case["mesh"]
+    d = mesh.get("diameter", -1.0)
+    if d != -1.0:
+        if not d > 0.0:
+            raise CaseError(source, "[mesh] diameter", f"{d!r} must be > 0 [m] (the column's inner diameter), "
+                            "or -1: not given")
+        if mesh["area"] != 1.0 or mesh.get("area_top", -1.0) != -1.0:
+            raise CaseError(source, "[mesh] diameter", "give the cross-section by one of diameter [m] (a round "
+                            "column) or area/area_top [m²], not both")
+        mesh["area"], mesh["diameter"] = float(np.pi * d * d / 4.0), -1.0
+    for end, b in case["boundary"].items():
+        given = [(k, f) for k, f in (("flow_rates_l_min", L_MIN), ("flow_rates_m3_h", M3_H)) if b.get(k)]
+        if not given:
+            continue
+        key, factor = given[0]
+        where = f"[boundary.{end}] {key}"
+        if len(given) > 1 or b.get("velocities") or b.get("porosities"):
+            raise CaseError(source, where, "give an inlet's schedule by one of velocities [m/s], porosities [-], "
+                            "flow_rates_l_min [L/min] or flow_rates_m3_h [m³/h]")
+        if b["kind"] != "inlet":
+            raise CaseError(source, where, f"only an inlet takes a flow rate (kind = {b['kind']!r})")
+        b["velocities"] = [float(q) * factor / mesh["area"] for q in b[key]]
+        b[key] = []
+
+
+def column_diameter(area: float) -> float:
+    """Inner diameter [m] of a round column of cross-section ``area`` [m²]: sqrt(4 A/π).
+
+    >>> round(column_diameter(np.pi * 0.05**2 / 4), 12)
+    0.05
+    """
+    return float(np.sqrt(4.0 * area / np.pi))
+
+
+def richardson_zaki_1954_exponent(re_t, d_over_D=0.0):
+    """Richardson & Zaki's (1954) exponent k [-] of U = U_i n^k, with their wall-effect term d/D.
+
+    Re_t = ρ_f U_t d/μ_f of one particle at its terminal velocity; d/D particle over column diameter:
+
+    ========================  ============================
+    Re_t ≤ 0.2                k = 4.65 + 19.5 d/D
+    0.2 < Re_t ≤ 1            k = (4.35 + 17.5 d/D) Re_t^−0.03
+    1 < Re_t ≤ 200            k = (4.45 + 18 d/D) Re_t^−0.1
+    200 < Re_t ≤ 500          k = 4.45 Re_t^−0.1
+    Re_t > 500                k = 2.39
+    ========================  ============================
+
+    (their equations 33, 37, 38, 39 and 34). The wall raises k: 0.5 mm glass beads in water
+    (Re_t ≈ 40) in a 50 mm column have k = 3.20 where Khan & Richardson's (1989) correlation without
+    the wall term (:func:`twofluid.closures.drag.khan_richardson_exponent`) gives 2.98.
+
+    >>> round(float(richardson_zaki_1954_exponent(40.0, 0.01)), 2), round(float(richardson_zaki_1954_exponent(40.0)), 2)
+    (3.2, 3.08)
+    >>> [round(float(richardson_zaki_1954_exponent(r)), 3) for r in (0.1, 0.5, 300.0, 1000.0)]
+    [4.65, 4.441, 2.516, 2.39]
+
+    Reference: Richardson, J. F., Zaki, W. N. (1954). Sedimentation and fluidisation: part I.
+    Trans. Inst. Chem. Eng. 32, 35–53.
+    """
+    re_t = np.asarray(re_t, dtype=float)
+    w = np.asarray(d_over_D, dtype=float)
+    return np.select([re_t <= 0.2, re_t <= 1.0, re_t <= 200.0, re_t <= 500.0],
+                     [4.65 + 19.5 * w, (4.35 + 17.5 * w) * re_t ** -0.03, (4.45 + 18.0 * w) * re_t ** -0.1,
+                      4.45 * re_t ** -0.1 + 0.0 * w], 2.39 + 0.0 * w)
 
 
 def volume_below(mesh, h: float) -> float:
@@ -111,7 +200,10 @@ def bed_figures(mesh, case: dict, clo, mat, u0: float, u_end: float | None) -> d
     correlation); U_t: the terminal velocity of one particle with the same law (without the model's slip saturation); the initial
     porosity and height (:func:`initial_bed`); and, for the last inlet velocity ``u_end``
     [m/s], the uniform bed's porosity and height by Richardson & Zaki (U = U_t n^k, k of Khan &
-    Richardson, U_t as above) and by the model's own equilibrium (the drag law).
+    Richardson, U_t as above), by Richardson & Zaki's own 1954 correlation with the wall term
+    (U = U_i n^k, k of :func:`richardson_zaki_1954_exponent` at d/D, log10 U_i = log10 U_t − d/D,
+    their equation 41; D the diameter of a round column of the bottom cross-section,
+    :func:`column_diameter`) and by the model's own equilibrium (the drag law).
     Heights [m] hold the initial solids volume over the column's cross-section.
     """
     from ..closures import drag as drag_laws
@@ -130,7 +222,12 @@ def bed_figures(mesh, case: dict, clo, mat, u0: float, u_end: float | None) -> d
                                           **clo.drag_params)
     except ValueError:
         return out
+    d_over_D = float(mat.d) / column_diameter(float(mesh.area[0]))
+    k54 = float(richardson_zaki_1954_exponent(mat.rho_f * u_t * mat.d / mat.mu_f, d_over_D))
+    u_i = u_t * 10.0 ** -d_over_D
     out.update({
+        "column_diameter_m": column_diameter(float(mesh.area[0])), "particle_to_column_diameter": d_over_D,
+        "richardson_zaki_exponent_1954_wall": k54, "richardson_zaki_intercept_1954_wall_m_s": u_i,
         "U_mf_m_s": u_mf, "U_mf_wen_yu_m_s": drag_laws.wen_yu_minimum_fluidization_velocity(
             mat.d, mat.rho_s, mat.rho_f, mat.mu_f, mat.g),
         "U_t_m_s": u_t, "archimedes_number": ar, "richardson_zaki_exponent_khan_richardson": k,
@@ -138,17 +235,19 @@ def bed_figures(mesh, case: dict, clo, mat, u0: float, u_end: float | None) -> d
             "U_mf: superficial velocity at which the case's drag law at the packed porosity n_mf "
             "([initial] settled_porosity) carries the buoyant weight of the bed; U_mf_wen_yu: Wen & Yu "
             "(1966); U_t: terminal velocity of one particle with the case's drag law; expanded bed at "
-            "the last inlet velocity U: Richardson-Zaki n = (U/U_t)^(1/k), k of Khan & Richardson (1989), "
-            "and the model's own uniform equilibrium (the drag law); packed at n_mf below U_mf; heights "
+            "the last inlet velocity U: Richardson-Zaki n = (U/U_t)^(1/k), k of Khan & Richardson (1989); "
+            "richardson_zaki_1954_wall: n = (U/U_i)^(1/k), k and U_i of Richardson & Zaki (1954) with the wall "
+            "term d/D (D: a round column of the bottom cross-section); and the model's own uniform equilibrium (the drag law); packed at n_mf below U_mf; heights "
             "hold the initial solids volume")})
     if u_end is not None and u_end > 0.0:
         exp = {"inlet_velocity_m_s": u_end}
         n_rz = min(max((u_end / u_t) ** (1.0 / k), n_mf), 1.0)  # packed below U_t n_mf^k
+        n_54 = min(max((u_end / u_i) ** (1.0 / k54), n_mf), 1.0)
         try:
             n_model = _bed_state(clo, mat, u_end, n_mf)
         except CaseError:  # carried away (above U_t)
             n_model = 1.0
-        for name, n in (("richardson_zaki", n_rz), ("model", n_model)):
+        for name, n in (("richardson_zaki", n_rz), ("richardson_zaki_1954_wall", n_54), ("model", n_model)):
             exp[name] = {"porosity": n, "height_m": height_of_volume(mesh, solids / (1.0 - n)) if n < 1.0
                          else None}
         out["expanded"] = exp

@@ -19,6 +19,9 @@ def _boundary(case: dict, end: str, source: str) -> None:
 
 
 def check_consistency(case: dict, source: str) -> None:
+    from .bed import flow_rate_inputs
+
+    flow_rate_inputs(case, source)  # L/min, m³/h and a column diameter to the model's m/s and m²
     mesh, init, time, out = case["mesh"], case["initial"], case["time"], case["output"]
     if mesh["area_top"] != -1.0 and mesh["area_top"] <= 0.0:
         raise CaseError(source, "[mesh] area_top", "must be > 0 [m²] (or -1 for a constant area)")

@@ -83,6 +83,14 @@ BOUNDARY = [
       lo_open=True, hi_open=True),
 ]
 
+# a 1D inlet's schedule as a volumetric flow rate: converted to velocities at the edge (casefile.bed.flow_rate_inputs)
+FLOW_RATES = [
+    K("flow_rates_l_min", FLOATS, [], "L/min", "inlet schedule instead of velocities: volumetric liquid flow "
+      "rate at `times`; the superficial velocity is Q/A, A the bottom cross-section ([mesh] area or diameter)",
+      lo=0.0),
+    K("flow_rates_m3_h", FLOATS, [], "m³/h", "the same in m³/h", lo=0.0),
+]
+
 SCHEMA: dict[str, list[Key]] = {
     "case": [
         K("name", str, "", "-", "short name used in outputs and in the default output folder "
@@ -103,6 +111,8 @@ SCHEMA: dict[str, list[Key]] = {
         K("area_top", float, -1.0, "m²", "cross-section area at the top for a linear taper (-1: same as area)",
           sentinel=-1.0),
         K("inclination_deg", float, 0.0, "deg", "angle of the column to the vertical", lo=-89.0, hi=89.0),
+        K("diameter", float, -1.0, "m", "inner diameter of a round column: area = π D²/4 instead of area "
+          "(-1: not given)", sentinel=-1.0),
     ],
     "materials": [
         K("liquid_density", float, REQUIRED, "kg/m³", "ρ_f", lo=0.0, lo_open=True),
@@ -152,8 +162,8 @@ SCHEMA: dict[str, list[Key]] = {
           "that P_s carries the buoyant weight of the solids above (a deposit at rest)",
           choices=("uniform", "settled")),
     ],
-    "boundary.bottom": BOUNDARY,
-    "boundary.top": BOUNDARY,
+    "boundary.bottom": BOUNDARY + FLOW_RATES,
+    "boundary.top": BOUNDARY + FLOW_RATES,
     "time": [
         K("end", float, REQUIRED, "s", "end time", lo=0.0, lo_open=True),
         K("step", float, REQUIRED, "s", "time step (shrinks by itself where needed)", lo=0.0, lo_open=True),
