@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import datetime
 import platform
+import re
 import time
 from pathlib import Path
 from typing import Callable
@@ -23,7 +24,7 @@ import numpy as np
 
 from . import expansion_check, kynch_check, order_check, properties_check, scott_check, slis_check, terzaghi_check
 
-__all__ = ["CHECKS", "run_checks", "format_table", "machine", "report", "verify", "validation_summary"]
+__all__ = ["CHECKS", "run_checks", "format_table", "machine", "report", "verify", "validation_summary", "plain_roles"]
 
 
 def _checks(quick: bool) -> list[tuple[str, Callable[[], list[dict]]]]:
@@ -150,7 +151,7 @@ def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall:
                        ("Observed order of convergence", o),
                        ("Bed expansion, packed bed, minimum fluidization (drag laws)", expansion_check),
                        ("Slis et al. (1959) step changes", slis_check)):
-        parts += ["", f"### {title}", "", "```text", (mod.__doc__ or "").strip(), "```"]
+        parts += ["", f"### {title}", "", "```text", plain_roles((mod.__doc__ or "").strip()), "```"]
     parts += ["", "## Bed expansion of the drag laws against Richardson–Zaki", "",
               "Porosity of each law's uniform bed at rest in the superficial velocity U that Richardson–Zaki "
               "(Khan–Richardson k, U_t of `richardson_zaki`'s particle) gives the porosity n RZ; in brackets the "
@@ -165,6 +166,21 @@ def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall:
                   "From `twofluid.verification.annular.convergence_table()` (relative L2 errors of the "
                   "fully developed profiles; see docs/verification_2d.md).", "", annulus]
     return "\n".join(parts) + "\n"
+
+
+_ROLE = re.compile(r":(?:func|class|meth|mod|data|attr|exc|obj):`(~?)([^`]+)`")
+
+
+def plain_roles(text: str) -> str:
+    """A docstring for a plain-text listing: each Sphinx role as the name it shows (``~``: the last part).
+
+    >>> plain_roles("see :func:`~twofluid.postprocess.t1_from_history` and :mod:`.kynch_check`")
+    'see t1_from_history() and kynch_check'
+    """
+    def name(m):
+        shown = m.group(2).rsplit(".", 1)[-1] if m.group(1) else m.group(2).lstrip(".")
+        return shown + ("()" if m.group(0).startswith((":func:", ":meth:")) else "")
+    return _ROLE.sub(name, text)
 
 
 def validation_summary(slis: list[dict]) -> str:
