@@ -110,6 +110,11 @@ def _cmd_simplified(args) -> int:
     from .runners.liquefaction import simplified_table
 
     print(simplified_table(args.case, args.a_max).table())
+    from .casefile.loader import load_case
+    from .runners.liquefaction_report import dr_notes
+
+    for line in dr_notes(load_case(args.case)):  # a Dr taken from n160cs/qc1ncs, not the entered one
+        print(line)
     return 0
 
 

@@ -12,12 +12,12 @@ in proportion to the solids as the front crosses an element, without the stairca
 whole-element position gives.
 
 :func:`surface_height` is the earlier definition, kept unchanged for the Slis table and the
-Kynch checks (frozen, issue 24): the height where the element-centre porosity first falls
+Kynch checks (frozen, so that their numbers change only with the drag law): the height where the element-centre porosity first falls
 below the threshold, by linear interpolation between the two centres around the crossing.
 
 t1 of a step change: the first time after which the bed surface stays within
 ``band`` (default 2 %) of the total change |H_end − H_0| of its final height.
-Applied unchanged to the exact Kynch trajectory when comparing (issue 3).
+Applied unchanged to the exact Kynch trajectory when comparing.
 
 Settling interfaces: the top (clear liquid / suspension) interface is the bed
 surface with threshold (1 + n0)/2; the sediment interface is the highest height

@@ -121,7 +121,7 @@ def _assert_steady(case, res, out):
 
 
 def test_pseudo_transient_run_of_a_dilute_riser_reaches_its_steady_state(tmp_path):
-    """The dilute riser that stalled the continuation (issue: 151 steps in 14 min, not steady).
+    """The dilute riser that stalled the continuation (151 steps in 14 min, not steady).
 
     With the trust region it converges on this 12 × 24 mesh; where it still stalls (the
     trajectory is sensitive to the linear solver's round-off, docs/benchmarks_2d.md) the

@@ -1,4 +1,4 @@
-"""Shear column against the exact transfer function of a damped linear layer (issue 21).
+"""Shear column against the exact transfer function of a damped linear layer.
 
 Layer: H = 20 m, V_s = 200 m/s, ρ = 2000 kg/m³ (G = 80 MPa), resonances near 2.5, 7.5
 and 12.5 Hz; Rayleigh damping ξ = 5 % at 2.5 and 12.5 Hz (mass part on the relative
@@ -15,7 +15,7 @@ absolute acceleration and of the input (:func:`fourier_ratio`). The time-steppin
 scheme is linear and time invariant, so this is the transfer function of the
 discretised column at every frequency, without windowing.
 
-Compared quantities (issue 21's criteria), on 0.5–15 Hz with 40 elements
+Compared quantities, on 0.5–15 Hz with 40 elements
 (26.7 per wavelength at 15 Hz) and Δt = 1/1600 s (≤ 1/(100·15 Hz)):
 
 - peak frequencies (local maxima of |H|, located by golden section to 1e-7) within

@@ -15,7 +15,7 @@ from twofluid.runners.common import run_case
 
 
 def classic_fluidized_bed():
-    """fluidized-bed-step as it was before issue 24: the bed by porosity (0.65) and height (0.7 m), the
+    """fluidized-bed-step as it was before its drag law changed: the bed by porosity (0.65) and height (0.7 m), the
     inlet by porosities (0.65 -> 0.716), Gidaspow's drag (the case now gives velocities, a settled
     height and the ergun_richardson_zaki law)."""
     c = load_case("fluidized-bed-step")

@@ -1,4 +1,4 @@
-"""The resolved case nests as its TOML file (issue 23, section 3): ``case["boundary"]["bottom"]``.
+"""The resolved case nests as its TOML file: ``case["boundary"]["bottom"]``.
 
 The flat dotted section keys that ``load_case`` returned until 0.1.0 (``case["boundary.bottom"]``)
 still read, test and write the nested section for one release, each access with one

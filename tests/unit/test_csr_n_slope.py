@@ -3,7 +3,7 @@ implies: the element follows the curve of that b, the simplified procedure takes
 b implies, and the column's elements carry it.
 
 Compared quantities: the element test's cycles to liquefaction against N = 15 (CRR/CSR)^(1/b)
-(the issue's ±15 % in CSR, as for the derived b); the MSF of the simplified table at M = 5.25,
+(±15 % in CSR, as for the derived b); the MSF of the simplified table at M = 5.25,
 where B&I (2014)'s relation reaches MSF_max to 3e-4, against 1.8^(b/0.34).
 """
 import math

@@ -9,7 +9,7 @@ Compared quantities and tolerances:
 - tangents against central differences of the stress (step 1e-6 x: error ~1e-10);
 - an MRDF loop built point by point from the branch function: it closes (1e-12) and its
   area over 4π W is F D_Masing (trapezoid on 20 001 points: 1e-6 relative);
-- the fitted GQ/H to Menq's curves at 25, 100 and 400 kPa (the issue's loop criteria):
+- the fitted GQ/H to Menq's curves at 25, 100 and 400 kPa (the loop criteria):
   |ΔG/G_max| ≤ 0.03 over 1e-6–1e-3, stress at 3–10 % within 10 % of τ_max, damping within
   10 % or 0.5 %-points over 1e-6–1e-2 (100 and 400 kPa; 25 kPa misses, see docs).
 """

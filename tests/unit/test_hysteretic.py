@@ -1,6 +1,6 @@
 """The hysteretic shear law (closures/hysteretic.py) and its element test (models/hysteretic_kernel.py).
 
-Criteria of the liquefaction issue: undrained cyclic simple shear (σ′_v0 = 100 kPa, uniform cycles),
+Criteria: undrained cyclic simple shear (σ′_v0 = 100 kPa, uniform cycles),
 N to the first of r_u ≥ 0.98 or γ ≥ 3 %, against the CRR curve of Idriss & Boulanger with the slope b
 of the magnitude scaling factor; K_σ; the threshold strain; the Seed–Booker growth of r_u; a cycle
 during which r_u rises (stress within the strength envelope, dissipated energy ≥ 0); the

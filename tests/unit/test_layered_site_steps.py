@@ -1,9 +1,9 @@
-"""The bundled layered site's surface motion is converged in its steps (issue 21's criterion).
+"""The bundled layered site's surface motion is converged in its steps.
 
 Compared quantity: the surface PGA (raw) and the 5 %-damped Sa(0.05 s) of the surface
 acceleration over the shaking of ``liquefaction-layered-site`` at 0.15 g (where the shear
 sub-step mattered most), as shipped (vertical 20 ms, shear 1.25 ms) and with both steps
-halved. Bound: 5 % (the issue's); measured +0.0 % and +2.1 % (docs/liquefaction.md,
+halved. Bound: 5 %; measured +0.0 % and +2.1 % (docs/liquefaction.md,
 "Determinacy"). With the 2.5 ms sub-step of before, Sa(0.05 s) moved by 6.0 %.
 """
 import warnings

@@ -6,7 +6,7 @@ The runs use the bundled ``liquefaction-layered-site`` at a coarse mesh (0.5 m i
 
 Tolerances: the geostatic state is exact in the discrete model (1e-12 relative for σ′_v, the
 rest test |r_u| < 1e-6 as for the one-layer column); a given k comes back through the equivalent
-diameter to round-off (asserted 1e-9; the issue asks 1 %); the final settlement predicted by a run
+diameter to round-off (asserted 1e-9; 1 % would do); the final settlement predicted by a run
 stopped early is an exact integration of the skeleton law but ignores the densification that is
 already over and the drainage path, so it is compared with the dissipated run to 3 %.
 """
@@ -363,7 +363,7 @@ def test_the_status_line_says_a_run_stopped_early(tmp_path, capsys):
 
 
 def test_summary_separates_shaking_from_seepage_and_low_passes_the_surface(layered):
-    """Item 5 of the liquefaction issue: the liquefied range by shaking and after it (seepage or the
+    """The liquefied range by shaking and after it (seepage or the
     reconsolidation floor) partition the elements that ever reached r_u > 0.95; the low-passed
     surface PGA is at most the raw one times the filter's overshoot; the simplified procedure's run a_max is the low-passed peak
     of the total-stress companion run; Sa at 0.1-1 s is given."""

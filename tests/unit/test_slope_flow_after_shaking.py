@@ -1,4 +1,4 @@
-"""The flow of a sloping column after the shaking (issue 22): the shear wave runs on while the column
+"""The flow of a sloping column after the shaking: the shear wave runs on while the column
 flows and stops when it has stopped (``[shear_wave] flow_velocity``, ``flow_window``, ``flow_max``,
 ``flow_step``).
 

@@ -2,7 +2,7 @@
 
 Compared quantity: the model's CRR ratio CRR(α)/CRR(0), CRR the uniform-cycle CSR that liquefies
 the element in 15 cycles (r_u ≥ 0.98, or a single-amplitude strain of 3 % counted from the static
-strain), against K_α(α, ξ_R) of the correlation at the same Dr and p′. Tolerance ±15 % (issue 22).
+strain), against K_α(α, ξ_R) of the correlation at the same Dr and p′. Tolerance ±15 %.
 """
 import math
 

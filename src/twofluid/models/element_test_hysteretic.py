@@ -90,7 +90,7 @@ def element_test(*, csr=None, gamma_amplitude=None, sigma_v0=100e3, n160cs=None,
 def csr_n_curve(*, sigma_v0=100e3, n_targets=N_TARGETS, **soil) -> list[dict]:
     """Rows {csr, cycles_model, cycles_correlation, csr_error} at the CSR the correlation gives for
     each of ``n_targets`` cycles; ``csr_error`` = (N_model/N_target)^b − 1, the relative change of
-    CSR that would move the correlation to the model's N (the measure the issue's ±15 % uses).
+    CSR that would move the correlation to the model's N (the measure of the ±15 % criterion).
 
     >>> rows = csr_n_curve(n160cs=10.0, n_targets=(15.0,))
     >>> abs(rows[0]["csr_error"]) < 0.05

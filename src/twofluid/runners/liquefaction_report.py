@@ -7,7 +7,7 @@
 - :func:`sand_boil` — a quick surface after the shaking (when, how long, upward seepage);
 - :func:`spectra` — 5 %-damped response spectra of the input and of the surface, and their ratio;
 - :func:`simplified_rows` — the simplified procedure (Idriss & Boulanger 2008, 2014) on the same
-  profile, per element of the column.
+  profile, per element of the column; :func:`dr_notes` — where its Dr is not the one entered, and why.
 
 Depths are from the ground surface throughout.
 """
@@ -21,7 +21,7 @@ import numpy as np
 from ..geotech import response_spectrum, simplified_procedure
 from ..postprocess import median
 
-__all__ = ["initial_consolidation_coefficient", "final_settlement", "final_contributions", "settlement_fields",
+__all__ = ["dr_notes", "initial_consolidation_coefficient", "final_settlement", "final_contributions", "settlement_fields",
            "FINAL_FRACTION", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
 
 G = 9.80665  # standard gravity [m/s²]: accelerations reported in g
@@ -191,6 +191,39 @@ def profile_stresses(col, site, case: dict) -> dict:
     return {"z_top_m": z_top, "z_bottom_m": z_bot, "sigma_v_Pa": sig_eff + u_hydro,
             "sigma_v_eff_Pa": sig_eff, "relative_density": dr, "liquefiable": liq, "layer_of": owner,
             "n160cs": n160, "qc1ncs": qc1n, "csr_n_slope": slope}
+
+
+def dr_notes(case: dict, tolerance_percent: float = 0.5) -> list[str]:
+    """One line per layer whose simplified-procedure Dr is not the ``relative_density`` it gives.
+
+    The procedure takes a layer's penetration resistance where it gives one: with ``qc1ncs``,
+    Dr = 100 (0.478 q_c1Ncs^0.264 − 1.063) (clipped to 5–100 %), else with ``n160cs``,
+    Dr = 100 √((N1)60cs/46) (at most 100 %), and its table's Dr [%] column shows that Dr, not the
+    entered one (which the hysteretic law does not use either then).
+
+    >>> print(dr_notes({"layers": [{"name": "loose sand", "relative_density": 45.0, "n160cs": 12.0}]})[0])
+    Dr of layer 'loose sand': 51 % from n160cs = 12 (Dr = 100 sqrt((N1)60cs/46)), not the relative_density of 45 % entered: the simplified procedure takes the penetration resistance where a layer gives one
+    >>> dr_notes({"layers": [{"name": "x", "relative_density": 47.0, "n160cs": 0.0, "qc1ncs": 0.0}]})
+    []
+    """
+    from ..geotech import correlations as co
+
+    out = []
+    for la in case["layers"]:
+        q, n = la.get("qc1ncs", 0.0) or 0.0, la.get("n160cs", 0.0) or 0.0
+        if q > 0.0:
+            dr = float(np.clip(co.dr_from_qc1ncs(max(q, 1.0)), 5.0, 100.0))
+            how = f"qc1ncs = {q:g} (Dr = 100 (0.478 q_c1Ncs^0.264 - 1.063))"
+        elif n > 0.0:
+            dr = float(min(co.dr_from_n160cs(n), 100.0))
+            how = f"n160cs = {n:g} (Dr = 100 sqrt((N1)60cs/46))"
+        else:
+            continue
+        if abs(dr - la["relative_density"]) > tolerance_percent:
+            out.append(f"Dr of layer {la['name']!r}: {dr:.0f} % from {how}, not the relative_density of "
+                       f"{la['relative_density']:g} % entered: the simplified procedure takes the penetration "
+                       "resistance where a layer gives one")
+    return out
 
 
 def simplified_rows(col, site, case: dict, a_max_g: float, top_first: bool = False):

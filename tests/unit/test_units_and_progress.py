@@ -1,5 +1,5 @@
-"""Units and defaults that cannot be mistaken (issue 23, section 3) and progress where stderr is not a
-terminal (section 4)."""
+"""Units and defaults that cannot be mistaken and progress where stderr is not a
+terminal."""
 from __future__ import annotations
 
 import io

@@ -1,6 +1,6 @@
 """Files never outside the folder and never the user's; exit statuses and one-line messages.
 
-Each test replays one reproducer of issue 23, section 2 (numbered as there), with ``fb.toml`` (the
+Each test replays a way a run, an ensemble or a record once wrote outside its folder or lost a user's file, with ``fb.toml`` (the
 fluidized-bed step, 5 s) or ``liq.toml`` (a short El Centro column) where a run is needed."""
 from __future__ import annotations
 
@@ -88,7 +88,7 @@ def _tree(folder: Path) -> set[str]:
 
 
 # ---------------------------------------------------------------- 1. ensemble name
-def test_1_an_ensemble_name_cannot_write_outside_twofluid_out(tmp_path):
+def test_an_ensemble_name_cannot_write_outside_twofluid_out(tmp_path):
     from twofluid.ensemble import load_ensemble
     from twofluid.ensemble.engine import ensemble_out_dir
 
@@ -107,7 +107,7 @@ def test_1_an_ensemble_name_cannot_write_outside_twofluid_out(tmp_path):
 
 
 # ---------------------------------------------------------------- 2. symbolic links
-def test_2_a_run_never_writes_through_a_link_planted_in_its_folder(tmp_path):
+def test_a_run_never_writes_through_a_link_planted_in_its_folder(tmp_path):
     fb = _fb(tmp_path)
     run = tmp_path / "run"
     run.mkdir()
@@ -120,7 +120,7 @@ def test_2_a_run_never_writes_through_a_link_planted_in_its_folder(tmp_path):
     assert os.path.islink(run / "profiles.csv")
 
 
-def test_2_no_writer_follows_a_link(tmp_path):
+def test_no_writer_follows_a_link(tmp_path):
     from twofluid.io.folders import write_atomic
     from twofluid.io.results import CsvStream
 
@@ -135,7 +135,7 @@ def test_2_no_writer_follows_a_link(tmp_path):
 
 
 # ---------------------------------------------------------------- 3. the user's files
-def test_3_a_folder_with_a_resolved_case_and_a_user_file_keeps_the_file(tmp_path):
+def test_a_folder_with_a_resolved_case_and_a_user_file_keeps_the_file(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / "case.resolved.toml").write_text("# not a run of twofluid's\n")
@@ -145,7 +145,7 @@ def test_3_a_folder_with_a_resolved_case_and_a_user_file_keeps_the_file(tmp_path
     assert (out / "my.csv").read_text() == "mine\n"
 
 
-def test_3_a_user_file_added_during_a_run_is_not_recorded_and_survives_the_next(tmp_path, monkeypatch):
+def test_a_user_file_added_during_a_run_is_not_recorded_and_survives_the_next(tmp_path, monkeypatch):
     from twofluid.runners import column_1d
 
     out = tmp_path / "out"
@@ -167,7 +167,7 @@ def test_3_a_user_file_added_during_a_run_is_not_recorded_and_survives_the_next(
     assert (out / "my.csv").read_text() == "mine\n" and (out / "notes.txt").read_text() == "mine\n"
 
 
-def test_3_a_recorded_file_the_user_changed_is_kept_and_refused(tmp_path):
+def test_a_recorded_file_the_user_changed_is_kept_and_refused(tmp_path):
     out = tmp_path / "out"
     twofluid.run_case(_fb_case(tmp_path), out)
     (out / "probes.csv").write_text("edited by me\n")
@@ -178,7 +178,7 @@ def test_3_a_recorded_file_the_user_changed_is_kept_and_refused(tmp_path):
 
 
 # ---------------------------------------------------------------- 4. ensemble folders
-def test_4_ensemble_folders_are_checked(tmp_path):
+def test_ensemble_folders_are_checked(tmp_path):
     (tmp_path / "e.toml").write_text(ENSEMBLE.format(name="e"))
     user = tmp_path / "user"
     user.mkdir()
@@ -191,7 +191,7 @@ def test_4_ensemble_folders_are_checked(tmp_path):
     assert rc == 2 and "existing file" in _one_line(err)
 
 
-def test_4_two_ensembles_into_one_folder_the_second_is_refused(tmp_path):
+def test_two_ensembles_into_one_folder_the_second_is_refused(tmp_path):
     (tmp_path / "e.toml").write_text(ENSEMBLE.format(name="e"))
     out = tmp_path / "eout"
     out.mkdir()
@@ -201,7 +201,7 @@ def test_4_two_ensembles_into_one_folder_the_second_is_refused(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == [LOCK]
 
 
-def test_4_a_members_table_that_is_not_ours_is_refused_even_in_an_owned_folder(tmp_path):
+def test_a_members_table_that_is_not_ours_is_refused_even_in_an_owned_folder(tmp_path):
     from twofluid.ensemble.results import ResultsTable
 
     out = tmp_path / "eout"
@@ -220,7 +220,7 @@ def _limit(nbytes):
     return set_limit
 
 
-def test_5_a_full_disk_leaves_no_half_row_and_names_the_file(tmp_path):
+def test_a_full_disk_leaves_no_half_row_and_names_the_file(tmp_path):
     fb = _fb(tmp_path)
     rc, out, err = _cli(["run", fb, "--out", "o"], cwd=tmp_path, preexec=_limit(8 * 1024))
     assert rc == 1, err
@@ -236,7 +236,7 @@ def test_5_a_full_disk_leaves_no_half_row_and_names_the_file(tmp_path):
     json.loads((tmp_path / "o" / MANIFEST).read_text())  # never empty
 
 
-def test_5_a_summary_that_cannot_be_written_is_never_left_empty_and_the_message_names_it(tmp_path, monkeypatch):
+def test_a_summary_that_cannot_be_written_is_never_left_empty_and_the_message_names_it(tmp_path, monkeypatch):
     from twofluid.io import folders
 
     out = tmp_path / "o"
@@ -258,7 +258,7 @@ def test_5_a_summary_that_cannot_be_written_is_never_left_empty_and_the_message_
     assert twofluid.run_case(_fb_case(tmp_path), out).status == "completed"  # the next run clears them
 
 
-def test_5_a_record_that_cannot_be_written_at_the_end_is_a_warning_naming_it(tmp_path, monkeypatch):
+def test_a_record_that_cannot_be_written_at_the_end_is_a_warning_naming_it(tmp_path, monkeypatch):
     from twofluid.io import folders
 
     real = folders.OutputFolder._save
@@ -286,7 +286,7 @@ def _liq(folder: Path, record: str | None = None) -> dict:
     return case
 
 
-def test_6_a_record_with_uneven_steps_is_refused_before_the_run(tmp_path):
+def test_a_record_with_uneven_steps_is_refused_before_the_run(tmp_path):
     t = [0.0, 0.013, 0.023, 0.030] + [0.030 + 0.01 * i for i in range(1, 40)]
     rows = "\n".join(f"{x:.6g},{0.01 * np.sin(7 * x):.6g}" for x in t)
     (tmp_path / "rec.csv").write_text("time_s,acceleration_g\n" + rows + "\n")
@@ -296,7 +296,7 @@ def test_6_a_record_with_uneven_steps_is_refused_before_the_run(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
-def test_6_an_absurd_at2_sample_interval_is_refused(tmp_path):
+def test_an_absurd_at2_sample_interval_is_refused(tmp_path):
     vals = " ".join(f"{0.01 * np.sin(i):.6f}" for i in range(50))
     (tmp_path / "r.AT2").write_text("PEER\nx\nACCELERATION TIME SERIES IN UNITS OF G\n"
                                     f"NPTS=   50, DT= 1e-300 SEC\n{vals}\n")
@@ -305,7 +305,7 @@ def test_6_an_absurd_at2_sample_interval_is_refused(tmp_path):
 
 
 # ---------------------------------------------------------------- 7. member count
-def test_7_a_huge_grid_is_refused_before_it_is_expanded(tmp_path):
+def test_a_huge_grid_is_refused_before_it_is_expanded(tmp_path):
     from twofluid.ensemble.spec import parse_ensemble
 
     grid = {f"materials.{k}": [1.0 + i * 1e-3 for i in range(100)] for k in
@@ -319,7 +319,7 @@ def test_7_a_huge_grid_is_refused_before_it_is_expanded(tmp_path):
 
 # ---------------------------------------------------------------- 8. the API
 @pytest.mark.parametrize("spec", [None, 42, {}, ""])
-def test_8_run_ensemble_refuses_what_is_not_an_ensemble(spec):
+def test_run_ensemble_refuses_what_is_not_an_ensemble(spec):
     with pytest.raises(CaseError, match="ensemble: must be an EnsembleSpec or the path"):
         twofluid.run_ensemble(spec)
 
@@ -330,14 +330,14 @@ def test_8_run_ensemble_refuses_what_is_not_an_ensemble(spec):
                                        ({"workers": -1}, r"workers: -1 is not valid"),
                                        ({"workers": 0}, r"workers: 0 is not valid"),
                                        ({"workers": 2.5}, r"workers: 2.5 is not valid")])
-def test_8_run_ensemble_refuses_bad_arguments(tmp_path, kw, match):
+def test_run_ensemble_refuses_bad_arguments(tmp_path, kw, match):
     (tmp_path / "e.toml").write_text(ENSEMBLE.format(name="e"))
     with pytest.raises(CaseError, match=match) as exc:
         twofluid.run_ensemble(str(tmp_path / "e.toml"), **kw)
     assert "\n" not in str(exc.value)
 
 
-def test_8_a_case_with_a_source_that_is_not_text_is_a_case_error(tmp_path):
+def test_a_case_with_a_source_that_is_not_text_is_a_case_error(tmp_path):
     case = _fb_case(tmp_path)
     case["_source"] = 42
     with pytest.raises(CaseError, match="_source: must be a string"):
@@ -345,7 +345,7 @@ def test_8_a_case_with_a_source_that_is_not_text_is_a_case_error(tmp_path):
 
 
 # ---------------------------------------------------------------- 9. no NaN or inf in any file
-def test_9_failed_members_write_no_nan_or_inf(tmp_path):
+def test_failed_members_write_no_nan_or_inf(tmp_path):
     from twofluid.ensemble.results import ResultsTable
 
     t = ResultsTable(tmp_path / "members.csv", ["time.end"], ["x", "y"], set())
@@ -357,7 +357,7 @@ def test_9_failed_members_write_no_nan_or_inf(tmp_path):
     assert text.splitlines()[1].endswith(',,,"[1.0,null]"')
 
 
-def test_9_vtu_fields_hold_no_nan():
+def test_vtu_fields_hold_no_nan():
     import meshio
     import tempfile
 
@@ -374,7 +374,7 @@ def test_9_vtu_fields_hold_no_nan():
     assert m.cell_data["U_s_defined"][0].tolist() == [1, 0, 1, 1]
 
 
-def test_9_fs_of_soil_that_cannot_liquefy_is_an_empty_cell_with_its_reason(tmp_path):
+def test_fs_of_soil_that_cannot_liquefy_is_an_empty_cell_with_its_reason(tmp_path):
     case = load_case("liquefaction-layered-site")
     case["time"]["end"] = 0.2
     case["ground_motion"]["duration"] = 0.2
@@ -411,7 +411,7 @@ def _signal_after_output(tmp_path, sig):
 
 
 @pytest.mark.parametrize("sig, status", [("SIGINT", 130), ("SIGTERM", 143)])
-def test_10_a_signal_as_the_run_ends_is_an_interrupted_run(tmp_path, sig, status):
+def test_a_signal_as_the_run_ends_is_an_interrupted_run(tmp_path, sig, status):
     rc, s, err = _signal_after_output(tmp_path, sig)
     assert rc == status, err
     assert s["status"] == "interrupted" and "as the run ended" in s["reason"]
@@ -419,7 +419,7 @@ def test_10_a_signal_as_the_run_ends_is_an_interrupted_run(tmp_path, sig, status
 
 
 @pytest.mark.parametrize("sig, status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
-def test_10_a_signal_during_the_imports_is_one_line(tmp_path, sig, status):
+def test_a_signal_during_the_imports_is_one_line(tmp_path, sig, status):
     code = ("import os, signal, sys\n"
             "from twofluid.cli import main\n"
             "import twofluid.cli as c\n"
@@ -432,7 +432,7 @@ def test_10_a_signal_during_the_imports_is_one_line(tmp_path, sig, status):
     assert p.returncode == status and _one_line(p.stderr) == "twofluid: interrupted"
 
 
-def test_10_meshio_says_nothing_of_its_own(tmp_path, capfd):
+def test_meshio_says_nothing_of_its_own(tmp_path, capfd):
     from twofluid.mesh.gmsh_io import MeshError, read_quad_mesh
 
     (tmp_path / "m.msh").write_text("not a mesh\n")
@@ -452,7 +452,7 @@ def _msh(path: Path, x0: float, duplicate: bool) -> Path:
     return path
 
 
-def test_10_a_huge_coordinate_and_a_duplicated_element_are_refused_at_loading(tmp_path):
+def test_a_huge_coordinate_and_a_duplicated_element_are_refused_at_loading(tmp_path):
     from twofluid.mesh.gmsh_io import MeshError, read_quad_mesh
 
     with warnings.catch_warnings():
@@ -464,7 +464,7 @@ def test_10_a_huge_coordinate_and_a_duplicated_element_are_refused_at_loading(tm
     assert read_quad_mesh(_msh(tmp_path / "ok.msh", 0.0, False)).n_elements == 1
 
 
-def test_10_an_empty_out_and_a_device_are_refused(tmp_path, capsys):
+def test_an_empty_out_and_a_device_are_refused(tmp_path, capsys):
     fb = _fb(tmp_path)
     assert main(["run", str(fb), "--out", ""]) == 2
     assert "is empty" in _one_line(capsys.readouterr().err)
@@ -472,7 +472,7 @@ def test_10_an_empty_out_and_a_device_are_refused(tmp_path, capsys):
     assert "is not a case file" in _one_line(capsys.readouterr().err)
 
 
-def test_10_a_folder_named_like_an_output_is_found_before_the_run(tmp_path, monkeypatch):
+def test_a_folder_named_like_an_output_is_found_before_the_run(tmp_path, monkeypatch):
     from twofluid.runners import column_1d
 
     out = tmp_path / "o"

@@ -1,4 +1,4 @@
-"""Issue 24: drag laws that expand beds as Richardson–Zaki, hold the packed branch (Ergun) and U_mf
+"""Drag laws that expand beds as Richardson–Zaki, hold the packed branch (Ergun) and U_mf
 (Wen & Yu); beds set by velocity; the fluidization curve; the interface height within its element."""
 import warnings
 
