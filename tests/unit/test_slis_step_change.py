@@ -46,9 +46,10 @@ def table():
 def test_all_twelve_rows_finish_with_a_mean_error_near_the_thesis(table):
     """Mean |t1 − t1_exp|/t1_exp below 30 %: measured 20.3 %; thesis FEA 20.4 %, Kynch (same law) 21.6 %.
 
-    The gate of `twofluid verify` (≤ 20 %) is not met; this bound guards what the model reaches
-    (README of the case, "Why the worst rows are late": the rows follow the experiment's unknown
-    bed heights).
+    This bound guards what the model reaches; the gate of `twofluid verify` is relative (at most the
+    thesis FEA's mean error, and ≤ 10 % with the particle amount fitted leaving each row out:
+    tests/unit/test_slis_gate.py), since the rows follow the experiment's unknown bed heights
+    (README of the case, "Why the worst rows are late").
     """
     assert all(np.isfinite(r["t1_twofluid"]) for r in table), slis_markdown(table)
     mae = np.mean([abs(r["err_twofluid"]) for r in table])

@@ -160,7 +160,15 @@ def report(rows: list[dict], slis: list[dict] | None, annulus: str | None, wall:
     if slis is not None:
         parts += ["", "## Validation: Slis, Willemse & Kramers (1959), thesis table 5.2", "",
                   "Column geometry and t1 definition: `src/twofluid/data/cases/slis-step-change/README.md`. "
-                  "Errors are relative to the experiment.", "", slis_check.slis_markdown(slis, slis_inventory)]
+                  "Errors are relative to the experiment.", "",
+                  "The experiment's bed heights and particle loads are not reported in any reachable source, and "
+                  "the thesis ran every row from one 0.275 m bed, so the gate (the table of checks above) is "
+                  "relative to what is known: on the thesis's set-up twofluid's mean |t1 error| is at most the "
+                  "thesis FEA's; rerun with one amount of particles per area fitted leaving each row out, mean "
+                  "|error| ≤ 10 % and no row below −25 %. The absolute target (≤ 20 %, signed mean within ±10 %, "
+                  "no row below −35 %) needs those bed heights and is printed below the table, not checked. The "
+                  "height-normalised curves need no bed height at all.", "",
+                  slis_check.slis_markdown(slis, slis_inventory)]
     if annulus is not None:
         parts += ["", "## 2D annulus (Q1–P0, axisymmetric with swirl)", "",
                   "From `twofluid.verification.annular.convergence_table()` (relative L2 errors of the "
