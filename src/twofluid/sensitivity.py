@@ -33,7 +33,7 @@ from .casefile.case import sections
 from .casefile.loader import load_case
 from .casefile.schema import CaseError, revalidate
 from .ensemble.members import Member, case_hash
-from .ensemble.results import unit_of
+from .ensemble.results import settlement_notes, unit_of, with_settlement_companions
 
 __all__ = ["ALIASES", "parse_change", "default_figures", "sensitivity_study", "Sensitivity"]
 
@@ -238,7 +238,7 @@ def sensitivity_study(case_name: str, changes: list[tuple[str, str, float]], fig
     members = [Member(0, {}, base, case_hash(base))]
     members += [Member(i + 1, {"parameter": f"{s}.{k}", "fraction": f}, c, case_hash(c))
                 for i, ((s, k, f), (c, _, _)) in enumerate(zip(changes, cases))]
-    collect = list(dict.fromkeys([*paths.values(), *_DERIVED_SUMMARY]))
+    collect = list(dict.fromkeys([*with_settlement_companions(list(paths.values())), *_DERIVED_SUMMARY]))
     with tempfile.TemporaryDirectory(prefix="twofluid-sensitivity-") as tmp:
         rows, _ = run_members(members, collect, out_dir or tmp, workers=workers, scheduler=scheduler,
                               progress=progress, client=client)
@@ -268,6 +268,7 @@ def sensitivity_study(case_name: str, changes: list[tuple[str, str, float]], fig
                              "figure": f, "unit": unit_of(paths[f]), "figure_base": f0,
                              "figure_value": val, "figure_change": change, "status": row["status"],
                              "also_changes": "; ".join(also)})
+    res.notes += settlement_notes(rows, [paths[f] for f in figures])
     if csv_path:
         res.write_csv(csv_path)
     return res

@@ -7,7 +7,7 @@ import pytest
 from twofluid.casefile.loader import load_case
 from twofluid.casefile.schema_liquefaction import DEFAULT_END_CAP_S
 from twofluid.ensemble.engine import run_member
-from twofluid.ensemble.results import figure_stats, with_settlement_companions
+from twofluid.ensemble.results import figure_stats, settlement_notes, with_settlement_companions
 from twofluid.runners.liquefaction import run_liquefaction
 
 
@@ -59,9 +59,11 @@ def test_the_default_end_runs_to_dissipation_under_a_named_cap(runs):
 def test_ensemble_summary_counts_final_members_and_gives_the_predicted_final(tmp_path):
     collect = with_settlement_companions(["settlement_end_m"])
     rows = []
-    for end in (100.0, 200.0):
+    for i, end in enumerate((100.0, 200.0)):
         res = run_member(_case(end), collect)
-        rows.append({"status": res["status"], **res["figures"]})
+        rows.append({"member": i, "status": res["status"], **res["figures"]})
     st = figure_stats(rows, collect)["settlement_end_m"]
     assert st["members_final"] == 0 and st["final"].startswith("0 of 2 members final")
     assert st["predicted_final"]["count"] == 2 and st["predicted_final"]["min"] > st["max"]
+    note = settlement_notes(rows, ["settlement_end_m"])  # the sensitivity study's table notes
+    assert len(note) == 1 and note[0].startswith("settlement_end_m is partial in 2 of 2 runs")

@@ -22,8 +22,8 @@ import numpy as np
 from ..io.folders import create, write_all, write_atomic
 from ..io.results import plain
 
-__all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "with_settlement_companions", "encode", "decode",
-           "FIXED"]
+__all__ = ["ResultsTable", "figure_at", "unit_of", "figure_stats", "with_settlement_companions", "settlement_notes",
+           "encode", "decode", "FIXED"]
 
 FIXED = ["member", "hash", "status", "reason", "wall_time_s", "cpu_time_s"]
 
@@ -220,6 +220,36 @@ def with_settlement_companions(collect: list[str]) -> list[str]:
             for c in (FINAL_FLAG, _final_of(f)):
                 if c not in out:
                     out.append(c)
+    return out
+
+
+def settlement_notes(rows: list[dict], figures: list[str]) -> list[str]:
+    """One line per collected settlement some completed run did not reach in full: which runs, the
+    settlement reached and the predicted final one (the rows must hold the companions of
+    :func:`with_settlement_companions`); one line saying they are final otherwise.
+
+    >>> rows = [{"member": 0, "status": "completed", "settlement_end_m": 0.1, "settlement_final": True,
+    ...          "predicted_final_settlement_m": 0.1},
+    ...         {"member": 1, "status": "completed", "settlement_end_m": 0.05, "settlement_final": False,
+    ...          "predicted_final_settlement_m": 0.12}]
+    >>> print(settlement_notes(rows, ["settlement_end_m"])[0])
+    settlement_end_m is partial in 1 of 2 runs (the run stopped before dissipation): member 1 0.05 m of a predicted final 0.12 m
+    >>> settlement_notes(rows[:1], ["settlement_end_m"])
+    ['settlement_end_m is final in every run']
+    """
+    out = []
+    done = [r for r in rows if r["status"] == "completed"]
+    for f in figures:
+        if not _reached_settlement(f) or not done:
+            continue
+        part = [r for r in done if r.get(FINAL_FLAG) is False]
+        if not part:
+            out.append(f"{f} is final in every run")
+            continue
+        fin = _final_of(f)
+        each = ", ".join(f"member {r.get('member')} {r.get(f):.3g} m of a predicted final {r.get(fin):.3g} m"
+                         for r in part if isinstance(r.get(f), (int, float)) and isinstance(r.get(fin), (int, float)))
+        out.append(f"{f} is partial in {len(part)} of {len(done)} runs (the run stopped before dissipation): {each}")
     return out
 
 
