@@ -70,15 +70,9 @@ class SphinxRoles(griffe.Extension):
         scope = obj
         while scope is not None:
             member = scope.members.get(head) if hasattr(scope, "members") else None
-            if member is not None:
-                try:
-                    base = member.target_path if member.is_alias else member.path
-                except Exception:  # an alias griffe could not follow (another package)
-                    base = member.target_path if member.is_alias else None
-                if base is None:
-                    return None
-                full = f"{base}.{rest}" if rest else base
-                return full
+            if member is not None:  # an import's target path needs no resolution (it may be another package)
+                base = member.target_path if member.is_alias else member.path
+                return f"{base}.{rest}" if rest else base
             scope = scope.parent
         return None
 
