@@ -35,7 +35,7 @@ BAD = [("layer", "thickness", "0.0"), ("layer", "thickness", "nan"), ("layer", "
        ("closures.granular_rheology", "mu_2", "0.3"), ("closures.granular_rheology", "i_0", "-0.1"),
        ("closures.granular_rheology", "phi_c", "0.8"), ("closures.granular_rheology", "k_dil", "-1.0"),
        ("closures.permeability", "law", '"ergun"'), ("closures.permeability", "constant", "0.0"),
-       ("time", "end", "0.0"), ("time", "rtol", "0.1"), ("time", "max_step", "-1.0"),
+       ("time", "end", "0.0"), ("time", "rtol", "0.1"), ("time", "step", "0.0"),
        ("output", "times", "[-1.0]"), ("output", "samples", "2"), ("output", "compare", '"yes"')]
 
 
@@ -96,3 +96,20 @@ def test_onset_and_pressure_minimum_are_determinate_under_halved_steps_and_eleme
     for other in (_onset_and_min(case, 0.578, 40, 1.0), _onset_and_min(case, 0.578, 20, 0.5)):
         assert abs(other[0] - ref[0]) <= max(0.05 * ref[0], 0.5)
         assert abs(other[1] - ref[1]) <= max(0.05 * abs(ref[1]), 0.5)
+
+
+def test_resolved_case_is_nested_toml_and_loads_back(tmp_path):
+    import tomllib
+
+    from twofluid.casefile.schema import effective
+    from twofluid.io.results import write_resolved_case
+
+    case = load_case(CASE)
+    path = tmp_path / "case.resolved.toml"
+    write_resolved_case(path, case)
+    text = path.read_text(encoding="utf-8")
+    assert '["' not in text and "[closures.granular_rheology]" in text
+    doc = tomllib.loads(text)
+    assert doc == {k: v for k, v in effective(case).items() if not k.startswith("_")}
+    again = load_case(path)
+    assert {k: v for k, v in again.items() if k != "_source"} == {k: v for k, v in case.items() if k != "_source"}

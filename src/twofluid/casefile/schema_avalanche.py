@@ -47,7 +47,7 @@ _PERMEABILITY = [
 _TIME = [
     K("end", float, REQUIRED, "s", "end time of every run", lo=0.0, lo_open=True, hi=1e7),
     K("rtol", float, 1e-7, "-", "relative tolerance of the BDF steps", lo=1e-12, hi=1e-3),
-    K("max_step", float, 0.0, "s", "largest BDF step (0: no limit)", lo=0.0),
+    K("step", float, 2.0, "s", "largest BDF step (the steps adapt below it to rtol)", lo=0.0, lo_open=True),
 ]
 
 _OUTPUT = [

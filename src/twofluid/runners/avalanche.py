@@ -64,7 +64,7 @@ def _member(case, phi0, out, run, offset):
     hist = CsvStream(out / f"history_{k}.csv", _HIST)
     prof = CsvStream(out / f"profiles_{k}.csv", _PROF)
     rows, profiles = [], {}
-    max_step = case["time"]["max_step"] or np.inf
+    max_step = case["time"]["step"]
     try:
         for s in lay.run(times, rtol=case["time"]["rtol"], max_step=max_step):
             row = [s.t, s.surface_velocity, 0.5 * (s.u[-1] + s.u[-2]), s.base_pressure, float(s.z[-1])]

@@ -81,21 +81,28 @@ def onset(t, v) -> float | None:
 
 
 def metrics(phi0: float, hist: dict) -> dict:
-    """Model against data for ``phi0`` (module docstring); measured values beside the model's."""
+    """Model against data for ``phi0`` (module docstring), over the data inside the run's time; the
+    measured values beside the model's (None where the run ends before the data begin)."""
     d = load(phi0)
     t, v, p = hist["t"], hist["v"], hist["p"]
-    vt = np.clip(d["v_t"], 0.0, None)
+    inside = d["v_t"] <= t[-1] + 1e-9
+    vt = np.clip(d["v_t"][inside], 0.0, None)
     vm = np.interp(vt, t, v)
-    rms = float(np.sqrt(np.mean(np.log10(np.maximum(vm, FLOOR_M_S) / np.maximum(d["v"], FLOOR_M_S)) ** 2)))
+    rms = (float(np.sqrt(np.mean(np.log10(np.maximum(vm, FLOOR_M_S) / np.maximum(d["v"][inside], FLOOR_M_S)) ** 2)))
+           if inside.any() else None)
     window = (t >= max(d["p_t"].min(), 0.0)) & (t <= d["p_t"].max())
+    pin = d["p_t"] <= t[-1] + 1e-9
     loose = phi0 < 0.5705
-    ext, ext_data = (p[window].max(), d["p"].max()) if loose else (p[window].min(), d["p"].min())
+    pick = np.max if loose else np.min
+    ext = float(pick(p[window])) if window.any() else None
+    ext_data = float(pick(d["p"][pin])) if pin.any() else None
     return {"phi0": phi0, "calibrated": CALIBRATED.get(phi0, ""), "onset_s": onset(t, v),
-            "onset_measured_s": MEASURED_ONSET_S[phi0], "base_pressure_20s_Pa": float(np.interp(20.0, t, p)),
+            "onset_measured_s": MEASURED_ONSET_S[phi0],
+            "base_pressure_20s_Pa": float(np.interp(20.0, t, p)) if t[-1] >= 20.0 else None,
             "base_pressure_20s_measured_Pa": float(np.interp(20.0, d["p_t"], d["p"])),
-            "pressure_extremum": "max" if loose else "min", "pressure_extremum_Pa": float(ext),
-            "pressure_extremum_measured_Pa": float(ext_data), "rms_log10_velocity": rms,
-            "velocity_end_m_s": float(v[-1])}
+            "pressure_extremum": "max" if loose else "min", "pressure_extremum_Pa": ext,
+            "pressure_extremum_measured_Pa": ext_data, "rms_log10_velocity": rms,
+            "velocity_points": int(inside.sum()), "velocity_end_m_s": float(v[-1])}
 
 
 def _late_misfit(make, mu_s: float) -> float:
