@@ -113,3 +113,24 @@ def test_resolved_case_is_nested_toml_and_loads_back(tmp_path):
     assert doc == {k: v for k, v in effective(case).items() if not k.startswith("_")}
     again = load_case(path)
     assert {k: v for k, v in again.items() if k != "_source"} == {k: v for k, v in case.items() if k != "_source"}
+
+
+def test_the_ensemble_file_runs_one_member_per_measured_solid_fraction_and_collects_summary_paths(tmp_path):
+    import tomllib
+    from importlib import resources
+
+    from twofluid.ensemble.spec import parse_ensemble
+
+    path = resources.files("twofluid") / "data" / "ensembles" / "immersed-avalanche-phi0.toml"
+    spec = parse_ensemble(tomllib.loads(path.read_text()), source=str(path))
+    assert [v[0] for v in spec.grid["layer.solid_fractions"]] == list(data.PHI0)
+    case = load_case(CASE)
+    case["layer"].update(elements=6, solid_fractions=[0.562])
+    case["time"]["end"] = 2.0
+    case["output"].update(times=[], samples=10, plots=False)
+    summary = run_case(case, tmp_path / "out").summary
+    for key in spec.collect:
+        node = summary
+        for part in key.split("."):
+            node = node[int(part) - 1] if isinstance(node, list) else node[part]
+        assert node is None or isinstance(node, float), key
