@@ -97,7 +97,7 @@ SCHEMA: dict[str, list[Key]] = {
           "twofluid-out/<name> ('': the case file's name without .toml)"),
         K("description", str, "", "-", "one line shown by `twofluid cases`"),
         K("model", str, "two_fluid_1d", "-", "equation set; each model has its own sections (below)",
-          choices=("two_fluid_1d", "reduced_1d", "two_fluid_2d", "liquefaction_1d")),
+          choices=("two_fluid_1d", "reduced_1d", "two_fluid_2d", "liquefaction_1d", "immersed_avalanche")),
         K("study", str, "general", "-", "which key figures the summary reports: step_change (t1, bed "
           "heights), settling (interface heights) or general", choices=("step_change", "settling", "general")),
     ],
@@ -269,7 +269,8 @@ def _model_schema(model: str) -> dict[str, list[Key]]:
 _MODEL_MODULES = {"two_fluid_1d": "twofluid.casefile.consistency",
                   "reduced_1d": "twofluid.casefile.consistency",
                   "two_fluid_2d": "twofluid.casefile.schema_2d",
-                  "liquefaction_1d": "twofluid.casefile.schema_liquefaction"}
+                  "liquefaction_1d": "twofluid.casefile.schema_liquefaction",
+                  "immersed_avalanche": "twofluid.casefile.schema_avalanche"}
 
 
 class CaseWarning(UserWarning):

@@ -2,7 +2,8 @@
 
 A closure is a pure, vectorised function (arrays in, arrays out). Each is
 registered under a *kind* (``"drag"``, ``"viscosity"``, ``"solids_pressure"``,
-``"shear_modulus"``, ``"modulus_reduction"``, ``"reference_porosity"``) and a
+``"shear_modulus"``, ``"modulus_reduction"``, ``"reference_porosity"``, ``"granular_rheology"``,
+``"permeability"``) and a
 *name* chosen by case files (``[closures.drag] law = "wen_yu"``).
 
 The registry records, per entry, the parameters the law accepts (with

@@ -192,7 +192,8 @@ def run_guard(t_end: float, progress: bool, *closing):
 RUNNERS = {"two_fluid_1d": "twofluid.runners.column_1d:run_1d",
            "reduced_1d": "twofluid.runners.column_1d:run_1d",
            "two_fluid_2d": "twofluid.runners.flow_2d:run_2d",
-           "liquefaction_1d": "twofluid.runners.liquefaction:run_validated"}
+           "liquefaction_1d": "twofluid.runners.liquefaction:run_validated",
+           "immersed_avalanche": "twofluid.runners.avalanche:run_avalanche"}
 
 
 def validated_case(case) -> dict:
