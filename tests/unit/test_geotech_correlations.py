@@ -55,14 +55,13 @@ def test_cpt_crr_msf_and_k_sigma_hand_values():
 
 
 def test_slope_b_from_msf_max_and_cycles_to_liquefaction():
-    assert float(co.csr_slope_b(1.8)) == pytest.approx(0.34, rel=1e-14)
-    assert float(co.csr_slope_b(1.0)) == 0.0
+    # Boulanger & Idriss (2014) Fig. A.16 at its tabulated points, and between them linearly
+    assert float(co.csr_slope_b(1.768)) == 0.333 and float(co.csr_slope_b(1.0)) == 0.08
+    assert float(co.csr_slope_b((1.373 + 1.540) / 2)) == pytest.approx((0.250 + 0.290) / 2, rel=1e-12)
     msf = co.msf_max_spt(np.array([5.0, 10.0, 20.0, 30.0]))
     b = co.csr_slope_b(msf)
     assert np.all(np.diff(b) > 0)                     # denser sand: steeper CSR–N curve
-    # at the cycles of an M 5.25 event (15/1.8^(1/0.34)) the strength is MSF_max times CRR
-    n_525 = 15.0 / 1.8 ** (1 / 0.34)
-    np.testing.assert_allclose(co.csr_for_cycles(n_525, 1.0, b), msf, rtol=1e-12)
+    np.testing.assert_allclose(co.msf_max_from_slope(b), msf, rtol=1e-12)
     crr = 0.13
     n = np.array([3.0, 15.0, 50.0])
     csr = co.csr_for_cycles(n, crr, 0.2)

@@ -314,10 +314,10 @@ def test_the_stack_holds_at_most_nstack_points():
         assert abs(law.skeleton_stress(g, d, st, par, 0, s, gr) - te) <= 1e-12 * s
 
 
-def _counted(path, n160=10.0, sigma_v0=100e3):
+def _counted(path, n160=10.0, sigma_v0=100e3, b=None):
     """Total damage after a stress path [(γ, τ [Pa]), ...] is committed point by point (the law's
-    damage count only: the stresses are imposed, not computed)."""
-    par = hs.parameters(sigma_v0=[sigma_v0], n160cs=n160)
+    damage count only: the stresses are imposed, not computed); ``b`` a CSR–N slope of its own."""
+    par = hs.parameters(sigma_v0=[sigma_v0], n160cs=n160, csr_n_slope=b)
     st = law.new_state(1, par)
     total = 0.0
     for g, tau in path:
@@ -333,10 +333,11 @@ def _half_cycle(par, tau_a, gamma_a):
 def test_a_wiggle_within_a_half_cycle_costs_it_nothing():
     """Rainflow counting: a half cycle 0 → +τ with a small dip on the way counts the whole half
     cycle (amplitude τ/2, from its start) plus the small closed cycle, not two pieces; counted
-    from the last reversal alone, the dip would remove almost all of its damage (1/b ≈ 10)."""
+    from the last reversal alone, the dip would remove almost all of its damage (a soil of its own
+    slope b = 0.10: 1/b = 10)."""
     g1, t1 = 2e-3, 15e3
-    plain, par = _counted([(g1 / 2, t1 / 2), (g1, t1)])
-    dipped, _ = _counted([(g1 / 2, t1 / 2), (0.45 * g1, 0.45 * t1), (g1, t1)])
+    plain, par = _counted([(g1 / 2, t1 / 2), (g1, t1)], b=0.1)
+    dipped, _ = _counted([(g1 / 2, t1 / 2), (0.45 * g1, 0.45 * t1), (g1, t1)], b=0.1)
     whole = _half_cycle(par, t1 / 2, g1 / 2)
     inner = 2.0 * _half_cycle(par, 0.025 * t1, 0.025 * g1)
     assert plain == pytest.approx(whole, rel=1e-12)
@@ -430,11 +431,12 @@ def test_a_reversal_within_the_dilation_zone_keeps_its_stress():
 
 
 def test_generation_is_counted_at_the_stress_it_leaves():
-    """A strong half cycle in one sub-step (CSR 0.2 at (N1)60cs = 10, damage ∝ CSR^10): counted at
+    """A strong half cycle in one sub-step (CSR 0.2 at (N1)60cs = 10 with a slope b = 0.10 of its own,
+    damage ∝ CSR^10): counted at
     the stress of the strength before it, r_g would jump to r_cap; counted consistently
     (commit_generating) the strength factor q = (1 − r_new)/(1 − r_old) and the committed stress
     agree: the stress is the skeleton's at q P_s, and q is what its damage gives, to 1e-8."""
-    par = hs.parameters(sigma_v0=[100e3], n160cs=10.0)
+    par = hs.parameters(sigma_v0=[100e3], n160cs=10.0, csr_n_slope=0.1)
     ps = 100e3 * (1.0 - 0.5)
     st = law.new_state(1, par)
     st[0, law.S_RG] = 0.5

@@ -83,8 +83,8 @@ LAYER_KEYS = [
       "(ignored when shear_wave_velocity > 0)", lo=0.0, lo_open=True, hi=200.0),
     K("shear_wave_velocity", float, 0.0, "m/s", "small-strain V_s instead of k2max: G_max = ρ V_s² at the "
       "initial state (then ∝ √P_s as the skeleton softens); 0: use k2max", lo=0.0, hi=3000.0),
-    K("gamma_ref", float, 1e-3, "-", "reference strain of the hyperbolic G/G_max = 1/(1 + |γ|/γ_ref)",
-      lo=0.0, lo_open=True, hi=1.0, used_when=("modulus_reduction", ("hyperbolic",))),
+    K("gamma_ref", float, 1e-3, "-", "reference strain of the hyperbolic G/G_max = 1/(1 + |γ|/γ_ref) of "
+      "the thesis model (the hysteretic model ignores it, with a warning)", lo=0.0, lo_open=True, hi=1.0, used_when=("modulus_reduction", ("hyperbolic",))),
     K("modulus_reduction", str, "hyperbolic", "-", "G/G_max(γ) curve: hyperbolic 1/(1 + |γ|/γ_ref), or "
       "tabulated (reduction_strains + reduction_ratios, or reduction_file), interpolated linearly in "
       "log γ with the end values held outside the table", choices=("hyperbolic", "tabulated")),
@@ -179,8 +179,8 @@ _SHEAR = [
       lo=0.0, lo_open=True, hi=0.05),
     K("damping_ratio", float, 0.05, "-", "Rayleigh damping ratio ξ at the two frequencies: with the thesis "
       "model a stand-in for hysteretic damping, which its non-linear elastic backbone lacks; with the "
-      "hysteretic model the small-strain viscous floor beside the hysteresis (about 0.01; its stiffness "
-      "part uses the current G_max(P_s))", lo=0.0, hi=0.5),
+      "hysteretic model the small-strain viscous floor beside the hysteresis (0.01 when not given, a "
+      "warning above 0.02; its stiffness part uses the current G_max(P_s))", lo=0.0, hi=0.5),
     K("damping_frequencies", FLOATS, [1.0, 10.0], "Hz", "the two frequencies of the Rayleigh damping"),
     K("numerical_damping", float, 0.05, "-", "hysteretic model: δ of Newmark's γ = 1/2 + δ, β = (γ + 1/2)²/4; "
       "damps the mesh's highest modes (the element-to-element oscillation a yielding skeleton excites) at "
@@ -278,6 +278,7 @@ def layer_porosity(layer: dict) -> float:
     return layer["porosity"] if layer["porosity"] > 0.0 else layer["void_ratio"] / (1.0 + layer["void_ratio"])
 
 
+HYSTERETIC_DAMPING_RATIO = 0.01  # [shear_wave] damping_ratio not given, hysteretic model [-]
 _SATURATED_ONLY = ("particle_diameter", "hydraulic_conductivity", "porosity", "void_ratio", "csr_n_slope")
 
 
@@ -288,6 +289,19 @@ def _check_hysteretic(case: dict, source: str) -> None:
                                   "of Pringle (2001), kept to reproduce the thesis: no hysteresis, no residual "
                                   "strength, no cyclic mobility; not for design"), stacklevel=2)
         return
+    sw = case["shear_wave"]
+    if "damping_ratio" not in given_section_keys("shear_wave"):  # the hysteresis damps: a viscous floor only
+        sw["damping_ratio"] = HYSTERETIC_DAMPING_RATIO
+    elif sw["damping_ratio"] > 0.02:
+        warnings.warn(CaseWarning(f"{source}: [shear_wave] damping_ratio = {sw['damping_ratio']:g}: above the "
+                                  "hysteretic model's small-strain viscous floor (about 0.01, the default); the "
+                                  "hysteresis gives the damping, Rayleigh damping adds to it"), stacklevel=3)
+    for i in range(len(case["layers"])):
+        # (with a tabulated modulus_reduction the key's used_when has warned already)
+        if "gamma_ref" in given_keys("layers", i) and case["layers"][i]["modulus_reduction"] == "hyperbolic":
+            warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} gamma_ref: ignored by the hysteretic "
+                                      "model (its backbone is GQ/H: gqh_theta, else fitted to Menq's curves); it "
+                                      "sets the thesis model's hyperbola only"), stacklevel=3)
     for i, la in enumerate(case["layers"]):
         th, p = la["gqh_theta"], la["mrdf"]
         if th and (len(th) != 5 or not (th[0] <= 1.0 and th[1] >= 0.0 and th[0] + th[1] <= 1.0 and th[2] > 0.0

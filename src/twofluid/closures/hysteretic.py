@@ -6,6 +6,17 @@ an element's row in a state array and a parameter array, in plain Python that nu
 (the column's kernel, :mod:`twofluid.models.hysteretic_kernel`) and that also runs un-jitted
 (the element test, debugging). docs/liquefaction.md, "The hysteretic model", has the why.
 
+The law is the composition of its mechanisms, one module each: the backbone and strength
+(:mod:`.hysteretic_backbone`), the Masing/MRDF memory of reversal points
+(:mod:`.hysteretic_memory`), the damage count and Seed–Booker generation (:mod:`.hysteretic_damage`),
+the dilation zone of cyclic mobility (:mod:`.hysteretic_dilation`) and the flow rule
+(:mod:`.hysteretic_flow`), over one layout of the state and parameter arrays
+(:mod:`.hysteretic_layout`). This module composes them: the stress at a trial strain
+(:func:`skeleton_stress`), the commit of a converged sub-step (:func:`commit`,
+:func:`commit_generating`) and the states to start from; it re-exports every mechanism's functions,
+so ``hysteretic.X`` names the whole law. A mechanism calls another through its module
+(``_hb._gqh(...)``): the kernel's build compiles each function in its own module.
+
 **Strength and stiffness.** The skeleton's strength and small-strain modulus follow the current
 effective vertical stress, floored by the residual strength S_r:
 
@@ -135,365 +146,43 @@ import math
 
 import numpy as np
 
-from . import backbones as _bb
+from . import hysteretic_backbone as _hb
+from . import hysteretic_damage as _hd
+from . import hysteretic_dilation as _hz
+from . import hysteretic_memory as _hm
+# the mechanisms' functions, the law's public API and the kernel's helpers, under one name
+from .hysteretic_backbone import (gqh_ratio, strength_modulus, _constants, _gqh)  # noqa: F401
+from .hysteretic_flow import (flows)  # noqa: F401
+from .hysteretic_dilation import (_dil, _dilation, _env, widen_zone)  # noqa: F401
+from .hysteretic_memory import (_branch, masing_weight, _mrdf, _origin, _on, _reversal_branch, _backbone, _open_count, _open_point,
+    _open_stress, direction, _close_loops)  # noqa: F401
+from .hysteretic_damage import (seed_booker, half_cycle_damage, _count_damage, generated_ratio)  # noqa: F401
+from .hysteretic_layout import *  # noqa: F401,F403  (every index of the state and parameter arrays)
+from .hysteretic_layout import (NPARAM, NSTACK, NSTATE, P_ALPHA, P_B, P_CRR, P_GD0, P_GDR, P_GT, P_K2, P_LIQ, P_P1, P_RCAP, P_SIG0,
+    P_SR, P_TANPHI, P_TAUS, P_TH1, P_TH2, P_TH3, P_TH4, P_TH5, Q_A, Q_B, Q_D, Q_FM, Q_GM, Q_GR, Q_N,
+    Q_S, S_D, S_DIR, S_DPART, S_G, S_GC, S_GD, S_GM, S_GREV, S_LIQ, S_NREV, S_NSTK, S_RF, S_RFDIR,
+    S_RFN, S_RG, S_STK, S_T, S_TAU, S_TLIQ)
 
 __all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "direction", "masing_weight",
            "commit", "commit_counted", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
-
-KPA = 1000.0
-
-# ---- columns of the per-element state array (float64, one row per element)
-S_G = 0  # committed shear strain γ [-]
-S_T = 1  # committed skeleton stress over τ_max at commit, τ/τ_max [-]
-S_TAU = 2  # stress the damage count took at the last commit (the skeleton's; in the column plus its rate part) [Pa]
-S_GREV = 3  # strain at the last reversal [-]
-S_DIR = 4  # direction of the last strain increment (−1, 0, +1)
-S_NREV = 5  # number of reversals so far
-S_GM = 6  # largest |γ| so far [-]
-S_D = 7  # damage of the completed half cycles [-]
-S_DPART = 8  # damage of the current half cycle so far [-]
-S_RG = 9  # generated excess pore-pressure ratio applied so far [-]
-S_EPS = 10  # volumetric strain made through n̄ so far, ln((1 − n̄)/(1 − n̄0)) [-]
-S_LIQ = 11  # 1 once the element has liquefied (D ≥ 1)
-S_GC = 12  # centre of the cycles γ_c [-]
-S_GD = 13  # half-width of the zone without dilation γ_d [-]
-S_TLIQ = 14  # time of liquefaction [s] (−1: not yet)
-S_RFDIR = 15  # direction of the last change of the stress, for the damage count (−1, 0, +1)
-S_RFN = 16  # number of turning points on the damage count's stack (≥ 1: its start)
-S_RF = 17  # the stack: RF_SIZE rows of (τ [Pa], γ [-], damage of the half cycle that ended there)
-RF_SIZE = 16  # turning points kept by the damage count (rainflow); the oldest is dropped beyond
-S_NSTK = S_RF + 3 * RF_SIZE  # number of open strain-reversal points of the stress–strain law (0: on the backbone)
-S_STK = S_NSTK + 1  # those points, oldest first: (γ_k [-], τ_k/τ_max [-]) at S_STK + 2k, S_STK + 2k + 1
-NSTACK = 16  # open reversal points kept (module docstring, "Unloading and reloading")
-R_MASING = 0.8  # generated ratio from which the loops turn from MRDF's towards Masing's (:func:`masing_weight`)
-NSTATE = S_STK + 2 * NSTACK
-STATE_COLUMNS = (("gamma", "tau_ratio", "tau", "gamma_rev", "direction",
-                  "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
-                  "liquefied", "gamma_centre", "gamma_d", "t_liquefied", "count_direction", "count_points")
-                 + tuple(f"{q}_{j}" for j in range(RF_SIZE) for q in ("count_tau", "count_gamma", "count_damage"))
-                 + ("open_reversals",) + tuple(f"{q}_open_{k}" for k in range(NSTACK) for q in ("gamma", "tau_ratio")))
-
-# ---- columns of the per-element parameter array
-P_K2 = 0  # Seed–Idriss K2max [-]
-P_TANPHI = 1  # tan φ′ [-]
-P_SR = 2  # residual strength S_r [Pa]
-P_TH1, P_TH2, P_TH3, P_TH4, P_TH5 = 3, 4, 5, 6, 7  # GQ/H θ1..θ5 [-]
-P_P1, P_P2, P_P3 = 8, 9, 10  # MRDF p1..p3 [-]
-P_CRR = 11  # field CRR at σ′_v0 (M 7.5, K_σ) [-]
-P_B = 12  # slope b of CSR ∝ N^−b [-]
-P_GT = 13  # threshold strain γ_t [-]
-P_GLIM = 14  # limiting strain γ_lim [-]
-P_SIG0 = 15  # σ′_v0 [Pa]
-P_LIQ = 16  # 1: generates pore pressure (saturated, liquefiable)
-P_GDR = 17  # strain over which dilation restores the strength, γ_dr [-]
-P_GMAXFIX = 18  # > 0: fixed G_max [Pa] (crust)
-P_PSFIX = 19  # fixed effective vertical stress [Pa] (crust)
-P_DR = 20  # relative density Dr [-] (fraction, for the reconsolidation floor)
-P_ALPHA = 21  # Seed–Booker α [-]
-P_RCAP = 22  # largest generated ratio r_cap [-]
-P_DGD = 23  # widening of γ_d per liquefied half cycle [-]
-P_GD0 = 24  # γ_d before liquefaction [-]
-P_TAUS = 25  # static shear stress τ_s of a slope [Pa] (signed, downslope > 0; 0 on level ground)
-NPARAM = 26
-PARAM_COLUMNS = ("k2max", "tan_phi", "residual_strength", "theta1", "theta2", "theta3", "theta4",
-                 "theta5", "p1", "p2", "p3", "crr", "b", "gamma_threshold", "gamma_lim", "sigma_v0",
-                 "liquefiable", "gamma_dilation", "g_max_fixed", "p_s_fixed", "dr", "alpha", "r_cap",
-                 "gamma_d_step", "gamma_d0", "tau_static")
-
-
-def gqh_ratio(x, th1, th2, th3, th4, th5):
-    """τ/τ_max of the GQ/H backbone at normalised strain x = |γ|/γ_r ≥ 0 [-] (module docstring;
-    :func:`twofluid.closures.backbones.gqh_core`, 0 at x ≤ 0).
-
-    >>> round(gqh_ratio(0.0, 0.0, 0.0, 1.0, 1.0, 1.0), 6)
-    0.0
-    """
-    if x <= 0.0:
-        return 0.0
-    return _bb.gqh_core(x, th1, th2, th3, th4, th5)
-
-
-def seed_booker(damage, alpha):
-    """Seed & Booker (1977) r_u = (2/π) arcsin(D^(1/(2α))) for damage D = N/N_L ≥ 0 (1 at D ≥ 1).
-
-    >>> seed_booker(0.0, 0.7), seed_booker(2.0, 0.7)
-    (0.0, 1.0)
-    """
-    if damage <= 0.0:
-        return 0.0
-    if damage >= 1.0:
-        return 1.0
-    return 2.0 / math.pi * math.asin(damage ** (0.5 / alpha))
-
-
-def strength_modulus(ps, par, e):
-    """(τ_max [Pa], G_max [Pa]) of element ``e`` at effective vertical stress ``ps`` [Pa]."""
-    tanphi = par[e, P_TANPHI]
-    if par[e, P_GMAXFIX] > 0.0:
-        return max(par[e, P_PSFIX] * tanphi, par[e, P_SR]), par[e, P_GMAXFIX]
-    p = max(ps, par[e, P_SR] / tanphi, 1e-3)
-    return p * tanphi, 218.8 * KPA * par[e, P_K2] * math.sqrt(p / KPA)
-
-
-# ---- the law at a trial strain, written as scalar functions of two tuples of floats: the
-# element's constants over a sub-step (:func:`_constants`) and what its committed state and direction
-# fix for a sub-step's Newton iterations (:func:`_prepare`). The compiled kernel keeps both per element
-# and evaluates the stress many times per sub-step without recomputing them (the MRDF factor, θ3^θ5,
-# the branches' origins) and without passing arrays (each array argument of a compiled call costs a
-# reference count); :func:`skeleton_stress` is the same two steps in one call.
-# Each returns the stress and its derivative dτ/dγ together (one power and one root per backbone
-# evaluation serve both), the derivative of the branch that sets the stress: Newton's stiffness.
-C_TH1, C_TH2, C_C3, C_TH4, C_TH5 = 0, 1, 2, 3, 4  # GQ/H θ1, θ2, θ3^θ5, θ4, θ5
-C_LIQ, C_TAUS, C_SR, C_GDR, C_TDMAX = 5, 6, 7, 8, 9  # P_LIQ, τ_s, S_r, γ_dr, σ′_v0 tan φ′
-C_GC, C_GD = 10, 11  # γ_c, γ_d (state)
-C_H5 = 12  # 2^−θ5: θ4 (x/2)^θ5 = θ4 x^θ5 2^−θ5 (one power for a branch's f(x) and f(x/2))
-NCONST = 13
-Q_D, Q_S, Q_GR, Q_VIRGIN, Q_N, Q_FM, Q_GM = 0, 1, 2, 3, 4, 5, 6  # d, τ_max, γ_r, no direction yet, open points, F, γ_m
-Q_A = 7  # the current branch's origin: (γ_0, τ_0 [Pa], τ_max κ, κ γ_r, γ_0 − γ_c, τ_d(γ_0 − γ_c)), 6 floats
-Q_B = 13  # the outer branch's origin (n ≥ 3), the same 6 floats
-NPREP = 19
-
-
-def _constants(st, par, e):
-    """Constants of element ``e`` for the scalar functions of the law (``C_*``): GQ/H θ1, θ2,
-    θ3^θ5, θ4, θ5; whether it dilates (P_LIQ), τ_s, S_r, γ_dr, σ′_v0 tan φ′; γ_c and γ_d; 2^−θ5."""
-    th5 = par[e, P_TH5]
-    return (par[e, P_TH1], par[e, P_TH2], par[e, P_TH3] ** th5, par[e, P_TH4], th5, par[e, P_LIQ],
-            par[e, P_TAUS], par[e, P_SR], par[e, P_GDR], par[e, P_SIG0] * par[e, P_TANPHI],
-            st[e, S_GC], st[e, S_GD], 0.5 ** th5)
-
-
-def _gqh(x, c):
-    """(:func:`gqh_ratio`, its slope d/dx) at x ≥ 0 with the constants ``c`` (:func:`_constants`)."""
-    if x <= 0.0:
-        return 0.0, 1.0
-    return _bb.gqh_core_slope_c(x, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5])
-
-
-def _dil(ex, c):
-    """(τ_d ≥ 0 [Pa], dτ_d/dγ [Pa]): the dilation stress at ``ex`` = γ − γ_c from the centre of the
-    cycles (0 inside the zone |ex| ≤ γ_d, in sand that generates no pore pressure, and on the side of
-    a static shear τ_s that exceeds the residual strength S_r: flow liquefaction, module docstring
-    "Flow liquefaction"); ``c`` the element's constants."""
-    over = abs(ex) - c[C_GD]
-    if over <= 0.0 or c[C_LIQ] <= 0.0:
-        return 0.0, 0.0
-    ts = c[C_TAUS]
-    if ts * ex > 0.0 and abs(ts) > c[C_SR]:
-        return 0.0, 0.0  # flow liquefaction: no dilation on the side of a static shear above S_r
-    r = over / c[C_GDR]
-    if r >= 1.0:
-        return c[C_TDMAX] * 1.0, 0.0  # capped
-    k = c[C_TDMAX] * 6.0 * r * (1.0 - r) / c[C_GDR]  # smooth onset: S(r) = r²(3 − 2r)
-    return c[C_TDMAX] * (r * r * (3.0 - 2.0 * r)), (k if ex > 0.0 else -k)
-
-
-def _dilation(ex, st, par, e):
-    """Dilation stress τ_d ≥ 0 [Pa] of element ``e`` at ``ex`` = γ − γ_c (:func:`_dil`)."""
-    return _dil(ex, _constants(st, par, e))[0]
-
-
-def _env(g, d, tau, k, s, ex0, td0, c):
-    """(τ [Pa], dτ/dγ [Pa]): ``tau`` (slope ``k``) limited by the strength envelope max(τ_max, τ_d),
-    and raised by the dilation stress gained since the branch's origin γ_0 (``ex0`` = γ_0 − γ_c,
-    ``td0`` = τ_d there) when loading outwards beyond γ_d (module docstring, "Cyclic mobility"):
-    τ_d(γ) − τ_d(γ_0) where the origin lies beyond γ_d on the same side, so a branch that turns back
-    outwards within the dilation zone starts from its reversal stress, not from τ_d above it (a jump
-    at the reversal)."""
-    upper = s
-    ku = 0.0
-    lower = -s
-    kl = 0.0
-    ex = g - c[C_GC]
-    td, kd = _dil(ex, c)
-    if td > 0.0:
-        gain = td
-        if ex0 * ex > 0.0:
-            gain = td - td0
-        if ex > 0.0:
-            if td > upper:
-                upper = td
-                ku = kd
-            if d > 0.0 and gain > 0.0:
-                tau += gain
-                k += kd
-        else:
-            if -td < lower:
-                lower = -td
-                kl = -kd
-            if d < 0.0 and gain > 0.0:
-                tau -= gain
-                k -= kd
-    if tau > upper:
-        tau = upper
-        k = ku
-    if tau < lower:
-        tau = lower
-        k = kl
-    return tau, k
-
-
-def _branch(y, fm, c):
-    """(Φ(y), dΦ/dy): Φ = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r, a Masing/MRDF branch
-    over τ_max (F = 0: the backbone f, F = 1: Masing's 2 f(y/2)); ``c`` the element's constants."""
-    x = abs(y)
-    if fm == 0.0:
-        phi, k = _gqh(x, c)
-    elif fm == 1.0:
-        f2, k = _gqh(0.5 * x, c)
-        phi = 2.0 * f2
-    elif x > 0.0:  # f(x) and f(x/2) from one power
-        w = c[C_TH4] * x ** c[C_TH5]
-        f1, k1 = _bb.gqh_slope_w(x, w, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
-        f2, k2 = _bb.gqh_slope_w(0.5 * x, w * c[C_H5], c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
-        phi = fm * (2.0 * f2 - f1) + f1
-        k = fm * (k2 - k1) + k1
-    else:
-        phi, k = 0.0, 1.0
-    return (phi if y >= 0.0 else -phi), k
-
-
-def masing_weight(st, par, e):
-    """Weight w ∈ [0, 1] of Masing's rule in the unloading–reloading factor of element ``e``: 0 up to
-    a generated ratio r_g = ``R_MASING``, then S((r_g − R_MASING)/(r_cap − R_MASING)), S(x) = x²(3 − 2x),
-    1 at r_cap (module docstring, "Unloading and reloading"). A continuous function of r_g, so the
-    loops turn from the intact skeleton's into Masing's as the pore pressure is generated, never in
-    a jump.
-
-    >>> import numpy as np
-    >>> par = np.zeros((1, NPARAM)); par[0, P_RCAP] = 0.999; st = np.zeros((1, NSTATE))
-    >>> st[0, S_RG] = 0.5; a = masing_weight(st, par, 0); st[0, S_RG] = 0.999
-    >>> a, masing_weight(st, par, 0)
-    (0.0, 1.0)
-    """
-    x = (st[e, S_RG] - R_MASING) / (par[e, P_RCAP] - R_MASING)
-    if x <= 0.0:
-        return 0.0
-    if x >= 1.0:
-        return 1.0
-    return x * x * (3.0 - 2.0 * x)
-
-
-def _mrdf(st, par, e, gr, c):
-    """F of the unloading–reloading branches of element ``e`` (1: Masing): MRDF's factor at the
-    largest strain so far, moved towards Masing's F = 1 by :func:`masing_weight` as the pore pressure
-    is generated (a liquefied element flows between its dilation stops on Masing branches)."""
-    f = par[e, P_P1]
-    if par[e, P_P2] != 0.0:
-        xm = st[e, S_GM] / gr
-        red = 1.0
-        if xm > 0.0:
-            red = _gqh(xm, c)[0] / xm
-        f = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
-    if par[e, P_LIQ] > 0.0:
-        w = masing_weight(st, par, e)
-        if w > 0.0:
-            f = f + (1.0 - f) * w
-    return f
-
-
-def _origin(g0, t0, d, s, gr, fm, c):
-    """What the branch in direction ``d`` from the reversal (``g0``, ``t0`` τ/τ_max) needs of its
-    origin, once per sub-step: (γ_0, τ_0 [Pa], τ_max κ [Pa], κ γ_r, γ_0 − γ_c, τ_d(γ_0 − γ_c) [Pa]).
-
-    From a stress the dilation carried above τ_max the branch is wider (κ > 1), so that it still
-    reaches the strength the other way (asymptote d τ_max)."""
-    kappa = max(1.0, abs(d - t0) / (1.0 + fm)) if abs(t0) > 1.0 else 1.0
-    ex0 = g0 - c[C_GC]
-    return g0, t0 * s, s * kappa, kappa * gr, ex0, _dil(ex0, c)[0]
-
-
-def _on(g, d, g0, ts0, sk, kg, ex0, td0, s, fm, c):
-    """(τ [Pa], dτ/dγ [Pa]) at ``g`` of the branch in direction ``d`` from the origin (``g0``,
-    ``ts0``, ``sk``, ``kg``, ``ex0``, ``td0``: :func:`_origin`) within the strength envelope, with the
-    dilation gained since the origin."""
-    phi, k = _branch((g - g0) / kg, fm, c)
-    return _env(g, d, ts0 + sk * phi, sk * k / kg, s, ex0, td0, c)
-
-
-def _reversal_branch(g, d, g0, t0, s, gr, fm, c):
-    """Stress [Pa] at ``g`` of the branch from the reversal (``g0``, ``t0`` τ/τ_max) in direction
-    ``d`` within the strength envelope, with the dilation gained since ``g0``."""
-    o = _origin(g0, t0, d, s, gr, fm, c)
-    return _on(g, d, o[0], o[1], o[2], o[3], o[4], o[5], s, fm, c)[0]
-
-
-def _backbone(g, d, s, gr, c):
-    """(τ [Pa], dτ/dγ [Pa]) of the backbone at ``g`` within the strength envelope, with the dilation
-    gained since the centre of the cycles γ_c (the cap beyond the largest strain so far)."""
-    phi, k = _branch(g / gr, 0.0, c)
-    return _env(g, d, s * phi, s * k / gr, s, 0.0, 0.0, c)
-
-
-def _open_count(d, st, e):
-    """Open reversal points of element ``e`` while it moves in direction ``d`` from its committed
-    state, and whether the last of them is the committed point itself (a reversal now, pushed at
-    the commit): a function of the committed state and ``d`` only, fixed over Newton's iterations.
-
-    At a reversal the pairs whose loop the branch just left had already closed (its strain passed
-    their target) are dropped, and so is the innermost pair when the stack is full; a reversal at
-    the largest strain so far starts afresh."""
-    n = int(st[e, S_NSTK])
-    d_old = st[e, S_DIR]
-    if d_old == 0.0 or d == d_old:
-        return n, False
-    gc = st[e, S_G]
-    if abs(gc) >= st[e, S_GM]:
-        return 1, True
-    while n >= 2 and d_old * (gc - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
-        n -= 2
-    if n >= NSTACK:
-        n -= 2
-    return n + 1, True
-
-
-def _open_point(k, n, rev, st, e):
-    """(γ, τ/τ_max) of open reversal point ``k`` of ``n`` (:func:`_open_count`)."""
-    if rev and k == n - 1:
-        return st[e, S_G], st[e, S_T]
-    return st[e, S_STK + 2 * k], st[e, S_STK + 2 * k + 1]
-
-
-def _open_stress(g, d, n, rev, st, e, s, gr, fm, c):
-    """The lower (in direction ``d``) of the branch from the last open reversal point and the outer
-    branch that its loop closes onto (the one from the point before its target), before the
-    backbone cap and the envelope [Pa]."""
-    g0, t0 = _open_point(n - 1, n, rev, st, e)
-    tau = _reversal_branch(g, d, g0, t0, s, gr, fm, c)
-    if n >= 3:
-        g1, t1 = _open_point(n - 3, n, rev, st, e)
-        to = _reversal_branch(g, d, g1, t1, s, gr, fm, c)
-        if d * to < d * tau:
-            tau = to
-    return tau
-
-
-def direction(g, st, e):
-    """Direction (±1) of a strain increment to ``g`` from the committed strain (the last one's if 0)."""
-    dg = g - st[e, S_G]
-    if dg > 0.0:
-        return 1.0
-    if dg < 0.0:
-        return -1.0
-    return st[e, S_DIR] if st[e, S_DIR] != 0.0 else 1.0
 
 
 def _prepare(d, st, par, e, s, gr, c):
     """What element ``e``'s committed state and the direction ``d`` fix for a sub-step with strength
     ``s`` [Pa] and reference strain ``gr`` (``Q_*``): the open reversal points (:func:`_open_count`)
     and the origins of the branches from them, the MRDF factor, the largest strain so far."""
-    n, rev = _open_count(d, st, e)
+    n, rev = _hm._open_count(d, st, e)
     virgin = 1.0 if st[e, S_DIR] == 0.0 else 0.0
     if n == 0:
         return (d, s, gr, virgin, 0.0, 0.0, st[e, S_GM], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    fm = _mrdf(st, par, e, gr, c)
-    g0, t0 = _open_point(n - 1, n, rev, st, e)
-    a = _origin(g0, t0, d, s, gr, fm, c)
+    fm = _hm._mrdf(st, par, e, gr, c)
+    g0, t0 = _hm._open_point(n - 1, n, rev, st, e)
+    a = _hm._origin(g0, t0, d, s, gr, fm, c)
     b = a
     if n >= 3:
-        g1, t1 = _open_point(n - 3, n, rev, st, e)
-        b = _origin(g1, t1, d, s, gr, fm, c)
+        g1, t1 = _hm._open_point(n - 3, n, rev, st, e)
+        b = _hm._origin(g1, t1, d, s, gr, fm, c)
     return (d, s, gr, virgin, float(n), fm, st[e, S_GM], a[0], a[1], a[2], a[3], a[4], a[5],
             b[0], b[1], b[2], b[3], b[4], b[5])
 
@@ -505,16 +194,16 @@ def _stress(g, q, c):
     d = q[Q_D]
     s = q[Q_S]
     if q[Q_N] == 0.0:  # first loading, or a loop closed onto the backbone: the backbone
-        return _backbone(g, d, s, q[Q_GR], c)
+        return _hm._backbone(g, d, s, q[Q_GR], c)
     fm = q[Q_FM]
-    tau, k = _on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
+    tau, k = _hm._on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
     if q[Q_N] >= 3.0:  # the outer branch the current loop closes onto
-        to, ko = _on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        to, ko = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
         if d * to < d * tau:
             tau = to
             k = ko
     if d * g > q[Q_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
-        tb, kb = _backbone(g, d, s, q[Q_GR], c)
+        tb, kb = _hm._backbone(g, d, s, q[Q_GR], c)
         if d * tau > d * tb:
             tau = tb
             k = kb
@@ -559,113 +248,23 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     >>> par[0, P_B] = 0.3; par[0, P_SIG0] = 70e3; par[0, P_LIQ] = 1.0; par[0, P_GDR] = 0.1
     >>> par[0, P_ALPHA] = 0.7; par[0, P_RCAP] = 0.999; par[0, P_GD0] = 0.005; par[0, P_TAUS] = 3e3
     >>> st = new_state(1, par); gc = static_state(st, par, 0, 3e3, 70e3)
-    >>> s, gm = strength_modulus(0.0, par, 0)  # liquefied: the residual strength S_r = 4.5 kPa
+    >>> s, gm = _hb.strength_modulus(0.0, par, 0)  # liquefied: the residual strength S_r = 4.5 kPa
     >>> taus = []
     >>> for g in list(gc + np.linspace(0.001, 0.04, 40)) + [gc + 0.0399, gc + 0.0401]:  # out, back 0.01 %, out
-    ...     d = direction(g, st, 0); tau = skeleton_stress(g, d, st, par, 0, s, s / gm)
+    ...     d = _hm.direction(g, st, 0); tau = skeleton_stress(g, d, st, par, 0, s, s / gm)
     ...     _ = commit(g, d, tau, st, par, 0, s, 0.0, s / gm); taus.append(tau)
     >>> [round(float(x) / 1e3, 1) for x in taus[-3:]]  # kPa: at 4 %, after the wiggle, past 4 % again
     [14.7, 13.2, 14.8]
     """
-    c = _constants(st, par, e)
+    c = _hb._constants(st, par, e)
     return _stress(g, _prepare(d, st, par, e, s, gr, c), c)[0]
-
-
-def _close_loops(g, d, st, par, e, s, gr, c, fm):
-    """Loop closure at the committed strain ``g`` (direction ``d``; the stack already holds this
-    sub-step's reversal): drops the innermost open pair once ``g`` has passed its target and the
-    outer branch is the active one there, and every point once the backbone is (beyond the largest
-    strain so far). Only what no longer sets the stress at ``g`` is dropped, so the stress there is
-    unchanged: closing a loop is never a jump. ``c``: the element's constants (:func:`_constants`);
-    ``fm``: the branches' F (:func:`_mrdf`, the same before and after the commit's push), < 0 where
-    not known yet."""
-    n = int(st[e, S_NSTK])
-    if n == 0:
-        return
-    if fm < 0.0:
-        fm = _mrdf(st, par, e, gr, c)
-    while n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0:
-        gi, go = st[e, S_STK + 2 * (n - 1)], st[e, S_STK + 2 * (n - 3)]
-        ti = _reversal_branch(g, d, gi, st[e, S_STK + 2 * (n - 1) + 1], s, gr, fm, c)
-        to = _reversal_branch(g, d, go, st[e, S_STK + 2 * (n - 3) + 1], s, gr, fm, c)
-        if d * ti < d * to:
-            break
-        n -= 2
-    if d * g > st[e, S_GM]:
-        tb = _backbone(g, d, s, gr, c)[0]
-        if d * tb <= d * _open_stress(g, d, n, False, st, e, s, gr, fm, c):
-            n = 0
-    st[e, S_NSTK] = n
-
-
-def half_cycle_damage(ta, ga, par, e):
-    """Damage of a half cycle of stress amplitude ``ta`` [Pa] and strain amplitude ``ga`` [-]."""
-    gt = par[e, P_GT]
-    ft = (ga - gt) / gt
-    if ft <= 0.0 or ta <= 0.0:
-        return 0.0
-    if ft > 1.0:
-        ft = 1.0
-    csr = ta / par[e, P_SIG0]
-    return ft / 30.0 * (csr / par[e, P_CRR]) ** (1.0 / par[e, P_B])
-
-
-def _count_damage(g, tau, st, par, e):
-    """Count the damage of element ``e`` at its new stress ``tau`` [Pa] and strain ``g``, before
-    they are committed: half cycles of stress found by rainflow counting (ASTM E1049's three-point
-    rule, applied as the history arrives), each weighted by :func:`half_cycle_damage`.
-
-    The stack holds the stress turning points still open. A turning point of the stress ends the
-    current half cycle, whose damage is then counted, and is pushed. When the stress goes past the
-    turning point before the last one, the inner pair closes a full cycle: its second half is
-    counted, its damage equal to the first's, and the outer half cycle resumes from its own start,
-    so the damage already counted for that half cycle up to the inner turning point is withdrawn;
-    the partial damage is then measured from there. A small wiggle within a large half cycle so
-    costs the large one nothing, as it costs a specimen nothing in the laboratory: counted from the
-    last reversal alone, each wiggle would split the half cycle, and with damage ∝ CSR^(1/b),
-    1/b ≈ 10 for loose sand, that would remove almost all of its damage."""
-    k = int(st[e, S_RFN]) - 1
-    t_old = st[e, S_TAU]
-    dt = tau - t_old
-    dnew = 1.0 if dt > 0.0 else (-1.0 if dt < 0.0 else 0.0)
-    dold = st[e, S_RFDIR]
-    if dold != 0.0 and dnew != 0.0 and dnew != dold:  # the stress turned at the committed point
-        h = st[e, S_DPART]
-        st[e, S_D] += h
-        st[e, S_DPART] = 0.0
-        if k == RF_SIZE - 1:  # full: the oldest turning point goes (its half cycles stay counted)
-            for j in range(RF_SIZE - 1):
-                for q in range(3):
-                    st[e, S_RF + 3 * j + q] = st[e, S_RF + 3 * (j + 1) + q]
-            k -= 1
-        k += 1
-        st[e, S_RF + 3 * k] = t_old
-        st[e, S_RF + 3 * k + 1] = st[e, S_G]
-        st[e, S_RF + 3 * k + 2] = h
-    if dnew != 0.0:
-        st[e, S_RFDIR] = dnew
-    closed = False
-    while k >= 1 and abs(tau - st[e, S_RF + 3 * k]) >= abs(st[e, S_RF + 3 * k] - st[e, S_RF + 3 * (k - 1)]):
-        if k == 1:  # past the start: the first half cycle stays counted, and the start goes
-            for q in range(3):
-                st[e, S_RF + q] = st[e, S_RF + 3 + q]
-            st[e, S_RF + 2] = 0.0
-            k = 0
-        else:  # the inner cycle closes; the outer half cycle resumes from its start
-            st[e, S_D] += st[e, S_RF + 3 * k + 2] - st[e, S_RF + 3 * (k - 1) + 2]
-            k -= 2
-        closed = True
-    st[e, S_RFN] = k + 1
-    dd = half_cycle_damage(0.5 * abs(tau - st[e, S_RF + 3 * k]), 0.5 * abs(g - st[e, S_RF + 3 * k + 1]), par, e)
-    if closed or dd > st[e, S_DPART]:
-        st[e, S_DPART] = dd
 
 
 def commit(g, d, tau, st, par, e, s, t, gr):
     """Commit the converged strain ``g``, reached in direction ``d``, and stress ``tau`` [Pa] of
     element ``e`` at time ``t`` [s], with the sub-step's reference strain ``gr`` [-]: reversals
     and loop closure, the largest strain, damage and liquefaction. Returns the total damage."""
-    return _commit_counted(g, d, tau, tau, st, par, e, s, t, gr, _constants(st, par, e), -1.0)
+    return _commit_counted(g, d, tau, tau, st, par, e, s, t, gr, _hb._constants(st, par, e), -1.0)
 
 
 def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
@@ -673,7 +272,7 @@ def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
     ``tau``: in the column, the shear stress the element carries, skeleton and rate (viscous) parts
     together, as the laboratory's CSR is the stress applied to the specimen, whatever part of it
     its rate carries."""
-    return _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, _constants(st, par, e), -1.0)
+    return _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, _hb._constants(st, par, e), -1.0)
 
 
 def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
@@ -683,9 +282,9 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
-        _count_damage(g, tau_count, st, par, e)
+        _hd._count_damage(g, tau_count, st, par, e)
     if d_old != 0.0 and d != d_old:  # the strain reversed at g_old: a new branch
-        n, _ = _open_count(d, st, e)  # pushed: g_old, with the pairs it closes dropped
+        n, _ = _hm._open_count(d, st, e)  # pushed: g_old, with the pairs it closes dropped
         st[e, S_STK + 2 * (n - 1)] = g_old
         st[e, S_STK + 2 * (n - 1) + 1] = st[e, S_T]
         st[e, S_NSTK] = n
@@ -695,15 +294,11 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau_count
-    _close_loops(g, d, st, par, e, s, gr, c, fm)
+    _hm._close_loops(g, d, st, par, e, s, gr, c, fm)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
     if st[e, S_LIQ] > 0.0:  # cyclic mobility: the zone widens with the strain travelled inside it
-        gc = st[e, S_GC]
-        gd = st[e, S_GD]
-        inside = min(max(g_old, g), gc + gd) - max(min(g_old, g), gc - gd)
-        if inside > 0.0 and gd < par[e, P_GLIM]:
-            st[e, S_GD] = min(par[e, P_GLIM], math.sqrt(gd * gd + par[e, P_DGD] * inside))
+        _hz.widen_zone(g_old, g, st, par, e)
     if par[e, P_LIQ] > 0.0 and st[e, S_LIQ] == 0.0 and st[e, S_D] + st[e, S_DPART] >= 1.0:
         st[e, S_LIQ] = 1.0
         st[e, S_TLIQ] = t
@@ -728,12 +323,12 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     The strength so falls only as fast as the motion keeps loading the element, a rate the time
     step resolves. ``save``: a work row of NSTATE floats. ``tau_rate`` [Pa]: the rate (viscous) part
     of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
-    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, _constants(st, par, e))
+    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, _hb._constants(st, par, e))
 
 
 def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
     """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given."""
-    s, gmx = strength_modulus(ps, par, e)
+    s, gmx = _hb.strength_modulus(ps, par, e)
     gr = s / gmx
     q = _prepare(d, st, par, e, s, gr, c)
     tau = _stress(g, q, c)[0]
@@ -745,7 +340,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
     for k in range(NSTATE):
         save[k] = st[e, k]
     _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
-    q1 = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old)
+    q1 = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old)
     if q1 >= 1.0 - 1e-12 or s <= par[e, P_SR] * (1.0 + 1e-12):
         return tau  # no generation, or the strength already at its floor: the explicit count holds
     # φ(q) = q′(q) − q: φ(1) = q1 − 1 < 0, φ(q1) ≥ 0 (a lower strength, a lower stress, less damage)
@@ -763,12 +358,12 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
                 q = 0.5 * (lo + hi)
         for k in range(NSTATE):
             st[e, k] = save[k]
-        s, gmx = strength_modulus(ps * q, par, e)
+        s, gmx = _hb.strength_modulus(ps * q, par, e)
         gr = s / gmx
         qq = _prepare(d, st, par, e, s, gr, c)
         tau = _stress(g, qq, c)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
-        f = (1.0 - generated_ratio(st, par, e)) / (1.0 - r_old) - q
+        f = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old) - q
         if it == 0:
             if f <= 0.0:
                 return tau  # not bracketed (a turning point of the count): the explicit factor
@@ -787,13 +382,6 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
                 f_lo *= 0.5
             side = -1
     return tau
-
-
-def generated_ratio(st, par, e):
-    """r_g of element ``e`` from its damage (Seed–Booker, capped at r_cap) [-]."""
-    r = seed_booker(st[e, S_D] + st[e, S_DPART], par[e, P_ALPHA])
-    cap = par[e, P_RCAP]
-    return r if r < cap else cap
 
 
 def new_state(n_elements: int, par=None) -> np.ndarray:
@@ -827,11 +415,11 @@ def static_state(st, par, e, tau_static, ps):
     >>> par[0, P_TH3:P_TH5 + 1] = 1.0; par[0, P_SIG0] = 100e3; par[0, P_GD0] = 0.005
     >>> st = new_state(1, par)
     >>> g = static_state(st, par, 0, 30e3, 100e3)   # τ/τ_max = 1/2 on the hyperbola: γ = γ_r
-    >>> s, gm = strength_modulus(100e3, par, 0)
+    >>> s, gm = _hb.strength_modulus(100e3, par, 0)
     >>> round(float(g / (s / gm)), 9), float(st[0, S_TAU]), bool(st[0, S_GC] == g)
     (1.0, 30000.0, True)
     """
-    s, gmx = strength_modulus(ps, par, e)
+    s, gmx = _hb.strength_modulus(ps, par, e)
     if tau_static == 0.0:
         return 0.0
     if not abs(tau_static) < s:
@@ -841,7 +429,7 @@ def static_state(st, par, e, tau_static, ps):
     th1, th2, th3, th4, th5 = par[e, P_TH1], par[e, P_TH2], par[e, P_TH3], par[e, P_TH4], par[e, P_TH5]
     target = abs(tau_static) / s
     lo, hi = 0.0, 1.0
-    while gqh_ratio(hi, th1, th2, th3, th4, th5) < target:
+    while _hb.gqh_ratio(hi, th1, th2, th3, th4, th5) < target:
         hi *= 2.0
         if hi > 1e12:
             return math.nan
@@ -849,12 +437,12 @@ def static_state(st, par, e, tau_static, ps):
         mid = 0.5 * (lo + hi)
         if mid == lo or mid == hi:
             break
-        if gqh_ratio(mid, th1, th2, th3, th4, th5) < target:
+        if _hb.gqh_ratio(mid, th1, th2, th3, th4, th5) < target:
             lo = mid
         else:
             hi = mid
     g = d * hi * gr
-    tau = s * _branch(g / gr, 0.0, _constants(st, par, e))[0]
+    tau = s * _hm._branch(g / gr, 0.0, _hb._constants(st, par, e))[0]
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau

@@ -7,7 +7,8 @@ test and the simplified table agree. This module gathers the correlations it nee
 - relative density Dr [%] from (N1)60cs and from q_c1Ncs, and back (Idriss & Boulanger 2008);
 - the CPT route of Boulanger & Idriss (2014): CRR_M7.5, C_σ, K_σ and MSF_max from q_c1Ncs,
   and MSF_max from (N1)60cs;
-- the slope b of the CSR–N curve implied by MSF_max (and the MSF_max a given b implies), and the
+- the slope b of the CSR–N curve against MSF_max of Boulanger & Idriss (2014, Fig. A.16), its
+  inverse (the MSF_max a given b implies), their equivalent cycles N_M7.5(b) (Fig. A.15), and the
   number of uniform cycles to liquefaction N_L = 15 (CRR/CSR)^(1/b);
 - the residual strength S_r of liquefied sand (Idriss & Boulanger 2008), with and without
   void redistribution;
@@ -48,15 +49,26 @@ from .simplified import C_D, PA
 
 __all__ = ["dr_from_n160cs", "n160cs_from_dr", "dr_from_qc1ncs", "qc1ncs_from_dr",
            "crr_75_cpt", "c_sigma_cpt", "k_sigma_cpt", "msf_max_cpt", "msf_max_spt",
-           "N_CYCLES_M75", "B_CLEAN_SAND", "MSF_MAX_CLEAN_SAND", "CSR_N_SLOPE_RANGE", "csr_slope_b", "msf_max_from_slope",
+           "N_CYCLES_M75", "MSF_MAX_RANGE", "CSR_N_SLOPE_RANGE", "CSR_N_SLOPE_CURVE_RANGE", "B_OF_MSF_MAX",
+           "N_M75_OF_B", "csr_slope_b", "msf_max_from_slope", "n_cycles_m75_ib2014",
            "cycles_to_liquefaction", "csr_for_cycles", "residual_strength_ratio_ib2008",
            "residual_strength_ib2008", "relative_state_index", "k_alpha_ib2003",
            "seed_booker_ru", "seed_booker_cycle_ratio", "limiting_shear_strain_pct",
            "max_shear_strain_pct", "reconsolidation_strain"]
 
 N_CYCLES_M75 = 15.0  # equivalent uniform cycles of an M 7.5 event (Seed et al. 1975; I&B 2008)
-B_CLEAN_SAND = 0.34  # slope of CSR–N of clean sand used by Idriss (1999) for his MSF ...
-MSF_MAX_CLEAN_SAND = 1.8  # ... whose cap (M <= 5.25) it implies
+MSF_MAX_RANGE = (1.09, 2.2)  # B&I (2014): MSF_max from (N1)60cs or q_c1Ncs spans 1.09-2.2 [-]
+CSR_N_SLOPE_CURVE_RANGE = (0.15, 0.40)  # the b that B&I's b(MSF_max) spans over that range [-]
+#: Boulanger & Idriss (2014) Fig. A.16, b against MSF_max (as digitised in liquepy): (MSF_max, b)
+B_OF_MSF_MAX = np.array([
+    [1.000, 1.019, 1.045, 1.084, 1.130, 1.184, 1.242, 1.373, 1.540, 1.651, 1.768, 1.891, 2.025, 2.215],
+    [0.080, 0.101, 0.121, 0.147, 0.170, 0.191, 0.211, 0.250, 0.290, 0.312, 0.333, 0.353, 0.374, 0.399]])
+#: Boulanger & Idriss (2014) Fig. A.15, N_M7.5 against b (as digitised in liquepy): (b, N_M7.5)
+N_M75_OF_B = np.array([
+    [0.060, 0.063, 0.068, 0.072, 0.078, 0.086, 0.095, 0.110, 0.129, 0.148, 0.168, 0.189, 0.213, 0.235,
+     0.253, 0.273, 0.310, 0.333, 0.372, 0.400],
+    [950.789, 628.731, 405.756, 278.274, 197.931, 121.658, 77.552, 47.081, 30.742, 22.947, 18.878,
+     16.503, 15.519, 14.593, 14.235, 14.054, 14.384, 14.374, 14.710, 15.060]])
 CSR_N_SLOPE_RANGE = (0.05, 0.6)  # a CSR–N slope b given from a soil's own cyclic tests (csr_n_slope) [-]
 QC1NCS_CSIGMA_MAX = 211.0  # B&I (2014): C_sigma evaluated at q_c1Ncs <= 211 (where it reaches 0.3)
 
@@ -171,40 +183,60 @@ def msf_max_spt(n1_60cs):
 
 
 def csr_slope_b(msf_max):
-    """Slope b of the cyclic strength curve CSR ∝ N^−b implied by MSF_max [-].
+    """Slope b of the cyclic strength curve CSR ∝ N^−b for a given MSF_max, Boulanger & Idriss
+    (2014, App. A, Fig. A.16) [-].
 
-    Boulanger & Idriss (2014) write the MSF as the ratio of the cyclic strengths at the
-    number of equivalent uniform cycles of the event, N_M, and at N_{7.5} = 15:
-    MSF = (15/N_M)^b, and MSF_max is the MSF of their relation at M = 5.25 (below which it is
-    capped). Idriss (1999) derived his clean-sand MSF (cap 1.8) with b = 0.34, which fixes the
-    cycles at M = 5.25: N_5.25 = 15 · 1.8^(−1/0.34) = 2.66. Hence
+    B&I relate the cap of their magnitude scaling factor (MSF_max, the MSF at M ≤ 5.25) to b
+    through the equivalent uniform cycles of their ground-motion set: a flatter CSR–N curve (small
+    b, loose sand) makes the few strong cycles of a small earthquake count for less, and the small
+    cycles of a large one for more. The curve is tabulated (:data:`B_OF_MSF_MAX`, their figure
+    as digitised in the liquepy library, checked in the tests against liquepy) and interpolated
+    linearly; outside 1.000–2.215 it is held at its ends (0.080, 0.399). MSF_max [-] ≥ 1; with
+    MSF_max of B&I from (N1)60cs (:func:`msf_max_spt`, 1.09–2.2) b runs from 0.150 to 0.397.
 
-        b = ln(MSF_max) / ln(15/N_5.25) = 0.34 ln(MSF_max) / ln(1.8).
+    Hand value, (N1)60cs = 10: MSF_max = 1.09 + (10/31.5)² = 1.19078, between (1.184, 0.191) and
+    (1.242, 0.211): b = 0.191 + 0.020 · 0.00678/0.058 = 0.19334:
 
-    This inversion is ours (B&I give the trend in b, not this formula): it reproduces
-    Idriss's pair (1.8, 0.34) exactly and gives b = 0.050 at MSF_max = 1.09 (very loose sand,
-    an almost flat CSR–N curve) and b = 0.456 at 2.2 (dense sand). MSF_max [-] ≥ 1.
-
-    Hand value, (N1)60cs = 11.5 (Dr 50 %): MSF_max = 1.2233, b = 0.34 · 0.20155/0.58779 = 0.1166:
-
-    >>> round(float(csr_slope_b(1.2233)), 4)
-    0.1166
-    >>> round(float(csr_slope_b(1.8)), 4)
-    0.34
+    >>> round(float(csr_slope_b(msf_max_spt(10.0))), 5)
+    0.19334
+    >>> float(csr_slope_b(1.373)), float(csr_slope_b(3.0))
+    (0.25, 0.399)
     """
-    m = np.asarray(msf_max, dtype=float)
-    return B_CLEAN_SAND * np.log(m) / math.log(MSF_MAX_CLEAN_SAND)
+    return np.interp(np.asarray(msf_max, dtype=float), B_OF_MSF_MAX[0], B_OF_MSF_MAX[1])
 
 
 def msf_max_from_slope(b):
-    """MSF_max = 1.8^(b/0.34) [-], the inverse of :func:`csr_slope_b`: the magnitude scaling
-    factor's cap that a CSR–N slope b [-] (> 0) implies, for a soil whose slope is known from its
-    own cyclic tests rather than from (N1)60cs or q_c1Ncs.
+    """MSF_max [-] that a CSR–N slope b [-] implies: the inverse of :func:`csr_slope_b` (B&I's
+    curve is monotone), clamped to B&I's range of MSF_max, 1.09–2.2 (:data:`MSF_MAX_RANGE`).
 
-    >>> round(float(msf_max_from_slope(0.34)), 6), round(float(msf_max_from_slope(csr_slope_b(1.2233))), 6)
-    (1.8, 1.2233)
+    For a soil whose slope is known from its own cyclic tests (``csr_n_slope``): the simplified
+    table then scales its CRR with the MSF that b implies. The curve spans b = 0.150–0.397 within
+    that range; a b outside 0.15–0.40 (:data:`CSR_N_SLOPE_CURVE_RANGE`) lies beyond what the curve
+    can express and is clamped (the caller warns).
+
+    >>> round(float(msf_max_from_slope(0.25)), 6), round(float(msf_max_from_slope(csr_slope_b(1.3))), 6)
+    (1.373, 1.3)
+    >>> float(msf_max_from_slope(0.05)), float(msf_max_from_slope(0.5))
+    (1.09, 2.2)
     """
-    return MSF_MAX_CLEAN_SAND ** (np.asarray(b, dtype=float) / B_CLEAN_SAND)
+    m = np.interp(np.asarray(b, dtype=float), B_OF_MSF_MAX[1], B_OF_MSF_MAX[0])
+    return np.clip(m, *MSF_MAX_RANGE)
+
+
+def n_cycles_m75_ib2014(b):
+    """Equivalent uniform cycles N_M7.5 of an M 7.5 motion for a soil of CSR–N slope b [-],
+    Boulanger & Idriss (2014, App. A, Fig. A.15), interpolated in :data:`N_M75_OF_B` (held at the
+    ends beyond b = 0.06–0.40).
+
+    At small b the many small cycles of a record count for more, so N_M7.5 grows from about 15
+    (b ≥ 0.2) to 78 at b = 0.095. The hysteretic law is NOT corrected by (N_M7.5(b)/15)^b: its CRR
+    is anchored at 15 uniform cycles, as PM4Sand is calibrated (docs/liquefaction.md gives the size
+    of the correction that is left out).
+
+    >>> round(float(n_cycles_m75_ib2014(0.189)), 3), round(float(n_cycles_m75_ib2014(0.095)), 3)
+    (16.503, 77.552)
+    """
+    return np.interp(np.asarray(b, dtype=float), N_M75_OF_B[0], N_M75_OF_B[1])
 
 
 def cycles_to_liquefaction(csr, crr_m75, b, c_multidirectional=1.0):

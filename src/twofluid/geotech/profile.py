@@ -18,7 +18,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..casefile.schema import CaseError
-from . import settlement, simplified as sp
+from . import correlations as co, settlement, simplified as sp
 
 __all__ = ["SimplifiedResult", "simplified_procedure", "check_relative_density", "MAGNITUDE_RANGE",
            "A_MAX_RANGE_G"]
@@ -96,6 +96,19 @@ class SimplifiedResult:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
+def _warn_off_curve(slope) -> None:
+    """One line for csr_n_slope values beyond B&I's b(MSF_max) curve (their MSF_max is clamped)."""
+    lo, hi = co.CSR_N_SLOPE_CURVE_RANGE
+    off = slope[(slope < lo) | (slope > hi)]
+    if off.size:
+        import warnings
+
+        from ..casefile.schema import CaseWarning
+        warnings.warn(CaseWarning(f"{SOURCE}: csr_n_slope {off[0]:g} is outside {lo:g}-{hi:g}, the range of "
+                                  "Boulanger & Idriss's (2014) b(MSF_max): the simplified table's MSF_max is "
+                                  "clamped to 1.09-2.2"), stacklevel=3)
+
+
 def _fail(key: str, message: str):
     raise CaseError(SOURCE, key, message)
 
@@ -170,9 +183,11 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
         calibrated to the same relations (:mod:`twofluid.models.hysteretic_sand`).
     csr_n_slope : array (n,) or scalar, optional
         A row's slope b of CSR ∝ N^−b from its own cyclic tests, in [0.05, 0.6] (0: from its
-        density): with ``msf_form = "ib2014"`` the row's MSF_max is then 1.8^(b/0.34)
-        (:func:`twofluid.geotech.correlations.msf_max_from_slope`), the cap that b implies, as
-        in the liquefaction column's law.
+        density): with ``msf_form = "ib2014"`` the row's MSF_max is then the one Boulanger &
+        Idriss's (2014) b(MSF_max) curve gives for that b, clamped to 1.09–2.2
+        (:func:`twofluid.geotech.correlations.msf_max_from_slope`), as in the liquefaction
+        column's law; a b outside 0.15–0.40, beyond the curve's range, is clamped with a one-line
+        :class:`~twofluid.casefile.schema.CaseWarning`.
     msf_form : {"ib2014", "ib2008"}
         Magnitude scaling factor: Boulanger & Idriss (2014), density-dependent
         (default), or Idriss & Boulanger (2008).
@@ -229,7 +244,6 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
 
     z_mid = 0.5 * (z_top + z_bot)
     h = z_bot - z_top
-    from . import correlations as co
 
     def given(name, value):
         x = np.zeros(n) if value is None else np.nan_to_num(_rows(name, value, n), nan=0.0)
@@ -252,6 +266,7 @@ def simplified_procedure(z_top_m, z_bottom_m, sigma_v_Pa, sigma_v_eff_Pa, relati
     if msf_form == "ib2014":
         msf_max = np.where(cpt, co.msf_max_cpt(qcpt), co.msf_max_spt(n160))
         msf_max = np.where(slope > 0.0, co.msf_max_from_slope(slope), msf_max)
+        _warn_off_curve(slope[slope > 0.0])
         msf = 1.0 + (msf_max - 1.0) * (8.64 * np.exp(-mag / 4.0) - 1.325)
     else:
         msf = sp.msf_ib2008(mag) * np.ones(n)

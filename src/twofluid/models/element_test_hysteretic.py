@@ -10,11 +10,11 @@ its CRR carries K_α (:func:`twofluid.models.hysteretic_sand.apply_k_alpha`), th
 |γ − γ_s| ≥ 3 %. :func:`model_crr` is the CSR that liquefies the element in 15 cycles, so
 ``model_crr(alpha=a) / model_crr()`` is the model's K_α. :func:`csr_n_curve` sets the model's cycles to liquefaction
 beside the correlation it is calibrated to, N = 15 (CRR/CSR)^(1/b) with CRR = CRR_M7.5 K_σ and b
-from MSF_max (:mod:`twofluid.models.hysteretic_sand`).
+from Boulanger & Idriss's b(MSF_max) (:mod:`twofluid.models.hysteretic_sand`).
 
 >>> r = element_test(csr=0.13, n160cs=10.0)
 >>> round(r.cycles, 1), round(r.correlation_cycles, 1)
-(6.2, 5.9)
+(9.2, 9.2)
 """
 from __future__ import annotations
 
@@ -55,7 +55,7 @@ def element_test(*, csr=None, gamma_amplitude=None, sigma_v0=100e3, n160cs=None,
     """Undrained cyclic simple shear at ``csr`` (stress control) or ``gamma_amplitude`` (strain
     control) of a soil given by (N1)60cs, q_c1Ncs or Dr [%] (default Dr 47 %) at σ′_v0 [Pa], on a
     static shear stress ratio ``alpha`` = τ_s/σ′_v0 ≥ 0 (module docstring); ``csr_n_slope`` in
-    [0.05, 0.6] replaces the CSR–N slope b that the magnitude scaling factor implies."""
+    [0.05, 0.6] replaces the CSR–N slope b of Boulanger & Idriss's b(MSF_max)."""
     if (csr is None) == (gamma_amplitude is None):
         raise ValueError("element_test: give one of csr or gamma_amplitude")
     lo, hi = CSR_N_SLOPE_RANGE

@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from ..closures import hysteretic as _law
+from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm
 from . import newmark_bands as _nb
 from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_GC, S_GD, S_RG
 
@@ -86,7 +87,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
     for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
-        _law._store(cst, e, _law._constants(st, par, e))
+        _law._store(cst, e, _hb._constants(st, par, e))
     for i in range(m):
         t = t0 + (i + 1) * dt
         frac = (i + 1.0) / m
@@ -98,7 +99,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 if one_m > 0.0:
                     ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
             psv[e] = ps
-            se, ge = _law.strength_modulus(ps, par, e)
+            se, ge = _hb.strength_modulus(ps, par, e)
             if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
                 return 2
             s[e] = se
@@ -120,7 +121,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             if abs(dgp) <= 1e-9 * gr[e] and st[e, S_DIR] != 0.0:
                 dirn[e] = st[e, S_DIR]
             else:
-                dirn[e] = _law.direction((un[e + 1] - un[e]) / h[e], st, e)
+                dirn[e] = _hm.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
             _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e)))
@@ -201,7 +202,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 st[e, S_DIR] = 0.0
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
-                r_new = _law.generated_ratio(st, par, e)
+                r_new = _hd.generated_ratio(st, par, e)
                 if r_new > r_old:
                     nb_old = nb[e]
                     nb[e] = nb_old + A[e] * (1.0 - nn[e]) * math.log((1.0 - r_new) / (1.0 - r_old))
@@ -248,12 +249,12 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
     for k in range(1, nsteps + 1):
         t = k / steps_per_cycle
         r = st[0, S_RG]
-        s, gmx = _law.strength_modulus(sig0 * (1.0 - r), par, 0)
+        s, gmx = _hb.strength_modulus(sig0 * (1.0 - r), par, 0)
         gr = s / gmx
         g_old = st[0, 0]
         if mode == 1:
             g = g_s + amplitude * math.sin(2.0 * math.pi * t)
-            d = _law.direction(g, st, 0)
+            d = _hm.direction(g, st, 0)
             tau = _law.skeleton_stress(g, d, st, par, 0, s, gr)
         else:
             target = (bias + amplitude * math.sin(2.0 * math.pi * t)) * sig0
@@ -282,7 +283,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
             g = hi
             tau = _law.skeleton_stress(g, d, st, par, 0, s, gr)
         _law.commit(g, d, tau, st, par, 0, s, t, gr)
-        st[0, S_RG] = _law.generated_ratio(st, par, 0)
+        st[0, S_RG] = _hd.generated_ratio(st, par, 0)
         out_g[k] = g
         out_tau[k] = tau
         out_ru[k] = st[0, S_RG]
@@ -295,7 +296,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law._bb.gqh_core_c, _law._bb.gqh_core_slope_c, _law._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+_HELPERS = _nb.HELPERS + (_body_force, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
@@ -303,7 +304,7 @@ _HELPERS = _nb.HELPERS + (_body_force, _law._bb.gqh_core, _law._bb.gqh_core_c, _
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
-                          _law._commit_generating)
+                          _law._commit_generating, _hf.flows, _hz.widen_zone)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
 

@@ -9,9 +9,11 @@ and the simplified table share CRR, K_σ and the slope b:
   the 0.9 factor for multidirectional shaking is **not** applied: a uniform cycle of the element
   at CSR = CRR_M7.5 (σ′_v0 = 1 atm) liquefies in 15 cycles, and the 1D column, shaken in one
   direction, is given the field resistance as the correlation states it;
-* b from the magnitude scaling factor (:func:`twofluid.geotech.correlations.csr_slope_b`:
-  MSF = (15/N_M)^b, MSF_max at M = 5.25 where Idriss's clean-sand MSF, derived with b = 0.34,
-  caps at 1.8), MSF_max of Boulanger & Idriss (2014) from (N1)60cs (or q_c1Ncs);
+* b from Boulanger & Idriss's (2014) curve of b against MSF_max (their Fig. A.16,
+  :func:`twofluid.geotech.correlations.csr_slope_b`), MSF_max = 1.09 + ((N1)60cs/31.5)² or
+  1.09 + (q_c1Ncs/180)³ ≤ 2.2 as in their MSF, so the simplified table's MSF and the element's
+  CSR–N curve come from one MSF_max; CRR stays anchored at 15 uniform cycles, with no
+  (N_M7.5(b)/15)^b correction (PM4Sand is calibrated the same way);
 * residual strength S_r/σ′_v0 of Idriss & Boulanger (2008), void redistribution negligible,
   ≤ tan φ′ (:func:`twofluid.geotech.correlations.residual_strength_ratio_ib2008`), with
   (N1)60cs-Sr = (N1)60cs (clean sand: no fines adjustment);
@@ -23,7 +25,7 @@ and the simplified table share CRR, K_σ and the slope b:
 
 >>> row = derive(n160cs=10.0, sigma_v0=100e3)
 >>> round(float(row["crr"]), 4), round(float(row["b"]), 3)
-(0.1182, 0.101)
+(0.1182, 0.193)
 """
 from __future__ import annotations
 

@@ -56,6 +56,7 @@ from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings, StepFailure
 from . import liquefaction_report as report
+from .liquefaction_damage import DamageRecord
 from .liquefaction_site import Site, crust_for, hysteretic_parameters, sand_for, site_arrays
 
 __all__ = ["Built", "build_column", "run_liquefaction", "run_validated", "simplified_table", "PROFILE_COLUMNS"]
@@ -278,6 +279,7 @@ class _Recorder:
         self.surface_t, self.surface_a = [], []
         self.field_t, self.field = [], []
         self.ever = np.zeros(ne, dtype=bool)
+        self.damage = DamageRecord(col)  # CSR_eq15 snapshots and the residual strains
 
     def record(self, s: ColumnState, field: bool, surface=()):
         col = self.col
@@ -289,6 +291,7 @@ class _Recorder:
         liq = ru > self.ru_liq
         np.copyto(self.first, s.t, where=np.isnan(self.first) & liq)
         self.ever |= liq
+        self.damage.record(s, liq)
         np.maximum(self.peak_strain, np.abs(s.wave.gamma), out=self.peak_strain)
         self.last_contribution = col.settlement_contributions(s)
         np.maximum(self.max_contribution, self.last_contribution, out=self.max_contribution)
@@ -448,6 +451,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             total = None
     summary, extra = _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, inflow,
                               settle_shaking, total, c_v0)
+    summary["residual_strain"] = rec.damage.summary(col, last, summary["liquefied_thickness_m"], rec.peak_strain)
     if srec is not None:
         from .liquefaction_slope import slope_summary
 
@@ -619,8 +623,7 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                         "final_settlement_definition": "the remaining excess pore pressure moved onto the "
                         "skeleton at fixed reference porosity (skeleton law integrated exactly)"},
         "simplified_procedure": {
-            "method": "Idriss & Boulanger (2008, 2014): r_d, MSF, K_sigma, CRR from (N1)60cs = 46 Dr^2; "
-                      "settlement: Ishihara & Yoshimine (1992)",
+            "method": report.simplified_method(case),
             "a_max_run_g": min(a_run, 3.0), "a_max_input_g": pga_in, "magnitude": m["magnitude"],
             "a_max_run_definition": ("low-passed peak surface acceleration of the same column in total stress "
                                      "(no pore-pressure generation)" if pga_ts is not None else

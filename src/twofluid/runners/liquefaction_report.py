@@ -20,9 +20,10 @@ import numpy as np
 
 from ..geotech import response_spectrum, simplified_procedure
 from ..postprocess import median
+from .liquefaction_damage import DAMAGE_COLUMNS
 
 __all__ = ["dr_notes", "initial_consolidation_coefficient", "final_settlement", "final_contributions", "settlement_fields",
-           "FINAL_FRACTION", "sand_boil", "spectra", "simplified_rows", "DEFAULT_PERIODS", "G"]
+           "FINAL_FRACTION", "sand_boil", "spectra", "simplified_rows", "simplified_method", "DEFAULT_PERIODS", "G"]
 
 G = 9.80665  # standard gravity [m/s²]: accelerations reported in g
 DEFAULT_PERIODS = np.logspace(np.log10(0.02), np.log10(5.0), 60)
@@ -240,10 +241,32 @@ def simplified_rows(col, site, case: dict, a_max_g: float, top_first: bool = Fal
                                 n160cs=p["n160cs"], qc1ncs=p["qc1ncs"], csr_n_slope=p["csr_n_slope"])
 
 
+def simplified_method(case: dict) -> str:
+    """The summary's one-line statement of the simplified procedure, naming the penetration resistance
+    its rows take: a layer's n160cs or qc1ncs where given, else (N1)60cs = 46 Dr².
+
+    >>> simplified_method({"layers": [{"n160cs": 10.0, "qc1ncs": 0.0, "csr_n_slope": 0.0}]}).split("K_sigma, ")[1]
+    'CRR from the layers n160cs; settlement: Ishihara & Yoshimine (1992)'
+    """
+    sources = []
+    for la in case["layers"]:
+        key = ("qc1ncs (CPT route of B&I 2014)" if la.get("qc1ncs", 0.0) > 0.0 else
+               "n160cs" if la.get("n160cs", 0.0) > 0.0 else "(N1)60cs = 46 Dr^2")
+        if key not in sources:
+            sources.append(key)
+    given = [k for k in sources if not k.startswith("(N1)")]
+    crr = ("CRR from (N1)60cs = 46 Dr^2" if not given else
+           "CRR from the layers " + " and ".join(given) + (", else (N1)60cs = 46 Dr^2" if len(given) < len(sources)
+                                                            else ""))
+    slope = ", MSF_max from a layer's csr_n_slope where given" if any(la.get("csr_n_slope", 0.0) > 0.0
+                                                                       for la in case["layers"]) else ""
+    return f"Idriss & Boulanger (2008, 2014): r_d, MSF, K_sigma, {crr}{slope}; settlement: Ishihara & Yoshimine (1992)"
+
+
 ELEMENT_COLUMNS = ["depth_top_m", "depth_bottom_m", "depth_m", "layer", "saturated", "peak_r_u",
                    "time_first_liquefied_s", "peak_shear_strain", "max_settlement_contribution_m",
                    "settlement_contribution_end_m", "FS_simplified_run", "FS_simplified_input",
-                   "eps_v_simplified_run", "FS_note", "settlement_contribution_final_m"]
+                   "eps_v_simplified_run", "FS_note", "settlement_contribution_final_m"] + DAMAGE_COLUMNS
 #: the ``FS_note`` of a row whose FS is empty: the simplified procedure finds it cannot liquefy (not
 #: liquefiable, above the water table, or no cyclic stress)
 NOT_LIQUEFIABLE = "NL"
@@ -336,7 +359,7 @@ def write_tables(out, summary: dict, extra: dict, rec) -> None:
                      float(rec.last_contribution[e]) if wet else 0.0,
                      float(run.FS[e]), float(inp.FS[e]), float(run.eps_v[e]),
                      _fs_note(float(run.FS[e]), float(inp.FS[e])),
-                     float(extra["final_contribution"][e]) if wet else 0.0])
+                     float(extra["final_contribution"][e]) if wet else 0.0] + rec.damage.columns(int(e)))
     _write_csv(out / "elements.csv", ELEMENT_COLUMNS, rows)
     if rec.surface_t:
         _write_numbers(out / "surface_motion.csv", ["time_s", "surface_acceleration_m_s2"],

@@ -1,0 +1,50 @@
+"""The hysteretic law's backbone: strength and stiffness from the current effective stress, and the
+GQ/H curve (module docstring of :mod:`twofluid.closures.hysteretic`, "Strength and stiffness",
+"Backbone"). Scalar functions numba compiles with the law's kernel and that also run un-jitted.
+"""
+from __future__ import annotations
+
+import math
+
+from . import backbones as _bb
+from .hysteretic_layout import (C_C3, C_TH1, C_TH2, C_TH4, C_TH5, KPA, P_GDR, P_GMAXFIX, P_K2, P_LIQ, P_PSFIX, P_SIG0, P_SR,
+    P_TANPHI, P_TAUS, P_TH1, P_TH2, P_TH3, P_TH4, P_TH5, S_GC, S_GD)
+
+__all__ = ['gqh_ratio', 'strength_modulus']
+
+
+def gqh_ratio(x, th1, th2, th3, th4, th5):
+    """τ/τ_max of the GQ/H backbone at normalised strain x = |γ|/γ_r ≥ 0 [-] (module docstring;
+    :func:`twofluid.closures.backbones.gqh_core`, 0 at x ≤ 0).
+
+    >>> round(gqh_ratio(0.0, 0.0, 0.0, 1.0, 1.0, 1.0), 6)
+    0.0
+    """
+    if x <= 0.0:
+        return 0.0
+    return _bb.gqh_core(x, th1, th2, th3, th4, th5)
+
+
+def strength_modulus(ps, par, e):
+    """(τ_max [Pa], G_max [Pa]) of element ``e`` at effective vertical stress ``ps`` [Pa]."""
+    tanphi = par[e, P_TANPHI]
+    if par[e, P_GMAXFIX] > 0.0:
+        return max(par[e, P_PSFIX] * tanphi, par[e, P_SR]), par[e, P_GMAXFIX]
+    p = max(ps, par[e, P_SR] / tanphi, 1e-3)
+    return p * tanphi, 218.8 * KPA * par[e, P_K2] * math.sqrt(p / KPA)
+
+
+def _constants(st, par, e):
+    """Constants of element ``e`` for the scalar functions of the law (``C_*``): GQ/H θ1, θ2,
+    θ3^θ5, θ4, θ5; whether it dilates (P_LIQ), τ_s, S_r, γ_dr, σ′_v0 tan φ′; γ_c and γ_d; 2^−θ5."""
+    th5 = par[e, P_TH5]
+    return (par[e, P_TH1], par[e, P_TH2], par[e, P_TH3] ** th5, par[e, P_TH4], th5, par[e, P_LIQ],
+            par[e, P_TAUS], par[e, P_SR], par[e, P_GDR], par[e, P_SIG0] * par[e, P_TANPHI],
+            st[e, S_GC], st[e, S_GD], 0.5 ** th5)
+
+
+def _gqh(x, c):
+    """(:func:`gqh_ratio`, its slope d/dx) at x ≥ 0 with the constants ``c`` (:func:`_constants`)."""
+    if x <= 0.0:
+        return 0.0, 1.0
+    return _bb.gqh_core_slope_c(x, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5])
