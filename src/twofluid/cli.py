@@ -1,8 +1,27 @@
 """Command line: parses arguments and calls the library. Nothing else lives here."""
-from __future__ import annotations
-
 import os
+import signal
 import sys
+
+
+def _note_early(signum, frame):
+    """SIGINT/SIGTERM before :func:`main` has started (the module's own import): noted, acted on by
+    main as an interruption (exit 130/143, one line), never a traceback from an import."""
+    _EARLY.append(signum)
+
+
+_EARLY: list = []
+# The command's process (the console script, or ``python -m twofluid.cli``): from here on a Ctrl-C is
+# noted rather than raised in the middle of an import. A program that imports this module keeps its own.
+if os.path.basename(sys.argv[0] if sys.argv and sys.argv[0] else "") in ("twofluid", "twofluid.exe",
+                                                                           "cli.py"):
+    try:
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _note_early)
+        if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+            signal.signal(signal.SIGTERM, _note_early)
+    except ValueError:  # not the main thread
+        pass
 
 __all__ = ["main"]
 
@@ -86,13 +105,17 @@ def _cmd_fluidization_curve(args) -> int:
     from .casefile.loader import load_case
     from .fluidization_curve import fluidization_curve, write_curve
 
-    case = load_case(args.case)  # every error of the case before anything is written
-    out = args.out or f"twofluid-out/{case['case']['name']}-fluidization-curve"
-    from .io.folders import check_out_dir
+    from .casefile.schema import CaseError
+    from .io.folders import OutputFolder, check_out_dir, safe_name
 
-    check_out_dir(out, "fluidization-curve --out", own=False)
+    if not 2 <= args.points <= 10000:
+        raise CaseError("fluidization-curve", "--points", f"{args.points} is outside the valid range [2, 10000]")
+    case = load_case(args.case)  # every error of the case before anything is written
+    out = check_out_dir(args.out if args.out is not None else
+                        f"twofluid-out/{safe_name(case['case']['name'])}-fluidization-curve", "fluidization-curve --out")
     curve = fluidization_curve(case, points=args.points)
-    paths = write_curve(curve, out, plot=not args.no_plots)
+    with OutputFolder(out):  # the run commands' folder rules: lock, the earlier curve's files only, no links
+        paths = write_curve(curve, out, plot=not args.no_plots)
     f = curve["figures"]
     print(f"{curve['case']}: fluidization curve ({f['method']}): U_mf = {f['U_mf_m_s']:.4g} m/s at n_mf = "
           f"{f['packed_porosity_n_mf']:.3g}, U_t = {f['U_t_m_s']:.4g} m/s, buoyant weight per area "
@@ -209,11 +232,12 @@ def _cmd_ensemble(args) -> int:
     out = check_out_dir(ensemble_out_dir(spec) if args.out is None else args.out, "ensemble --out")
     try:
         rows = run_ensemble(spec, out, workers=args.workers, scheduler=args.scheduler,
-                            progress=not args.quiet and sys.stderr.isatty())
-    except KeyboardInterrupt:
-        print(f"twofluid: interrupted; the finished members are in {out}/members.csv (run again to "
-              "run the rest)", file=sys.stderr)
-        return _Signals.status()
+                            progress=False if args.quiet else (True if sys.stderr.isatty() else "lines"))
+    except KeyboardInterrupt as exc:
+        rc = _Signals.status(exc=exc)
+        print(f"twofluid: {'terminated (SIGTERM)' if rc == 143 else 'interrupted (Ctrl-C)'}; the finished "
+              f"members are in {out}/members.csv (run the same command again to run the rest)", file=sys.stderr)
+        return rc
     done = sum(r["status"] == "completed" for r in rows)
     print(f"{spec.name}: {done} of {len(rows)} members completed; results in {out}")
     for r in rows:
@@ -242,10 +266,10 @@ def _cmd_element_test(args) -> int:
     if args.out is not None:  # before computing
         from .io.folders import check_out_dir
 
-        check_out_dir(args.out, "element-test --out", own=False)
+        check_out_dir(args.out, "element-test --out")
     res = run_element_test(csr=args.csr, gamma_amplitude=args.gamma, sigma_v0=args.sigma_v0 * 1e3,
                            dr=args.dr, porosity=args.porosity, A=args.A, k2max=args.k2max,
-                           gamma_ref=args.gamma_ref, drained=args.drained, law=args.law,
+                           gamma_ref=args.gamma_ref, drained=args.drained, law=args.law or "byrne",
                            max_cycles=args.max_cycles, steps_per_cycle=args.steps_per_cycle,
                            out_dir=args.out)
     load = (f"CSR = {res.settings['csr']:g}" if res.settings["csr"] is not None
@@ -267,6 +291,17 @@ def _element_test_hysteretic(args) -> int:
     from .models.element_test import check_options
     from .models.element_test_hysteretic import csr_n_curve, element_test
 
+    from .casefile.schema import CaseError
+
+    thesis_only = [opt for opt, given in (("--drained", args.drained), ("--porosity", args.porosity is not None),
+                                          ("--A", args.A is not None), ("--gamma-ref", args.gamma_ref is not None),
+                                          ("--law", args.law is not None)) if given]
+    if thesis_only:
+        raise CaseError("element-test", ", ".join(thesis_only), "acts on --model thesis only (the hysteretic model "
+                        "is undrained and calibrated by --n160cs, --qc1ncs or --dr)")
+    if args.out is not None and not args.curve:
+        raise CaseError("element-test", "--out", "the hysteretic model writes files only with --curve (csr_n.csv, "
+                        "csr_n.png); without it the test is printed")
     check_options({"--csr": args.csr, "--gamma": args.gamma, "--sigma-v0": args.sigma_v0, "--dr": args.dr,
                    "--k2max": args.k2max, "--max-cycles": args.max_cycles,
                    "--steps-per-cycle": args.steps_per_cycle})
@@ -288,10 +323,10 @@ def _element_test_hysteretic(args) -> int:
         if not lo <= args.csr_n_slope <= hi:
             raise CaseError("element-test", "--csr-n-slope", f"{args.csr_n_slope:g} is outside the valid range "
                             f"[{lo:g}, {hi:g}]")
-    if args.out:
+    if args.out is not None:
         from .io.folders import check_out_dir
 
-        check_out_dir(args.out, "element-test --out", own=False)
+        check_out_dir(args.out, "element-test --out")
     soil = dict(n160cs=args.n160cs, qc1ncs=args.qc1ncs, dr=args.dr,
                 k2max=30.0 if args.k2max is None else args.k2max)
     if args.alpha:
@@ -307,22 +342,20 @@ def _element_test_hysteretic(args) -> int:
         for r in rows:
             print(f"  {r['csr']:7.4f}  {r['cycles_model']:8.2f}  {r['cycles_correlation']:14.1f}  "
                   f"{100 * r['csr_error']:+9.1f} %")
-        if args.out:
-            import json
+        if args.out is not None:
             from pathlib import Path
 
+            from .io.folders import OutputFolder, write_atomic
+            from .io.results import write_json
             from .plots.element_test import plot_csr_n
 
             out = Path(args.out)
-            out.mkdir(parents=True, exist_ok=True)
-            with open(out / "csr_n.csv", "w") as f:
-                f.write("csr,cycles_model,cycles_correlation,csr_error\n")
-                for r in rows:
-                    f.write(f"{r['csr']:.6g},{r['cycles_model']:.6g},{r['cycles_correlation']:.6g},"
-                            f"{r['csr_error']:.6g}\n")
-            (out / "summary.json").write_text(json.dumps({"csr_n": rows, "sigma_v0_Pa": sig,
-                                                          "soil": soil}, indent=2) + "\n")
-            plot_csr_n(rows, out / "csr_n.png")
+            with OutputFolder(out):  # the run commands' folder rules (io.folders)
+                write_atomic(out / "csr_n.csv", "csr,cycles_model,cycles_correlation,csr_error\n" + "".join(
+                    f"{r['csr']:.6g},{r['cycles_model']:.6g},{r['cycles_correlation']:.6g},{r['csr_error']:.6g}\n"
+                    for r in rows))
+                write_json(out / "summary.json", {"csr_n": rows, "sigma_v0_Pa": sig, "soil": soil})
+                plot_csr_n(rows, out / "csr_n.png")
             print(f"results and plot written to {args.out}")
         return 0
     csr = args.csr if args.gamma is None and args.csr is not None else (0.12 if args.gamma is None else None)
@@ -435,7 +468,8 @@ def parser():
                     "layered-site-five-motions, sloping-site-five-motions)")
     en.add_argument("--out", help="results folder (default: twofluid-out/<ensemble name>); a rerun into the "
                     "same folder skips completed members")
-    en.add_argument("--quiet", action="store_true", help="no progress bar")
+    en.add_argument("--quiet", action="store_true", help="no progress bar (or, when stderr is not a terminal, no "
+                    "progress line every 30 s)")
     _cluster_options(en)
     en.set_defaults(func=_cmd_ensemble)
     et = sub.add_parser("element-test", help="undrained cyclic simple shear of one element: cycles to "
@@ -449,7 +483,7 @@ def parser():
     et.add_argument("--A", type=float, help="compressibility of P_s [-] (default 6e-4)")
     et.add_argument("--k2max", type=float, help="Seed-Idriss K2max [-] (default 30)")
     et.add_argument("--gamma-ref", type=float, help="reference strain of G/G_max [-] (default 1e-3)")
-    et.add_argument("--law", default="byrne", choices=("byrne", "ann"), help="reference-porosity law")
+    et.add_argument("--law", choices=("byrne", "ann"), help="thesis: reference-porosity law (default byrne)")
     et.add_argument("--model", default="thesis", choices=("thesis", "hysteretic"),
                     help="shear law: thesis (backbone and densification law) or hysteretic (calibrated to "
                     "the CRR curve of (N1)60cs)")
@@ -507,10 +541,12 @@ class _Signals:
         """Install the handlers; return the ones they replace (None where none was replaced)."""
         import signal
 
-        cls.got = None
+        cls.got = _EARLY[0] if _EARLY else None  # a signal noted as the module was imported
         cls._unraisable = sys.unraisablehook
         sys.unraisablehook = cls._unraisable_hook
         try:
+            if signal.getsignal(signal.SIGINT) is _note_early:
+                signal.signal(signal.SIGINT, signal.default_int_handler)
             if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:  # ignored on purpose (nohup, a background job)
                 return None, signal.signal(signal.SIGTERM, cls.handler)
             return signal.signal(signal.SIGINT, cls.handler), signal.signal(signal.SIGTERM, cls.handler)
@@ -584,28 +620,37 @@ class _Signals:
             signal.signal(signal.SIGTERM, old[1])
 
     @classmethod
-    def status(cls, reason: str = "") -> int:
+    def status(cls, reason: str = "", exc: BaseException | None = None) -> int:
         import signal
 
-        return 143 if cls.got == signal.SIGTERM or "SIGTERM" in reason else 130
+        common = sys.modules.get("twofluid.runners.common")  # not imported on purpose: this may run in a signal
+        term = common is not None and isinstance(exc, common.Terminated)
+        return 143 if cls.got == signal.SIGTERM or "SIGTERM" in reason or term else 130
 
 
 def main(argv=None) -> int:
     """The command line. ``argv``: the arguments (called from Python: returns the exit status, the
-    caller's signal handlers restored); None: ``sys.argv``, the command itself, which ends the process
-    with the status (skipping the interpreter's shutdown, where a signal would kill it). Exit status:
-    0, 1 (a run failed, a file could not be written), 2 (bad input), 130 (SIGINT), 143 (SIGTERM)."""
+    caller's signal handlers restored; a usage error raises argparse's ``SystemExit``); None:
+    ``sys.argv``, the command itself, which ends the process with the status (skipping the
+    interpreter's shutdown, where a signal would kill it). Exit status: 0 (also ``--help``,
+    ``--version``), 1 (a run failed, a file could not be written, an internal error: one line naming
+    it and the log its traceback went to), 2 (bad input, a usage error), 130 (SIGINT), 143 (SIGTERM)."""
     old = _Signals.install()
     rc = 130
     try:
         try:
+            _Signals.pending()  # a signal noted before main began
             rc = _main(argv)
             _Signals.pending()  # a signal swallowed on the way still ends the command as interrupted
-        except KeyboardInterrupt:
+        except SystemExit as exc:  # argparse: --help and --version (0), a usage error (2, its message printed)
+            if argv is not None:
+                raise
+            rc = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        except KeyboardInterrupt as exc:
             if argv is None:
                 _Signals.late()  # a second signal while saying so ends it at once, with the same status
-            print("twofluid: interrupted", file=sys.stderr)
-            rc = _Signals.status()
+            rc = _Signals.status(exc=exc)
+            print("twofluid: terminated (SIGTERM)" if rc == 143 else "twofluid: interrupted", file=sys.stderr)
         return rc
     finally:
         if argv is None:  # the command: a signal from here to the exit ends it with the signal's status
@@ -613,6 +658,26 @@ def main(argv=None) -> int:
             _Signals.leave(rc)
         else:  # called from Python: its handlers back
             _Signals.restore(old)
+
+
+def _internal_error(exc: BaseException) -> int:
+    """An exception twofluid did not expect (a defect of the program, not of the input): one line that
+    names it and the file its traceback went to (the run folder's log, else a temporary file); status 1."""
+    import traceback
+
+    from .io.folders import write_error_log
+
+    text = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
+    try:
+        where = f"traceback in {write_error_log(text)}"
+    except OSError as e:  # nowhere to write it: the traceback goes to stderr after the line
+        where = f"traceback below (no log could be written: {e.strerror or e})"
+    msg = str(exc).splitlines()[0][:200] if str(exc) else ""
+    print(f"twofluid: internal error: {type(exc).__name__}{': ' + msg if msg else ''}; this is a defect of "
+          f"twofluid, please report it; {where}", file=sys.stderr)
+    if where.startswith("traceback below"):
+        print(text, file=sys.stderr, end="")
+    return 1
 
 
 def _main(argv=None) -> int:
@@ -644,6 +709,8 @@ def _main(argv=None) -> int:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"twofluid: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 1
+    except Exception as exc:  # noqa: BLE001 - a defect of twofluid: one line, the traceback in a log file
+        return _internal_error(exc)
     finally:
         warnings.showwarning = default_show
 
