@@ -608,6 +608,19 @@ def markdown() -> str:
     for model, arrays in ARRAYS.items():
         for name, keys in arrays.items():
             lines += _key_table(f"### [[{name}]] ({model}; one table per entry)", keys)
+    from .plausible import markdown_rows
+
+    lines += ["## Plausible ranges (units that cannot be mistaken)", "",
+              "Besides its valid range, every key with a unit has a physically plausible range "
+              "(`twofluid.casefile.plausible`). A value outside it is refused (exit status 2) with the likely "
+              "unit mistake named, e.g. `[[layers]] unit_weight = 18.5`: \"18.5 N/m³ is physically implausible "
+              "(plausible: 5000 to 30000); did you mean 18500 (kN/m³ typed into an N/m³ key, ×1000)?\". A value "
+              "inside it but outside the usual range runs, with a one-line warning (and the same hint where a "
+              "unit mistake would explain it). Where \"0 allowed\" is noted, 0 (off, not given) is never "
+              "refused; a key at its \"not set\" value (-1) is not checked. An unknown key or section is refused "
+              "with the nearest valid name (\"did you mean 'unit_weight'?\"); a key without effect in the case "
+              "at hand (a slope's keys or `distance_km` on level ground, `pressure` on a wall) warns.", "",
+              *markdown_rows(), ""]
     return "\n".join(lines)
 
 
