@@ -193,12 +193,11 @@ def test_a_nearly_full_disk_still_gets_a_summary_that_says_what_happened(tmp_pat
     assert s["status"] == "completed" or "No space left" in s["reason"], s
 
 
-def test_a_disk_too_full_for_the_summary_stops_before_computing(tmp_path, monkeypatch):
+def test_a_disk_too_full_for_any_summary_is_an_error_naming_it(tmp_path, monkeypatch):
     (tmp_path / "run").mkdir()
-    _disk_with(monkeypatch, 16 * 1024)
-    res = run_case(_short(), tmp_path / "run")
-    s = json.loads((tmp_path / "run" / "summary.json").read_text())
-    assert res.status == "failed" and s["steps"] == 0 and "No space left" in s["reason"], s
+    _disk_with(monkeypatch, 0)
+    with pytest.raises(OSError, match="summary.json"):
+        run_case(_short(), tmp_path / "run")
 
 
 # ---------------------------------------------------------------- the lock
@@ -224,32 +223,39 @@ def test_a_bad_scheduler_argument_is_a_case_error(tmp_path):
     assert not (tmp_path / "e").exists()
 
 
-def test_ctrl_c_while_the_cluster_starts_interrupts(monkeypatch):
-    """The workers must not see a Ctrl-C meant for the driver, but the driver must: a SIGINT that
-    comes while the local cluster starts interrupts once the start returns."""
+@pytest.mark.parametrize("sig, raised", [(signal.SIGINT, KeyboardInterrupt), ("SIGTERM", "Terminated")])
+def test_a_signal_while_the_cluster_starts_interrupts_and_closes_it(monkeypatch, sig, raised):
+    """The workers must not see a Ctrl-C meant for the driver, but the driver must: a SIGINT (or
+    SIGTERM) that comes while the local cluster starts interrupts once the start returns, and the
+    cluster is closed."""
     import distributed
 
     from twofluid.ensemble.engine import cluster_client
+    from twofluid.runners.common import Terminated
+
+    sig = getattr(signal, sig) if isinstance(sig, str) else sig
+    raised = Terminated if raised == "Terminated" else raised
+    closed = []
 
     class Starting:
         def __init__(self, *a, **k):
-            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C in the middle of the start
+            os.kill(os.getpid(), sig)  # the signal in the middle of the start
 
         def __enter__(self):
             return self
 
         def __exit__(self, *exc):
+            closed.append(True)
             return False
 
-    class NoClient(Starting):
-        def __init__(self, *a, **k):
-            pass
-
     monkeypatch.setattr(distributed, "LocalCluster", Starting)
-    monkeypatch.setattr(distributed, "Client", NoClient)
-    with pytest.raises(KeyboardInterrupt):
+    monkeypatch.setattr(distributed, "Client", lambda cluster: pytest.fail("no client after the signal"))
+    old = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(raised):
         with cluster_client(workers=1):
-            pytest.fail("the ensemble went on after a Ctrl-C during the cluster's start")
+            pytest.fail("the ensemble went on after a signal during the cluster's start")
+    assert closed == [True] and signal.getsignal(signal.SIGTERM) == old
+    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, set())
 
 
 def test_off_a_terminal_an_ensemble_prints_a_progress_line_at_a_steady_pace():

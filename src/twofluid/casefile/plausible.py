@@ -107,6 +107,10 @@ PLAUSIBLE: dict[tuple[str, str], Plausible] = {
     ("boundary.*", "solids_velocity"): _INLET,
     ("boundary.*", "omega"): _p((None, 1e4), (None, 100.0), signed=True,
                                 note="rad/s; 100 rad/s is about 950 rev/min"),
+    # a 1D inlet given by its flow rate, and a round column by its diameter (where the schema has them)
+    ("boundary.*", "flow_rates_l_min"): _p((None, 1e6), (None, 1000.0), note="laboratory beds 0.1 to 10 L/min"),
+    ("boundary.*", "flow_rates_m3_h"): _p((None, 1e5), (None, 100.0)),
+    ("mesh", "diameter"): _p((1e-4, 100.0), (5e-3, 5.0), MM),
     ("profiles", "heights"): _LENGTH,
     ("profiles", "steady_tolerance"): _p((None, 1e3), (None, 1.0)),
     ("single_fluid", "density"): _p((10.0, 2.5e4), (500.0, 5000.0), G_CC, zero_ok=False),

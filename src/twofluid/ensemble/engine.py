@@ -90,35 +90,58 @@ def cluster_client(workers: int | None = None, scheduler: str | None = None):
             client.close()
         return
     n = workers or os.cpu_count() or 1
-    with _workers_ignore_ctrl_c():
+    start = _ClusterStart()
+    try:
         cluster = LocalCluster(n_workers=n, processes=True, threads_per_worker=1, dashboard_address=":0",
                                silence_logs=logging.ERROR)
-    with cluster, Client(cluster) as client:
-        yield client
+    except BaseException:
+        start.end()
+        raise
+    with cluster:
+        start.end()  # a Ctrl-C or SIGTERM held during the start interrupts here, and the cluster is closed
+        with Client(cluster) as client:
+            yield client
 
 
-@contextmanager
-def _workers_ignore_ctrl_c():
-    """Start the worker processes with SIGINT blocked (they inherit the signal mask): a Ctrl-C in the
-    terminal reaches the whole process group, and only the driver should act on it, by closing the
-    cluster. The driver's own Ctrl-C during the start is held, not lost: it is delivered when the mask
-    is restored, as the start ends, and interrupts the ensemble then. (Where signal masks do not
-    exist, SIGINT is ignored during the start instead.)"""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    if hasattr(signal, "pthread_sigmask"):
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-        try:
-            yield
-        finally:
-            signal.pthread_sigmask(signal.SIG_SETMASK, old)  # a Ctrl-C held meanwhile is raised here
-        return
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, old)
+class _ClusterStart:
+    """Signals while a LocalCluster starts. Its worker processes start with SIGINT blocked (they inherit
+    the signal mask): a Ctrl-C in the terminal reaches the whole process group, and only the driver
+    should act on it, by closing the cluster. The driver's own Ctrl-C, and a SIGTERM, during the start
+    are held, not lost: :meth:`end` delivers them once the cluster exists (it can then be closed), as
+    ``KeyboardInterrupt`` and :class:`~twofluid.runners.common.Terminated`. (Where signal masks do not
+    exist, SIGINT is ignored during the start instead.) Main thread only; elsewhere nothing changes."""
+
+    def __init__(self):
+        self.active = threading.current_thread() is threading.main_thread()
+        self.noted: list[int] = []
+        if not self.active:
+            return
+        note = lambda signum, frame: self.noted.append(signum)  # noqa: E731
+        self.old_term = signal.signal(signal.SIGTERM, note)
+        # noted, not raised, also where another thread of this process takes the signal
+        ignored = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+        self.old_int = None if ignored else signal.signal(signal.SIGINT, note)
+        self.old_mask = None
+        if hasattr(signal, "pthread_sigmask"):  # for the workers, which inherit the mask
+            self.old_mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        elif not ignored:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def end(self) -> None:
+        if not self.active:
+            return
+        self.active = False
+        signal.signal(signal.SIGTERM, self.old_term)
+        if self.old_int is not None:
+            signal.signal(signal.SIGINT, self.old_int)
+        if self.old_mask is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, self.old_mask)  # a Ctrl-C held meanwhile raises here
+        if signal.SIGTERM in self.noted:
+            from ..runners.common import Terminated
+
+            raise Terminated()
+        if self.noted:
+            raise KeyboardInterrupt
 
 
 class ProgressLines:

@@ -292,16 +292,24 @@ def _interrupted_as_it_ended(res: RunResult, out: Path, signum: int) -> RunResul
 
 def _reserve_summary(out: Path, case: dict) -> None:
     """``summary.json`` written as the run starts: status "running", padded to :data:`SUMMARY_RESERVE`
-    bytes. A run killed outright leaves it saying so; a disk that fills up later still holds these
+    bytes (2 kB, room for the short summary, where the disk or the file-size limit does not allow
+    that). A run killed outright leaves it saying so; a disk that fills up later still holds these
     bytes, where the final summary (or a short one) is written in place (:func:`_write_summary`). A
-    disk too full for it stops the run before it computes (OSError naming the file)."""
+    disk too full for even the short one: the run goes on without (its end says if the summary
+    cannot be written)."""
     doc = {"case": case["case"]["name"], "status": "running", "stopped_at_s": None, "steps": None,
            "reason": "the run was going when this was written: if no run is going, its process was killed "
                      "before it could write a summary", "end_time_s": case["time"]["end"]}
     data = json.dumps(doc, indent=2) + "\n"
     from ..io.folders import write_atomic
 
-    write_atomic(out / "summary.json", data + " " * max(SUMMARY_RESERVE - len(data), 0))
+    for size in (SUMMARY_RESERVE, 2048):
+        try:
+            write_atomic(out / "summary.json", data + " " * max(size - len(data), 0))
+            return
+        except OSError as exc:
+            if exc.errno not in (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC), errno.EFBIG):
+                raise
 
 
 def _is_reserved(path: Path) -> bool:
