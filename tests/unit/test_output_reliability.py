@@ -169,7 +169,7 @@ def test_a_disk_that_fills_while_drawing_gives_a_failed_summary_not_completed(tm
     def full_from_the_figures(path, data):
         if str(path).endswith(".png") or full_from_the_figures.full:
             full_from_the_figures.full = True
-            _disk_with(monkeypatch, 0)
+            _disk_with(monkeypatch, 150)  # the lock and the folder record fit, nothing more
         return real(path, data)
     full_from_the_figures.full = False
     monkeypatch.setattr(folders, "write_atomic", full_from_the_figures)
@@ -195,7 +195,7 @@ def test_a_nearly_full_disk_still_gets_a_summary_that_says_what_happened(tmp_pat
 
 def test_a_disk_too_full_for_any_summary_is_an_error_naming_it(tmp_path, monkeypatch):
     (tmp_path / "run").mkdir()
-    _disk_with(monkeypatch, 0)
+    _disk_with(monkeypatch, 150)  # the lock and the folder record fit, nothing more
     with pytest.raises(OSError, match="summary.json"):
         run_case(_short(), tmp_path / "run")
 
