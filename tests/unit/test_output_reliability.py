@@ -274,3 +274,19 @@ def test_off_a_terminal_an_ensemble_prints_a_progress_line_at_a_steady_pace():
     assert len(lines) >= 4  # whether or not a member finished meanwhile
     assert lines[0].startswith("twofluid: ensemble sweep: 3 of 10 members done, ")
     assert "5 of 10 members done (1 failed)" in lines[-1]
+
+
+@pytest.mark.parametrize("extra, progress", [([], "lines"), (["--quiet"], False)])
+def test_the_ensemble_command_asks_for_progress_lines_off_a_terminal(tmp_path, monkeypatch, extra, progress):
+    import twofluid.ensemble as ens
+    from twofluid.cli import main
+
+    asked = {}
+
+    def run_ensemble(spec, out, **kw):
+        asked.update(kw)
+        return []
+    monkeypatch.setattr(ens, "run_ensemble", run_ensemble)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: False, raising=False)
+    assert main(["ensemble", "elcentro-pga-sweep", "--out", str(tmp_path / "e"), *extra]) == 0
+    assert asked["progress"] == progress
