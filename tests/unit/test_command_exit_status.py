@@ -106,3 +106,28 @@ def test_sigterm_before_main_starts_is_143():
             "c.main()\n")
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert p.returncode == 143 and "terminated (SIGTERM)" in p.stderr, (p.returncode, p.stderr)
+
+
+def _short_case(tmp_path):
+    text = _run("show", "settling-illite").stdout
+    import re
+
+    text = re.sub(r"(?m)^end\s*=.*$", "end = 0.4", text)
+    text = re.sub(r"(?m)^times\s*=.*$", "times = []", text)
+    (tmp_path / "short.toml").write_text(text)
+    return "short.toml"
+
+
+@pytest.mark.parametrize("args", [
+    ["cases"], ["show", "settling-illite"], ["show", "--readme", "liquefaction-layered-site"],
+    ["simplified", "liquefaction-layered-site"],
+    ["element-test", "--gamma", "2e-3", "--max-cycles", "1", "--steps-per-cycle", "20", "--out", "et"],
+    ["fluidization-curve", "fluidized-bed-step", "--no-plots", "--points", "10", "--out", "fc"],
+    ["run", "SHORT", "--no-plots", "--out", "r"],
+    ["verify", "--quick", "--only", "hydrostatic"],
+])
+def test_a_command_that_works_exits_0_through_the_executable(tmp_path, args):
+    args = [_short_case(tmp_path) if a == "SHORT" else a for a in args]
+    p = _run(*args, cwd=tmp_path, timeout=600)
+    assert p.returncode == 0, (p.returncode, p.stderr[-2000:])
+    assert "Traceback" not in p.stderr
