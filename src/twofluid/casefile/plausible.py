@@ -145,8 +145,9 @@ PLAUSIBLE: dict[tuple[str, str], Plausible] = {
     ("report", "spectrum_periods"): _p((1e-3, 100.0), (0.01, 10.0)),
     ("layers", "thickness"): _p((1e-3, 1000.0), (0.1, 50.0), CM, zero_ok=False),
     ("layers", "element_size"): _p((1e-3, 1000.0), (0.01, 5.0), CM, zero_ok=False),
-    ("layers", "unit_weight"): _p((5000.0, 30000.0), (13000.0, 23000.0), KN,
-                                  note="a soil's total unit weight: 13 to 23 kN/m³ (0: not given)"),
+    ("layers", "unit_weight"): _p((100.0, 30000.0), (13000.0, 23000.0), KN,
+                                  note="a soil's total unit weight: 13 to 23 kN/m³; lightweight fill (EPS "
+                                       "0.2 kN/m³) warns (0: not given)"),
     ("layers", "particle_diameter"): _p((1e-7, 0.1), (1e-6, 0.01), MM, UM,
                                         note="silt to gravel (0: not given)"),
     ("layers", "hydraulic_conductivity"): _p((1e-13, 1.0), (1e-9, 0.01), CM_S,
@@ -185,7 +186,7 @@ def check(where: str, name: str, unit: str, value: float, sentinel=None) -> tupl
     is plausible. The message names the likely unit mistake where one explains the value.
 
     >>> check("layers 1 'crust'", "unit_weight", "N/m³", 18.5)[1]
-    '18.5 N/m³ is physically implausible (plausible: 5000 to 30000); did you mean 18500 (kN/m³ typed into an N/m³ key, ×1000)?'
+    '18.5 N/m³ is physically implausible (plausible: 100 to 30000); did you mean 18500 (kN/m³ typed into an N/m³ key, ×1000)?'
     >>> check("ground_motion", "pga_g", "g", 2.45)[1]
     '2.45 g is physically implausible (plausible: ≤ 2); did you mean 0.25 (m/s² typed into a key in g, ÷9.81)?'
     >>> check("ground_motion", "pga_g", "g", 1.2)[0], check("ground_motion", "pga_g", "g", 0.3)

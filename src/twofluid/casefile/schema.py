@@ -614,7 +614,7 @@ def markdown() -> str:
               "Besides its valid range, every key with a unit has a physically plausible range "
               "(`twofluid.casefile.plausible`). A value outside it is refused (exit status 2) with the likely "
               "unit mistake named, e.g. `[[layers]] unit_weight = 18.5`: \"18.5 N/m³ is physically implausible "
-              "(plausible: 5000 to 30000); did you mean 18500 (kN/m³ typed into an N/m³ key, ×1000)?\". A value "
+              "(plausible: 100 to 30000); did you mean 18500 (kN/m³ typed into an N/m³ key, ×1000)?\". A value "
               "inside it but outside the usual range runs, with a one-line warning (and the same hint where a "
               "unit mistake would explain it). Where \"0 allowed\" is noted, 0 (off, not given) is never "
               "refused; a key at its \"not set\" value (-1) is not checked. An unknown key or section is refused "
