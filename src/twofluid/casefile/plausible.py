@@ -35,13 +35,6 @@ class Plausible:
     signed: bool = False  # bounds on |value|
     note: str = ""  # why these bounds
 
-    def text(self) -> str:
-        def iv(b):
-            lo = "" if b[0] is None else f"{b[0]:g}"
-            hi = "" if b[1] is None else f"{b[1]:g}"
-            return f"{lo} to {hi}" if lo and hi else (f"≥ {lo}" if lo else f"≤ {hi}" if hi else "any")
-        return ("|value| " if self.signed else "") + f"refused outside {iv(self.refuse)}; usual {iv(self.usual)}"
-
 
 def _p(refuse, usual, *mistakes, **kw) -> Plausible:
     return Plausible(tuple(refuse), tuple(usual), tuple(mistakes), **kw)
@@ -58,7 +51,6 @@ KPA = (1e3, "kPa typed into a Pa key, ×1000")
 MS2_AS_G = (1.0 / G, "m/s² typed into a key in g, ÷9.81")
 G_AS_MS2 = (G, "g typed into an m/s² key, ×9.81")
 FRACTION = (100.0, "a fraction typed into a per-cent key, ×100")
-PERCENT = (0.01, "per cent typed into a fraction, ×0.01")
 MM_S = (1e-3, "mm/s typed into an m/s key, ×0.001")
 CM_S = (1e-2, "cm/s typed into an m/s key, ×0.01")
 KM_S = (1e3, "km/s typed into an m/s key, ×1000")
@@ -105,7 +97,7 @@ PLAUSIBLE: dict[tuple[str, str], Plausible] = {
     ("boundary.*", "times"): _TIME,
     ("boundary.*", "velocities"): _INLET,
     ("boundary.*", "solids_velocity"): _INLET,
-    ("boundary.*", "omega"): _p((None, 1e4), (None, 100.0), signed=True,
+    ("boundary.*", "omega"): _p((None, 1e4), (None, 100.0), RPM, signed=True,
                                 note="rad/s; 100 rad/s is about 950 rev/min"),
     # a 1D inlet given by its flow rate, and a round column by its diameter (where the schema has them)
     ("boundary.*", "flow_rates_l_min"): _p((None, 1e6), (None, 1000.0), note="laboratory beds 0.1 to 10 L/min"),
