@@ -1,8 +1,10 @@
 """Command line: parses arguments and calls the library. Nothing else lives here."""
-from __future__ import annotations
-
 import os
 import sys
+
+from .command_signals import Signals as _Signals, internal_error as _internal_error, note_early
+
+note_early()  # first: a Ctrl-C from here on is noted, not raised in the middle of an import
 
 __all__ = ["main"]
 
@@ -86,13 +88,17 @@ def _cmd_fluidization_curve(args) -> int:
     from .casefile.loader import load_case
     from .fluidization_curve import fluidization_curve, write_curve
 
-    case = load_case(args.case)  # every error of the case before anything is written
-    out = args.out or f"twofluid-out/{case['case']['name']}-fluidization-curve"
-    from .io.folders import check_out_dir
+    from .casefile.schema import CaseError
+    from .io.folders import OutputFolder, check_out_dir, safe_name
 
-    check_out_dir(out, "fluidization-curve --out", own=False)
+    if not 2 <= args.points <= 10000:
+        raise CaseError("fluidization-curve", "--points", f"{args.points} is outside the valid range [2, 10000]")
+    case = load_case(args.case)  # every error of the case before anything is written
+    out = check_out_dir(args.out if args.out is not None else
+                        f"twofluid-out/{safe_name(case['case']['name'])}-fluidization-curve", "fluidization-curve --out")
     curve = fluidization_curve(case, points=args.points, exponent=args.rz_exponent)
-    paths = write_curve(curve, out, plot=not args.no_plots)
+    with OutputFolder(out):  # the run commands' folder rules: lock, the earlier curve's files only, no links
+        paths = write_curve(curve, out, plot=not args.no_plots)
     f = curve["figures"]
     print(f"{curve['case']}: fluidization curve ({f['method']}): U_mf = {f['U_mf_m_s']:.4g} m/s at n_mf = "
           f"{f['packed_porosity_n_mf']:.3g}, U_t = {f['U_t_m_s']:.4g} m/s, buoyant weight per area "
@@ -214,11 +220,12 @@ def _cmd_ensemble(args) -> int:
     out = check_out_dir(ensemble_out_dir(spec) if args.out is None else args.out, "ensemble --out")
     try:
         rows = run_ensemble(spec, out, workers=args.workers, scheduler=args.scheduler,
-                            progress=not args.quiet and sys.stderr.isatty())
-    except KeyboardInterrupt:
-        print(f"twofluid: interrupted; the finished members are in {out}/members.csv (run again to "
-              "run the rest)", file=sys.stderr)
-        return _Signals.status()
+                            progress=False if args.quiet else (True if sys.stderr.isatty() else "lines"))
+    except KeyboardInterrupt as exc:
+        rc = _Signals.status(exc=exc)
+        print(f"twofluid: {'terminated (SIGTERM)' if rc == 143 else 'interrupted (Ctrl-C)'}; the finished "
+              f"members are in {out}/members.csv (run the same command again to run the rest)", file=sys.stderr)
+        return rc
     done = sum(r["status"] == "completed" for r in rows)
     print(f"{spec.name}: {done} of {len(rows)} members completed; results in {out}")
     for r in rows:
@@ -247,10 +254,10 @@ def _cmd_element_test(args) -> int:
     if args.out is not None:  # before computing
         from .io.folders import check_out_dir
 
-        check_out_dir(args.out, "element-test --out", own=False)
+        check_out_dir(args.out, "element-test --out")
     res = run_element_test(csr=args.csr, gamma_amplitude=args.gamma, sigma_v0=args.sigma_v0 * 1e3,
                            dr=args.dr, porosity=args.porosity, A=args.A, k2max=args.k2max,
-                           gamma_ref=args.gamma_ref, drained=args.drained, law=args.law,
+                           gamma_ref=args.gamma_ref, drained=args.drained, law=args.law or "byrne",
                            max_cycles=args.max_cycles, steps_per_cycle=args.steps_per_cycle,
                            out_dir=args.out)
     load = (f"CSR = {res.settings['csr']:g}" if res.settings["csr"] is not None
@@ -272,6 +279,17 @@ def _element_test_hysteretic(args) -> int:
     from .models.element_test import check_options
     from .models.element_test_hysteretic import csr_n_curve, element_test
 
+    from .casefile.schema import CaseError
+
+    thesis_only = [opt for opt, given in (("--drained", args.drained), ("--porosity", args.porosity is not None),
+                                          ("--A", args.A is not None), ("--gamma-ref", args.gamma_ref is not None),
+                                          ("--law", args.law is not None)) if given]
+    if thesis_only:
+        raise CaseError("element-test", ", ".join(thesis_only), "acts on --model thesis only (the hysteretic model "
+                        "is undrained and calibrated by --n160cs, --qc1ncs or --dr)")
+    if args.out is not None and not args.curve:
+        raise CaseError("element-test", "--out", "the hysteretic model writes files only with --curve (csr_n.csv, "
+                        "csr_n.png); without it the test is printed")
     check_options({"--csr": args.csr, "--gamma": args.gamma, "--sigma-v0": args.sigma_v0, "--dr": args.dr,
                    "--k2max": args.k2max, "--max-cycles": args.max_cycles,
                    "--steps-per-cycle": args.steps_per_cycle})
@@ -293,10 +311,10 @@ def _element_test_hysteretic(args) -> int:
         if not lo <= args.csr_n_slope <= hi:
             raise CaseError("element-test", "--csr-n-slope", f"{args.csr_n_slope:g} is outside the valid range "
                             f"[{lo:g}, {hi:g}]")
-    if args.out:
+    if args.out is not None:
         from .io.folders import check_out_dir
 
-        check_out_dir(args.out, "element-test --out", own=False)
+        check_out_dir(args.out, "element-test --out")
     soil = dict(n160cs=args.n160cs, qc1ncs=args.qc1ncs, dr=args.dr,
                 k2max=30.0 if args.k2max is None else args.k2max)
     if args.alpha:
@@ -312,22 +330,20 @@ def _element_test_hysteretic(args) -> int:
         for r in rows:
             print(f"  {r['csr']:7.4f}  {r['cycles_model']:8.2f}  {r['cycles_correlation']:14.1f}  "
                   f"{100 * r['csr_error']:+9.1f} %")
-        if args.out:
-            import json
+        if args.out is not None:
             from pathlib import Path
 
+            from .io.folders import OutputFolder, write_atomic
+            from .io.results import write_json
             from .plots.element_test import plot_csr_n
 
             out = Path(args.out)
-            out.mkdir(parents=True, exist_ok=True)
-            with open(out / "csr_n.csv", "w") as f:
-                f.write("csr,cycles_model,cycles_correlation,csr_error\n")
-                for r in rows:
-                    f.write(f"{r['csr']:.6g},{r['cycles_model']:.6g},{r['cycles_correlation']:.6g},"
-                            f"{r['csr_error']:.6g}\n")
-            (out / "summary.json").write_text(json.dumps({"csr_n": rows, "sigma_v0_Pa": sig,
-                                                          "soil": soil}, indent=2) + "\n")
-            plot_csr_n(rows, out / "csr_n.png")
+            with OutputFolder(out):  # the run commands' folder rules (io.folders)
+                write_atomic(out / "csr_n.csv", "csr,cycles_model,cycles_correlation,csr_error\n" + "".join(
+                    f"{r['csr']:.6g},{r['cycles_model']:.6g},{r['cycles_correlation']:.6g},{r['csr_error']:.6g}\n"
+                    for r in rows))
+                write_json(out / "summary.json", {"csr_n": rows, "sigma_v0_Pa": sig, "soil": soil})
+                plot_csr_n(rows, out / "csr_n.png")
             print(f"results and plot written to {args.out}")
         return 0
     csr = args.csr if args.gamma is None and args.csr is not None else (0.12 if args.gamma is None else None)
@@ -443,7 +459,8 @@ def parser():
                     "layered-site-five-motions, sloping-site-five-motions)")
     en.add_argument("--out", help="results folder (default: twofluid-out/<ensemble name>); a rerun into the "
                     "same folder skips completed members")
-    en.add_argument("--quiet", action="store_true", help="no progress bar")
+    en.add_argument("--quiet", action="store_true", help="no progress bar (or, when stderr is not a terminal, no "
+                    "progress line every 30 s)")
     _cluster_options(en)
     en.set_defaults(func=_cmd_ensemble)
     et = sub.add_parser("element-test", help="undrained cyclic simple shear of one element: cycles to "
@@ -457,7 +474,7 @@ def parser():
     et.add_argument("--A", type=float, help="compressibility of P_s [-] (default 6e-4)")
     et.add_argument("--k2max", type=float, help="Seed-Idriss K2max [-] (default 30)")
     et.add_argument("--gamma-ref", type=float, help="reference strain of G/G_max [-] (default 1e-3)")
-    et.add_argument("--law", default="byrne", choices=("byrne", "ann"), help="reference-porosity law")
+    et.add_argument("--law", choices=("byrne", "ann"), help="thesis: reference-porosity law (default byrne)")
     et.add_argument("--model", default="thesis", choices=("thesis", "hysteretic"),
                     help="shear law: thesis (backbone and densification law) or hysteretic (calibrated to "
                     "the CRR curve of (N1)60cs)")
@@ -495,125 +512,29 @@ def one_blas_thread() -> None:
             os.environ.setdefault(var, "1")
 
 
-class _Signals:
-    """The command's own handlers of SIGINT and SIGTERM for its whole life (a run installs its own
-    while it goes and restores these): both raise ``KeyboardInterrupt``, and which one came is noted,
-    so a signal at any moment — during the imports, after the run — ends the command with one line
-    and exit status 130 (SIGINT) or 143 (SIGTERM), never a traceback or a kill."""
-
-    got: int | None = None
-
-    @classmethod
-    def handler(cls, signum, frame):
-        cls.got = cls.got or signum
-        raise KeyboardInterrupt
-
-    handler.__func__.twofluid_handler = True
-
-    @classmethod
-    def install(cls):
-        """Install the handlers; return the ones they replace (None where none was replaced)."""
-        import signal
-
-        cls.got = None
-        cls._unraisable = sys.unraisablehook
-        sys.unraisablehook = cls._unraisable_hook
-        try:
-            if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:  # ignored on purpose (nohup, a background job)
-                return None, signal.signal(signal.SIGTERM, cls.handler)
-            return signal.signal(signal.SIGINT, cls.handler), signal.signal(signal.SIGTERM, cls.handler)
-        except ValueError:  # not the main thread (main() called from a thread): Python's defaults stay
-            return None
-
-    @classmethod
-    def late(cls) -> None:
-        """The command's work is done (or it is saying that it was interrupted): a signal now exits at
-        once with its status (130, 143), without a traceback from the interpreter's shutdown."""
-        import signal
-
-        def leave(signum, frame):
-            cls.got = cls.got or signum
-            try:
-                os.write(2, b"twofluid: interrupted as it ended (its outputs are complete)\n")
-            except OSError:
-                pass
-            cls.leave(143 if signum == signal.SIGTERM else 130)
-
-        try:
-            if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
-                signal.signal(signal.SIGINT, leave)
-            signal.signal(signal.SIGTERM, leave)
-        except ValueError:
-            pass
-
-    @staticmethod
-    def leave(rc: int) -> None:
-        """End the process with status ``rc`` now: the output flushed, logging shut down, no
-        interpreter shutdown (every file of twofluid is closed by then)."""
-        import logging
-
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):
-                pass
-        try:
-            logging.shutdown()
-        except Exception:  # noqa: BLE001 - leaving anyway
-            pass
-        os._exit(rc)
-
-    _unraisable = None
-
-    @classmethod
-    def _unraisable_hook(cls, unraisable) -> None:
-        """A KeyboardInterrupt raised where Python cannot propagate it (a weakref callback of the import
-        system, a ``__del__``) is not printed as "Exception ignored …": the signal is noted (``got``)
-        and acted on by :meth:`pending` and at the end of :func:`main`."""
-        if isinstance(unraisable.exc_value, KeyboardInterrupt):
-            return
-        (cls._unraisable or sys.__unraisablehook__)(unraisable)
-
-    @classmethod
-    def pending(cls) -> None:
-        """Raise the interruption of a signal noted but swallowed on the way (see above)."""
-        if cls.got is not None:
-            raise KeyboardInterrupt
-
-    @classmethod
-    def restore(cls, old) -> None:
-        import signal
-
-        if cls._unraisable is not None:
-            sys.unraisablehook, cls._unraisable = cls._unraisable, None
-        if old is not None:
-            if old[0] is not None:
-                signal.signal(signal.SIGINT, old[0])
-            signal.signal(signal.SIGTERM, old[1])
-
-    @classmethod
-    def status(cls, reason: str = "") -> int:
-        import signal
-
-        return 143 if cls.got == signal.SIGTERM or "SIGTERM" in reason else 130
-
-
 def main(argv=None) -> int:
     """The command line. ``argv``: the arguments (called from Python: returns the exit status, the
-    caller's signal handlers restored); None: ``sys.argv``, the command itself, which ends the process
-    with the status (skipping the interpreter's shutdown, where a signal would kill it). Exit status:
-    0, 1 (a run failed, a file could not be written), 2 (bad input), 130 (SIGINT), 143 (SIGTERM)."""
+    caller's signal handlers restored; a usage error raises argparse's ``SystemExit``); None:
+    ``sys.argv``, the command itself, which ends the process with the status (skipping the
+    interpreter's shutdown, where a signal would kill it). Exit status: 0 (also ``--help``,
+    ``--version``), 1 (a run failed, a file could not be written, an internal error: one line naming
+    it and the log its traceback went to), 2 (bad input, a usage error), 130 (SIGINT), 143 (SIGTERM)."""
     old = _Signals.install()
     rc = 130
     try:
         try:
+            _Signals.pending()  # a signal noted before main began
             rc = _main(argv)
             _Signals.pending()  # a signal swallowed on the way still ends the command as interrupted
-        except KeyboardInterrupt:
+        except SystemExit as exc:  # argparse: --help and --version (0), a usage error (2, its message printed)
+            if argv is not None:
+                raise
+            rc = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        except KeyboardInterrupt as exc:
             if argv is None:
                 _Signals.late()  # a second signal while saying so ends it at once, with the same status
-            print("twofluid: interrupted", file=sys.stderr)
-            rc = _Signals.status()
+            rc = _Signals.status(exc=exc)
+            print("twofluid: terminated (SIGTERM)" if rc == 143 else "twofluid: interrupted", file=sys.stderr)
         return rc
     finally:
         if argv is None:  # the command: a signal from here to the exit ends it with the signal's status
@@ -652,6 +573,8 @@ def _main(argv=None) -> int:
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"twofluid: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 1
+    except Exception as exc:  # noqa: BLE001 - a defect of twofluid: one line, the traceback in a log file
+        return _internal_error(exc)
     finally:
         warnings.showwarning = default_show
 

@@ -24,6 +24,7 @@ weight of the solids per area, (ρ_s − ρ_f) g cos θ V_s/A.
 from __future__ import annotations
 
 import csv
+import io
 from pathlib import Path
 
 import numpy as np
@@ -115,11 +116,14 @@ def write_curve(curve: dict, out_dir: Path, plot: bool = True) -> list[Path]:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "fluidization_curve.csv"
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f)
-        w.writerow(COLUMNS)
-        for r in curve["rows"]:
-            w.writerow([r[c] if isinstance(r[c], str) else f"{r[c]:.10g}" for c in COLUMNS])
+    f = io.StringIO()  # written whole, never through a symbolic link (io.folders)
+    w = csv.writer(f)
+    w.writerow(COLUMNS)
+    for r in curve["rows"]:
+        w.writerow([r[c] if isinstance(r[c], str) else f"{r[c]:.10g}" for c in COLUMNS])
+    from .io.folders import write_atomic
+
+    write_atomic(path, f.getvalue())
     paths = [path]
     if plot:
         from .plots.fluidization import fluidization_plot

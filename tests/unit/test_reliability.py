@@ -45,7 +45,7 @@ def test_a_fluidized_inlet_needs_particles_denser_than_the_liquid():
 def test_derived_velocities_and_drag_that_are_not_usable_are_refused(key, value):
     case = load_case("fluidized-bed-step")
     case["materials"][key] = value
-    _refused(case, r"\[materials\].*(terminal|fluidiz|drag|slip)")
+    _refused(case, r"\[materials\].*(terminal|fluidiz|drag|slip|physically implausible)")
 
 
 @pytest.mark.parametrize("value", [1e308, 1e-300, float("nan"), float("inf")])

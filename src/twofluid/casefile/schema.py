@@ -309,7 +309,7 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
                                 f"0 or {WORKING_MIN:g} ≤ |value| ≤ {WORKING_MAX:g} [{key.unit}]")
             if _out_of_range(key, v):
                 raise CaseError(source, full, f"entry {i + 1} ({v!r}) is outside the valid range "
-                                f"{key.range_text()} [{key.unit}]")
+                                f"{key.range_text()} [{key.unit}]{_unit_hint(where, key, v)}")
         return out
     if key.type is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -334,10 +334,38 @@ def _check_value(source: str, where: str, key: Key, value: Any) -> Any:
     if key.lo is not None or key.hi is not None:
         if _out_of_range(key, value):
             hint = (f"; the unit is per cent: did you mean {value * 100:g} (×100)?"
-                    if key.unit == "%" and 0.0 < value <= 1.0 else "")
+                    if key.unit == "%" and 0.0 < value <= 1.0 else _unit_hint(where, key, value))
             raise CaseError(source, full, f"{value!r} is outside the valid range {key.range_text()} "
                             f"[{key.unit}]{hint}")
     return value
+
+
+def _unit_hint(where: str, key: Key, value) -> str:
+    """"; did you mean …" where a unit mistake explains ``value`` (:mod:`.plausible`), else ""."""
+    if key.type not in (float, FLOATS) or isinstance(value, bool) or not isinstance(value, (int, float)):
+        return ""
+    from .plausible import check
+
+    found = check(where, key.name, key.unit, float(value))
+    return found[1][found[1].index("; did you mean"):].split("; check")[0] if found and "did you mean" in found[1] \
+        else ""
+
+
+def _plausible(source: str, where: str, key: Key, value, unused: list[str]) -> None:
+    """A dimensional value outside its physically plausible range (:mod:`.plausible`): refused, with the
+    likely unit mistake named; outside its usual range: a warning (in ``unused``, issued for a valid case)."""
+    if key.unit in ("-", "") or key.type not in (float, FLOATS):
+        return
+    from .plausible import check
+
+    for i, v in enumerate(value if isinstance(value, list) else [value]):
+        found = check(where, key.name, key.unit, v, key.sentinel)
+        if found is None:
+            continue
+        entry = f" entry {i + 1}" if isinstance(value, list) else ""
+        if found[0] == "error":
+            raise CaseError(source, f"[{where}] {key.name}{entry}", found[1])
+        unused.append(f"{source}: [{where}] {key.name}{entry}: {found[1]}")
 
 
 def validate(doc: dict, source: str = "<case>", name: str = "case") -> dict:
@@ -364,7 +392,7 @@ def validate(doc: dict, source: str = "<case>", name: str = "case") -> dict:
     for where in flat:
         if where not in schema:
             raise CaseError(source, f"[{where}]", f"unknown section for model {case['model']!r}; "
-                            f"valid sections: {', '.join(schema)}")
+                            + _nearest(where, schema, "sections"))
     arrays = ARRAYS.get(case["model"], {})
     for name in tables:
         if name not in arrays:
@@ -469,11 +497,12 @@ def _resolve_section(source: str, where: str, keys: list[Key], given: dict,
     known = {k.name for k in keys}
     for name in given:
         if name not in known:
-            raise CaseError(source, f"[{where}] {name}", f"unknown key; valid keys: {', '.join(sorted(known))}")
+            raise CaseError(source, f"[{where}] {name}", "unknown key; " + _nearest(name, known, "keys"))
     out = {}
     for key in keys:
         if key.name in given:
             out[key.name] = _check_value(source, where, key, given[key.name])
+            _plausible(source, where, key, out[key.name], unused)
         elif key.default is REQUIRED:
             raise CaseError(source, f"[{where}] {key.name}", f"missing (required; {key.doc} [{key.unit}])")
         else:
@@ -486,6 +515,21 @@ def _resolve_section(source: str, where: str, keys: list[Key], given: dict,
             unused.append(f"{source}: [{where}] {key.name}: ignored ({other} = {out[other]!r}; used only "
                           f"when {other} is {wanted})")
     return out
+
+
+def _nearest(name: str, valid, what: str) -> str:
+    """"did you mean 'x'?" for the valid name nearest to ``name`` (difflib), else the valid names.
+
+    >>> _nearest("unit_wieght", ["unit_weight", "thickness", "porosity"], "keys")
+    "did you mean 'unit_weight'? (valid keys: porosity, thickness, unit_weight)"
+    """
+    import difflib
+
+    names = sorted(map(str, valid))
+    close = difflib.get_close_matches(str(name), names, n=1, cutoff=0.6)
+    if close:
+        return f"did you mean {close[0]!r}?" + (f" (valid {what}: {', '.join(names)})" if len(names) <= 8 else "")
+    return f"valid {what}: {', '.join(names)}"
 
 
 def _is_table_array(value) -> bool:
@@ -575,6 +619,19 @@ def markdown() -> str:
     for model, arrays in ARRAYS.items():
         for name, keys in arrays.items():
             lines += _key_table(f"### [[{name}]] ({model}; one table per entry)", keys)
+    from .plausible import markdown_rows
+
+    lines += ["## Plausible ranges (units that cannot be mistaken)", "",
+              "Besides its valid range, every key with a unit has a physically plausible range "
+              "(`twofluid.casefile.plausible`). A value outside it is refused (exit status 2) with the likely "
+              "unit mistake named, e.g. `[[layers]] unit_weight = 18.5`: \"18.5 N/m³ is physically implausible "
+              "(plausible: 100 to 30000); did you mean 18500 (kN/m³ typed into an N/m³ key, ×1000)?\". A value "
+              "inside it but outside the usual range runs, with a one-line warning (and the same hint where a "
+              "unit mistake would explain it). Where \"0 allowed\" is noted, 0 (off, not given) is never "
+              "refused; a key at its \"not set\" value (-1) is not checked. An unknown key or section is refused "
+              "with the nearest valid name (\"did you mean 'unit_weight'?\"); a key without effect in the case "
+              "at hand (a slope's keys or `distance_km` on level ground, `pressure` on a wall) warns.", "",
+              *markdown_rows(), ""]
     return "\n".join(lines)
 
 

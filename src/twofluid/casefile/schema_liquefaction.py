@@ -389,6 +389,9 @@ def check_liquefaction(case: dict, source: str) -> None:
         warnings.warn(CaseWarning(f"{source}: [shear_wave] {', '.join(flow)}: ignored on level ground ([site] "
                                   "slope = 0: the shear wave stops free_vibration seconds after the shaking; "
                                   "these keys act on a sloping site only)"), stacklevel=3)
+    if "distance_km" in given_section_keys("ground_motion") and case["site"]["slope"] == 0.0:
+        warnings.warn(CaseWarning(f"{source}: [ground_motion] distance_km: ignored on level ground ([site] slope "
+                                  "= 0; it acts only in the lateral-spread estimate of a sloping site)"), stacklevel=3)
     for i, wet in enumerate(saturated(case)):
         la = case["layers"][i]
         given = [k for k in _SATURATED_ONLY if not wet and la[k] > 0.0]
@@ -421,6 +424,12 @@ def _check_slope(case: dict, source: str) -> None:
     if case["ground_motion"]["pga_g"] > 0.0 and case["ground_motion"]["baseline_order"] == 0:
         raise CaseError(source, "[ground_motion] baseline_order", f"0 on a slope of {slope:g} %: valid on a "
                         "sloping site are 1-3 (its displacements need a baseline-corrected record)")
+    sw = case["shear_wave"]
+    if sw["free_vibration"] + sw["flow_max"] < 2.0 * sw["flow_window"]:
+        raise CaseError(source, "[shear_wave] flow_max", f"free_vibration + flow_max = {sw['free_vibration']:g} + "
+                        f"{sw['flow_max']:g} s is shorter than two flow windows (2 × flow_window = "
+                        f"{2.0 * sw['flow_window']:g} s), which the flow criterion after the shaking needs on a "
+                        "sloping site: raise flow_max or free_vibration, or shorten flow_window")
 
 
 def _check_layers(case: dict, source: str) -> None:

@@ -13,7 +13,9 @@ import itertools
 import logging
 import os
 import signal
+import sys
 import tempfile
+import threading
 import time
 from contextlib import contextmanager, nullcontext
 from pathlib import Path
@@ -23,7 +25,8 @@ from tqdm import tqdm
 from ..runners.common import sigterm_as_interrupt
 from .results import ResultsTable, figure_at, figure_stats, with_settlement_companions
 
-__all__ = ["run_member", "run_members", "run_ensemble", "cluster_client", "ensemble_out_dir", "check_workers"]
+__all__ = ["run_member", "run_members", "run_ensemble", "cluster_client", "ensemble_out_dir", "check_workers",
+           "check_scheduler", "ProgressLines"]
 
 
 def run_member(case: dict, collect: list[str], run_dir: str | None = None) -> dict:
@@ -87,26 +90,103 @@ def cluster_client(workers: int | None = None, scheduler: str | None = None):
             client.close()
         return
     n = workers or os.cpu_count() or 1
-    with _workers_ignore_ctrl_c():
+    start = _ClusterStart()
+    try:
         cluster = LocalCluster(n_workers=n, processes=True, threads_per_worker=1, dashboard_address=":0",
                                silence_logs=logging.ERROR)
-    with cluster, Client(cluster) as client:
-        yield client
+    except BaseException:
+        start.end()
+        raise
+    with cluster:
+        start.end()  # a Ctrl-C or SIGTERM held during the start interrupts here, and the cluster is closed
+        with Client(cluster) as client:
+            yield client
 
 
-@contextmanager
-def _workers_ignore_ctrl_c():
-    """Start the worker processes with SIGINT ignored (they inherit it): a Ctrl-C in the terminal
-    reaches the whole process group, and only the driver should act on it, by closing the cluster."""
-    try:
-        old = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    except ValueError:  # not the main thread
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, old)
+class _ClusterStart:
+    """Signals while a LocalCluster starts. Its worker processes start with SIGINT blocked (they inherit
+    the signal mask): a Ctrl-C in the terminal reaches the whole process group, and only the driver
+    should act on it, by closing the cluster. The driver's own Ctrl-C, and a SIGTERM, during the start
+    are held, not lost: :meth:`end` delivers them once the cluster exists (it can then be closed), as
+    ``KeyboardInterrupt`` and :class:`~twofluid.runners.common.Terminated`. (Where signal masks do not
+    exist, SIGINT is ignored during the start instead.) Main thread only; elsewhere nothing changes."""
+
+    def __init__(self):
+        self.active = threading.current_thread() is threading.main_thread()
+        self.noted: list[int] = []
+        if not self.active:
+            return
+        note = lambda signum, frame: self.noted.append(signum)  # noqa: E731
+        self.old_term = signal.signal(signal.SIGTERM, note)
+        # noted, not raised, also where another thread of this process takes the signal
+        ignored = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+        self.old_int = None if ignored else signal.signal(signal.SIGINT, note)
+        self.old_mask = None
+        if hasattr(signal, "pthread_sigmask"):  # for the workers, which inherit the mask
+            self.old_mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        elif not ignored:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def end(self) -> None:
+        if not self.active:
+            return
+        self.active = False
+        signal.signal(signal.SIGTERM, self.old_term)
+        if self.old_int is not None:
+            signal.signal(signal.SIGINT, self.old_int)
+        if self.old_mask is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, self.old_mask)  # a Ctrl-C held meanwhile raises here
+        if signal.SIGTERM in self.noted:
+            from ..runners.common import Terminated
+
+            raise Terminated()
+        if self.noted:
+            raise KeyboardInterrupt
+
+
+class ProgressLines:
+    """An ensemble's progress as one line on stderr at a steady pace (every ``every`` seconds, from a
+    thread of its own, whether or not a member finished meanwhile): for output that is not a terminal
+    (a batch job's log), where a progress bar cannot be drawn."""
+
+    def __init__(self, name: str, total: int, every: float = 30.0, stream=None):
+        self.name, self.total, self.every = name, total, every
+        self.stream = stream
+        self.done = self.failed = 0
+        self._t0 = time.monotonic()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="twofluid-ensemble-progress", daemon=True)
+
+    def start(self, done: int = 0) -> "ProgressLines":
+        self.done = done
+        self._thread.start()
+        return self
+
+    def line(self) -> str:
+        return (f"twofluid: ensemble {self.name}: {self.done} of {self.total} members done"
+                + (f" ({self.failed} failed)" if self.failed else "") + f", {time.monotonic() - self._t0:.0f} s elapsed")
+
+    def _run(self) -> None:
+        while not self._stop.wait(self.every):
+            try:
+                print(self.line(), file=self.stream or sys.stderr, flush=True)
+            except (OSError, ValueError):
+                pass
+
+    def close(self) -> None:
+        self._stop.set()
+
+
+def check_scheduler(scheduler) -> str | None:
+    """``scheduler`` as the address of a Dask scheduler (None: a local cluster); CaseError otherwise."""
+    from ..casefile.schema import CaseError
+
+    if scheduler is None:
+        return None
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise CaseError("<api>", "scheduler", f"{scheduler!r} is not valid; valid: the address a running Dask "
+                        "scheduler prints (a string, e.g. 'tcp://head-node:8786'), or None for a local cluster")
+    return scheduler
 
 
 def _label(v):
@@ -120,7 +200,8 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
 
     ``members.csv`` in ``out_dir`` gets a row as each member finishes. On Ctrl-C or SIGTERM
     the running members are cancelled, the record says ``interrupted`` and the
-    ``KeyboardInterrupt`` propagates after the finished rows are written.
+    ``KeyboardInterrupt`` propagates after the finished rows are written. ``progress``: True, a
+    progress bar; "lines", a line every 30 s (:class:`ProgressLines`); False, nothing.
     """
     from distributed import as_completed
 
@@ -147,8 +228,10 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
             todo.append(m)
     record = {"members": len(members), "kept_from_before": len(members) - len(todo) - sum(bool(m.error) for m in members),
               "invalid": sum(bool(m.error) for m in members), "ran": 0, "status": "completed"}
-    bar = tqdm(total=len(members), initial=len(members) - len(todo), unit="member", disable=not progress,
-               desc="members", dynamic_ncols=True)
+    bar = tqdm(total=len(members), initial=len(members) - len(todo), unit="member",
+               disable=progress is not True, desc="members", dynamic_ncols=True)
+    lines = (ProgressLines(Path(out).name, len(members)).start(len(members) - len(todo))
+             if progress == "lines" else None)
     t0 = time.perf_counter()
     try:
         with sigterm_as_interrupt(), (nullcontext(client) if client else cluster_client(workers, scheduler)) as cl:
@@ -195,6 +278,8 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                         record.setdefault("interrupted_members", []).append(m.index)
                     bar.update(1)
                     bar.set_postfix(failed=failed, refresh=False)
+                    if lines is not None:
+                        lines.done, lines.failed = lines.done + 1, failed
                     queue.update(top_up())
             except KeyboardInterrupt:
                 record["status"] = "interrupted"
@@ -202,6 +287,8 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                 raise
     finally:
         bar.close()
+        if lines is not None:
+            lines.close()
         table.close()
         record["wall_time_s"] = time.perf_counter() - t0
     return [rows[i] for i in sorted(rows)], record
@@ -273,6 +360,7 @@ def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, schedul
         raise CaseError("<api>", "ensemble", "must be an EnsembleSpec or the path of an ensemble file, got "
                         f"{type(spec_or_path).__name__}")
     workers = check_workers(workers)
+    scheduler = check_scheduler(scheduler)
     out = check_out_dir(ensemble_out_dir(spec) if out_dir is None else out_dir, "ensemble output folder")
     ms = make_members(spec)
     collect = with_settlement_companions(spec.collect)  # beside a settlement: final or not, and the final one
@@ -283,8 +371,12 @@ def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, schedul
         try:
             rows, record = run_members(ms, collect, out, keep_runs=spec.keep_runs, workers=workers,
                                        scheduler=scheduler, progress=progress, client=client)
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
+            from ..runners.common import Terminated
+
             write_json(out / "ensemble.json", {**summary, "status": "interrupted",
+                                               "reason": "terminated (SIGTERM)" if isinstance(exc, Terminated)
+                                               else "interrupted by the user (Ctrl-C)",
                                                "note": "members.csv holds every member that finished; run the "
                                                        "same ensemble again to run the rest"})
             raise
@@ -297,6 +389,11 @@ def run_ensemble(spec_or_path, out_dir=None, workers: int | None = None, schedul
             summary["fragility"] = ens_plots.fragility_fits(rows, spec.fragility)
         write_json(out / "ensemble.json", summary)
         if plots:
-            summary["plots"] = [p.name for p in ens_plots.ensemble_plots(rows, spec, out, summary.get("fragility"))]
+            from ..io.folders import record
+
+            figures = ens_plots.ensemble_plots(rows, spec, out, summary.get("fragility"))
+            for p in figures:  # drawn by matplotlib: recorded here, as twofluid's own writers record theirs
+                record(p)
+            summary["plots"] = [p.name for p in figures]
             write_json(out / "ensemble.json", summary)
     return rows

@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..casefile.loader import load_case, read_toml
-from ..casefile.schema import CaseError
+from ..casefile.schema import CaseError, _nearest
 
 __all__ = ["EnsembleSpec", "load_ensemble", "parse_ensemble", "DISTRIBUTIONS"]
 
@@ -182,8 +182,8 @@ def _record_files(source: str, spec, folder: Path) -> list[Path]:
 def _motions(source: str, table: dict, base: dict, folder: Path) -> dict:
     extra = set(table) - {"files", "pga_g", "file_key", "pga_key"}
     if extra:
-        raise CaseError(source, f"[ground_motions] {sorted(extra)[0]}", "unknown key; valid keys: files, "
-                        "pga_g, file_key, pga_key")
+        raise CaseError(source, f"[ground_motions] {sorted(extra)[0]}", "unknown key; " + _nearest(
+            sorted(extra)[0], ("files", "pga_g", "file_key", "pga_key"), "keys"))
     file_key = table.get("file_key", "ground_motion.file")
     pga_key = table.get("pga_key", "ground_motion.pga_g")
     _case_key(base, source, "ground_motions", file_key)
@@ -201,8 +201,8 @@ def _motions(source: str, table: dict, base: dict, folder: Path) -> dict:
 def _fragility(source: str, table: dict, spec: EnsembleSpec) -> dict:
     extra = set(table) - {"figure", "threshold", "labels", "intensity"}
     if extra:
-        raise CaseError(source, f"[fragility] {sorted(extra)[0]}", "unknown key; valid keys: figure, threshold, "
-                        "labels, intensity")
+        raise CaseError(source, f"[fragility] {sorted(extra)[0]}", "unknown key; " + _nearest(
+            sorted(extra)[0], ("figure", "threshold", "labels", "intensity"), "keys"))
     fig = table.get("figure")
     if fig not in spec.collect:
         raise CaseError(source, "[fragility] figure", f"{fig!r} must be one of the collected figures "
@@ -281,11 +281,11 @@ def parse_ensemble(doc: dict, source: str = "<ensemble>", folder: Path | None = 
     folder = folder or Path.cwd()
     for s in doc:
         if s not in _SECTIONS:
-            raise CaseError(source, f"[{s}]", f"unknown section; valid sections: {', '.join(sorted(_SECTIONS))}")
+            raise CaseError(source, f"[{s}]", "unknown section; " + _nearest(s, _SECTIONS, "sections"))
     ens = doc.get("ensemble", {})
     for k in ens:
         if k not in _ENSEMBLE_KEYS:
-            raise CaseError(source, f"[ensemble] {k}", f"unknown key; valid keys: {', '.join(sorted(_ENSEMBLE_KEYS))}")
+            raise CaseError(source, f"[ensemble] {k}", "unknown key; " + _nearest(k, _ENSEMBLE_KEYS, "keys"))
     base_name = ens.get("base")
     if not isinstance(base_name, str) or not base_name:
         raise CaseError(source, "[ensemble] base", "missing: a bundled case name or a case file path")

@@ -30,11 +30,12 @@ from pathlib import Path
 
 from ..casefile.schema import CaseError, CaseWarning
 
-__all__ = ["LOCK", "MANIFEST", "OutputFolder", "OutputWarning", "check_out_dir", "check_out_file",
-           "create", "default_out_dir", "is_output_name", "record", "safe_name", "write_atomic"]
+__all__ = ["ERROR_LOG", "LOCK", "MANIFEST", "OutputFolder", "OutputWarning", "check_out_dir", "check_out_file",
+           "create", "default_out_dir", "is_output_name", "record", "safe_name", "write_atomic", "write_error_log"]
 
 LOCK = ".twofluid.lock"
 MANIFEST = ".twofluid-run.json"
+ERROR_LOG = "twofluid-error.log"  # the traceback of an internal error (a defect of twofluid)
 
 #: the names twofluid writes into a run or ensemble folder (besides the patterns below)
 OUTPUT_NAMES = frozenset({
@@ -43,7 +44,7 @@ OUTPUT_NAMES = frozenset({
     "members.csv", "members.previous.csv", "ensemble.json", "porosity.png", "pressure.png", "heights.png",
     "bed_pressure_drop.png", "velocity.png", "profiles.png", "single_fluid.png", "profile.png", "ru_map.png",
     "spectra.png", "ru_histories.png", "settlement.png", "element_test.png", "fragility.png", "runs",
-    LOCK, MANIFEST})
+    "fluidization_curve.csv", "fluidization_curve.png", "csr_n.csv", "csr_n.png", ERROR_LOG, LOCK, MANIFEST})
 _OUTPUT_PATTERNS = re.compile(r"(fields_\d{4,}\.vtu|(figure|histogram)_.*\.png|.*\.tmp|\.twofluid.*)")
 
 
@@ -161,6 +162,8 @@ def check_out_file(path, what: str = "output file") -> Path:
 # ---------------------------------------------------------------- writing files
 #: the folders claimed by this process: absolute path -> OutputFolder (for :func:`record`)
 _CLAIMED: dict[str, "OutputFolder"] = {}
+#: the folder this process claimed last (where :func:`write_error_log` puts a traceback)
+_LAST: list = [None]
 
 
 def record(path) -> None:
@@ -220,13 +223,17 @@ def write_atomic(path, data: bytes | str) -> None:
         data = data.encode("utf-8")
     tmp = path.with_name(path.name + ".tmp")
     try:
-        if tmp.is_symlink():
-            raise OSError(errno.ELOOP, "is a symbolic link; twofluid does not write through links", str(tmp))
+        for p in (tmp, path):  # a link planted before or during the run is neither followed nor replaced
+            if p.is_symlink():
+                raise OSError(errno.ELOOP, "is a symbolic link; twofluid does not write through links", str(p))
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NOFOLLOW", 0), 0o644)
         try:
             write_all(fd, data, path)
         finally:
             os.close(fd)
+        if path.is_symlink():
+            raise OSError(errno.ELOOP, "is a symbolic link; twofluid does not write through links", str(path))
+        record(path)  # before it appears: a run stopped right after still has it in its record
         os.replace(tmp, path)
     except OSError as exc:
         try:
@@ -290,6 +297,7 @@ class OutputFolder:
             self._written = {n: None for n in self.keep if (p / n).is_file()}
             _CLAIMED[self._key] = self
             self._save()
+            _LAST[0] = self.path
         except BaseException:
             self.abandon()
             self.__exit__(None, None, None)
@@ -297,10 +305,12 @@ class OutputFolder:
         return self
 
     def _lock(self) -> None:
+        """The lock file, with this process's id, appears whole (a file of its own linked to the lock's
+        name, which fails if it exists): a run stopped at any moment never leaves an empty lock."""
         lock = self.path / LOCK
         for _ in range(2):
             try:
-                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY | getattr(os, "O_NOFOLLOW", 0), 0o644)
+                self._link_lock(lock)
             except FileExistsError:
                 try:
                     pid = int(lock.read_text().split()[0]) if not lock.is_symlink() else -1
@@ -314,17 +324,29 @@ class OutputFolder:
                 lock.unlink(missing_ok=True)  # left by a process that has gone
                 continue
             except OSError as exc:
-                raise CaseError(str(self.path), "output folder", f"cannot be written ({exc.strerror or exc})") \
+                raise CaseError(str(lock), "output folder", f"cannot be written ({exc.strerror or exc})") \
                     from None
-            try:
-                write_all(fd, f"{os.getpid()}\n".encode(), lock)
-            except OSError as exc:
-                os.close(fd)
-                lock.unlink(missing_ok=True)
-                raise CaseError(str(lock), "output folder", f"cannot be written ({exc.strerror})") from None
-            os.close(fd)
             return
         raise CaseError(str(self.path), "output folder", f"lock file {LOCK} cannot be taken")
+
+    @staticmethod
+    def _link_lock(lock: Path) -> None:
+        for e in lock.parent.glob(LOCK + ".*.tmp"):  # left by a process stopped while locking
+            try:
+                if not _alive(int(e.name[len(LOCK) + 1:-4])):
+                    e.unlink(missing_ok=True)
+            except (ValueError, OSError):
+                pass
+        tmp = lock.with_name(f"{LOCK}.{os.getpid()}.tmp")
+        fd = os.open(tmp, os.O_CREAT | os.O_TRUNC | os.O_WRONLY | getattr(os, "O_NOFOLLOW", 0), 0o644)
+        try:
+            try:
+                write_all(fd, f"{os.getpid()}\n".encode(), tmp)
+            finally:
+                os.close(fd)
+            os.link(tmp, lock, follow_symlinks=False)
+        finally:
+            tmp.unlink(missing_ok=True)
 
     def _recorded(self) -> tuple[dict, int]:
         """{name: [size, mtime_ns] or None} of the previous run's manifest, and when that run began [ns]."""
@@ -400,12 +422,8 @@ class OutputFolder:
             pass  # written again at the end; a full disk there is reported
 
     def _save(self, final: bool = False) -> None:
-        if final:  # files made by libraries (matplotlib's PNGs): output names written since the claim
-            for e in self.path.iterdir():
-                st = _stat(e)
-                if (st is not None and st[1] >= self._started and is_output_name(e.name)
-                        and not e.name.endswith(".tmp") and e.name not in (LOCK, MANIFEST)):
-                    self._written.setdefault(e.name, None)
+        # only what twofluid's writers recorded (create, write_atomic, record): a file the user puts
+        # here during the run, even under an output's name, is never recorded, so never removed later
         files = {}
         for n in sorted(self._written):
             files[n] = _stat(self.path / n) if final else None
@@ -458,3 +476,39 @@ def _write_manifest(path: Path, data: bytes) -> None:
     except OSError:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def write_error_log(text: str) -> Path:
+    """Write ``text`` (the traceback of an internal error) to :data:`ERROR_LOG` in the folder this
+    process claimed last, recorded in its manifest (the next run there removes it), or, where there
+    is none, to a new file in the temporary folder; return the path. OSError if neither can be written."""
+    folder = _LAST[0]
+    if folder is not None and owned(folder):
+        path = folder / ERROR_LOG
+        try:
+            fd = create(path)
+            try:
+                write_all(fd, text.encode("utf-8", "replace"), path)
+            finally:
+                os.close(fd)
+            _add_to_manifest(folder, ERROR_LOG)
+            return path
+        except OSError:
+            pass
+    import tempfile
+
+    fd, name = tempfile.mkstemp(prefix="twofluid-error-", suffix=".log")
+    try:
+        write_all(fd, text.encode("utf-8", "replace"), name)
+    finally:
+        os.close(fd)
+    return Path(name)
+
+
+def _add_to_manifest(folder: Path, name: str) -> None:
+    """Add ``name`` as it is now to the manifest of ``folder`` (a folder no longer claimed)."""
+    m = folder / MANIFEST
+    doc = json.loads(m.read_text(encoding="utf-8"))
+    if isinstance(doc.get("files"), dict):
+        doc["files"][name] = _stat(folder / name)
+        _write_manifest(m, (json.dumps(doc, indent=1) + "\n").encode())

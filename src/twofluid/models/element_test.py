@@ -294,6 +294,10 @@ def run_element_test(*, csr: float | None = None, gamma_amplitude: float | None 
     ``element_test.csv`` (histories, SI units), ``summary.json`` (cycles to
     liquefaction and every setting) and ``element_test.png``.
     """
+    if out_dir is not None:  # the run commands' folder rules, checked before computing (io.folders)
+        from ..io.folders import check_out_dir
+
+        out_dir = check_out_dir(out_dir, "element test out_dir")
     if csr is None and gamma_amplitude is None:
         csr = 0.12
     overrides = {k: v for k, v in dict(dr=dr, porosity=porosity, A=A, k2max=k2max,
@@ -305,24 +309,29 @@ def run_element_test(*, csr: float | None = None, gamma_amplitude: float | None 
     result.settings.update(csr=csr, gamma_amplitude=gamma_amplitude, sigma_v0_Pa=sigma_v0,
                            max_cycles=max_cycles)
     if out_dir is not None:
+        from ..io.folders import OutputFolder
         from ..plots.element_test import plot_element_test  # matplotlib only when asked
 
-        out = Path(out_dir)
-        out.mkdir(parents=True, exist_ok=True)
-        table = np.column_stack([result.cycles, result.gamma[:, 0], result.tau[:, 0],
-                                 result.p_s[:, 0], result.n_bar[:, 0], result.porosity[:, 0],
-                                 result.r_u[:, 0]])
-        from ..io.folders import write_atomic
-        from ..io.results import write_json
-
-        buf = io.StringIO()  # written whole, never through a symbolic link (io.folders)
-        np.savetxt(buf, table, delimiter=",", comments="", fmt="%.9g",
-                   header="cycles,gamma,tau_Pa,p_s_Pa,n_bar,porosity,r_u")
-        write_atomic(out / "element_test.csv", buf.getvalue())
-        n_liq = float(result.cycles_to_liquefaction[0])
-        summary = {"cycles_to_liquefaction": n_liq if np.isfinite(n_liq) else None,
-                   "liquefied": bool(np.isfinite(n_liq)),
-                   "final_r_u": float(result.r_u[-1, 0]), "settings": result.settings}
-        write_json(out / "summary.json", summary)
-        plot_element_test(result, out / "element_test.png")  # on its own canvas: nothing to close
+        with OutputFolder(Path(out_dir)) as folder:
+            _write(result, folder.path, plot_element_test)
     return result
+
+
+def _write(result, out: Path, plot_element_test) -> None:
+    """``element_test.csv``, ``summary.json`` and ``element_test.png`` into the claimed folder ``out``."""
+    table = np.column_stack([result.cycles, result.gamma[:, 0], result.tau[:, 0],
+                             result.p_s[:, 0], result.n_bar[:, 0], result.porosity[:, 0],
+                             result.r_u[:, 0]])
+    from ..io.folders import write_atomic
+    from ..io.results import write_json
+
+    buf = io.StringIO()  # written whole, never through a symbolic link (io.folders)
+    np.savetxt(buf, table, delimiter=",", comments="", fmt="%.9g",
+               header="cycles,gamma,tau_Pa,p_s_Pa,n_bar,porosity,r_u")
+    write_atomic(out / "element_test.csv", buf.getvalue())
+    n_liq = float(result.cycles_to_liquefaction[0])
+    summary = {"cycles_to_liquefaction": n_liq if np.isfinite(n_liq) else None,
+               "liquefied": bool(np.isfinite(n_liq)),
+               "final_r_u": float(result.r_u[-1, 0]), "settings": result.settings}
+    write_json(out / "summary.json", summary)
+    plot_element_test(result, out / "element_test.png")  # on its own canvas: nothing to close

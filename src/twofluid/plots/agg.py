@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from . import _matplotlib  # noqa: F401, I001  (first: matplotlib imported lean in the command's process)
 
+import io
 from pathlib import Path
 
 import matplotlib
@@ -90,7 +91,11 @@ def write_png(fig: Figure, path: str | Path) -> Path:
         image = image.convert("RGB")
     info = PngImagePlugin.PngInfo()
     info.add_text("Software", f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/")
-    image.save(path, format="png", dpi=(fig.dpi, fig.dpi), pnginfo=info, compress_level=PNG_COMPRESS_LEVEL)
+    buf = io.BytesIO()  # written whole and never through a symbolic link, recorded in the run's folder
+    image.save(buf, format="png", dpi=(fig.dpi, fig.dpi), pnginfo=info, compress_level=PNG_COMPRESS_LEVEL)
+    from ..io.folders import write_atomic
+
+    write_atomic(path, buf.getvalue())
     return path
 
 

@@ -11,7 +11,10 @@ or failure outside the time loop into a summary with a status.
 from __future__ import annotations
 
 import contextvars
+import errno
 import importlib
+import json
+import os
 import shutil
 import signal
 import threading
@@ -145,6 +148,32 @@ _NUMERICAL_ERRORS = (FloatingPointError, OverflowError, ZeroDivisionError, np.li
 _PROGRAM_ERRORS = (NotImplementedError, RecursionError)
 #: where a run is: "set-up", "time loop" or "summary and plots"
 _PHASE: contextvars.ContextVar[str] = contextvars.ContextVar("twofluid_run_phase", default="set-up")
+#: (time reached [s], steps taken) when the time loop ended: what a summary written after a stop in the
+#: "summary and plots" phase reports (the CSV files reach that time)
+_REACHED: contextvars.ContextVar[tuple | None] = contextvars.ContextVar("twofluid_run_reached", default=None)
+#: bytes of the summary.json a run reserves when it starts (see :func:`_reserve_summary`)
+SUMMARY_RESERVE = 64 * 1024
+
+
+class _CountingBar:
+    """The progress bar, counting its updates (one per step) for :data:`_REACHED`."""
+
+    def __init__(self, bar):
+        object.__setattr__(self, "_bar", bar)
+        object.__setattr__(self, "steps", 0)
+
+    def update(self, dn: float) -> None:
+        object.__setattr__(self, "steps", self.steps + 1)
+        self._bar.update(dn)
+
+    def reset(self, total=None) -> None:  # pseudo-time restarts (flow_2d): the steps go on counting
+        self._bar.reset(total=total)
+
+    def __getattr__(self, name):
+        return getattr(self._bar, name)
+
+    def __setattr__(self, name, value) -> None:
+        setattr(self._bar, name, value)
 
 
 def _interrupt_reason(exc: BaseException) -> str:
@@ -163,9 +192,10 @@ def run_guard(t_end: float, progress: bool, *closing):
     with the reason, closes the bar and every object in ``closing`` (result
     writers), and the runner goes on to write its summary from what it has.
     """
-    run = RunGuard(_bar(t_end, progress))
+    run = RunGuard(_CountingBar(_bar(t_end, progress)))
     reset_nonfinite()
     _PHASE.set("time loop")
+    _REACHED.set(None)
     try:
         yield run
     except KeyboardInterrupt as exc:
@@ -179,6 +209,7 @@ def run_guard(t_end: float, progress: bool, *closing):
         run.status, run.reason = "failed", text
     finally:
         _PHASE.set("summary and plots")
+        _REACHED.set((float(run.bar.n), int(run.bar.steps)))
         run.bar.close()
         for c in closing:
             try:
@@ -205,7 +236,7 @@ def validated_case(case) -> dict:
     >>> validated_case({"case": {"name": "x", "modle": "reduced_1d"}})
     Traceback (most recent call last):
     ...
-    twofluid.casefile.schema.CaseError: <api>: [case] modle: unknown key; valid keys: description, model, name, study
+    twofluid.casefile.schema.CaseError: <api>: [case] modle: unknown key; did you mean 'model'? (valid keys: description, model, name, study)
     """
     if isinstance(case, dict):
         return revalidate(case, str(case.get("_source", "<api>")))
@@ -255,28 +286,96 @@ def _interrupted_as_it_ended(res: RunResult, out: Path, signum: int) -> RunResul
     summary["status"] = "interrupted"
     summary["reason"] = f"{reason} as the run ended; its outputs are complete ({before})"
     if (out / "summary.json").is_file():
-        write_json(out / "summary.json", summary)
+        _write_summary(out / "summary.json", summary)
     res.status, res.summary = "interrupted", summary
     return res
+
+
+def _reserve_summary(out: Path, case: dict) -> None:
+    """``summary.json`` written as the run starts: status "running", padded to :data:`SUMMARY_RESERVE`
+    bytes (2 kB, room for the short summary, where the disk or the file-size limit does not allow
+    that). A run killed outright leaves it saying so; a disk that fills up later still holds these
+    bytes, where the final summary (or a short one) is written in place (:func:`_write_summary`). A
+    disk too full for even the short one: the run goes on without (its end says if the summary
+    cannot be written)."""
+    doc = {"case": case["case"]["name"], "status": "running", "stopped_at_s": None, "steps": None,
+           "reason": "the run was going when this was written: if no run is going, its process was killed "
+                     "before it could write a summary", "end_time_s": case["time"]["end"]}
+    data = json.dumps(doc, indent=2) + "\n"
+    from ..io.folders import write_atomic
+
+    for size in (SUMMARY_RESERVE, 2048):
+        try:
+            write_atomic(out / "summary.json", data + " " * max(size - len(data), 0))
+            return
+        except OSError as exc:
+            if exc.errno not in (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC), errno.EFBIG):
+                raise
+
+
+def _is_reserved(path: Path) -> bool:
+    """Whether ``path`` is still the summary :func:`_reserve_summary` wrote (no summary of the run yet)."""
+    try:
+        with open(path, "rb") as fh:
+            return b'"status": "running"' in fh.read(400)
+    except OSError:
+        return False
+
+
+def _write_summary(path: Path, summary: dict) -> None:
+    """``summary`` as ``path``; on a full disk, written in place over the bytes the file already has
+    (those reserved when the run started, or the summary written before), shortened to the key figures
+    where it does not fit. OSError if even that cannot be written."""
+    try:
+        write_json(path, summary)
+        return
+    except OSError as exc:
+        if exc.errno not in (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC), errno.EFBIG):
+            raise
+        full = exc
+    from ..io.folders import write_all
+    from ..io.results import plain
+
+    short = {k: summary.get(k) for k in ("case", "status", "reason", "stopped_at_s", "end_time_s", "steps",
+                                        "wall_time_s")}
+    short["note"] = "the disk was full: this is the summary shortened to what fitted"
+    try:
+        fd = os.open(path, os.O_WRONLY | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:
+        raise full from None
+    try:
+        size = os.fstat(fd).st_size
+        for doc in (summary, short):
+            data = (json.dumps(plain(doc), indent=2, allow_nan=False) + "\n").encode()
+            if len(data) <= size:
+                write_all(fd, data + b" " * (size - len(data)), path)  # no new block: the file's own bytes
+                return
+        raise full
+    finally:
+        os.close(fd)
 
 
 def _outside_loop(case: dict, out: Path, status: str, reason: str, wall: float) -> dict:
     """Summary of a run interrupted or failed outside its time loop (see :func:`run_case`)."""
     path = out / "summary.json"
     phase = _PHASE.get()
-    if path.is_file() and phase == "summary and plots":  # written by this run: the plots were going
-        import json
-
+    reached = _REACHED.get()
+    if path.is_file() and phase == "summary and plots" and not _is_reserved(path):  # the plots were going
         summary = json.loads(path.read_text(encoding="utf-8"))
         summary["reason"] = (f"{reason} while making the plots; the time loop had ended "
                              f"({summary.get('status')}, {summary.get('reason') or 'no reason given'})")
         summary["status"] = status
+    elif phase == "summary and plots" and reached is not None:  # the loop ended; its summary was not written
+        summary = {"case": case["case"]["name"], "status": status, "stopped_at_s": reached[0],
+                   "reason": f"{reason} while writing the summary and plots; the time loop had ended at t = "
+                             f"{reached[0]:.6g} s (the CSV files reach it)",
+                   "end_time_s": case["time"]["end"], "wall_time_s": wall, "steps": reached[1]}
     else:
         summary = {"case": case["case"]["name"], "status": status, "stopped_at_s": 0.0,
                    "reason": f"{reason} during the {phase}" + (", before the first step" if phase == "set-up"
                                                                 else ""),
                    "end_time_s": case["time"]["end"], "wall_time_s": wall, "steps": 0}
-    write_json(path, summary)
+    _write_summary(path, summary)
     return summary
 
 
@@ -284,12 +383,16 @@ def _run_claimed(runner, case: dict, out: Path, progress: bool, folder, sig, wal
     """The runner in its claimed folder: an interruption or failure outside its time loop is a
     summary that says so; from its end on, a signal is only noted (``sig``)."""
     token = _PHASE.set("set-up")
+    reached = _REACHED.set(None)
     try:
+        _reserve_summary(out, case)
         return runner(case, out, progress=progress)
     except KeyboardInterrupt as exc:
         summary = _outside_loop(case, out, "interrupted", _interrupt_reason(exc), time.perf_counter() - wall0)
         return RunResult("interrupted", out, summary)
     except CaseError:
+        if _is_reserved(out / "summary.json"):
+            (out / "summary.json").unlink(missing_ok=True)
         folder.abandon()
         raise
     except (StepFailure, *_NUMERICAL_ERRORS) as exc:
@@ -300,6 +403,7 @@ def _run_claimed(runner, case: dict, out: Path, progress: bool, folder, sig, wal
         return RunResult("failed", out, summary)
     finally:
         _PHASE.reset(token)
+        _REACHED.reset(reached)
         if sig is not None:
             sig["finishing"] = True  # from here a signal is noted, not raised
 
