@@ -1,5 +1,7 @@
-"""Figures of an ensemble: each figure against the varied parameters, histograms of a
-Monte Carlo, and the fragility curves of a PGA sweep."""
+"""Figures of an ensemble: each scalar figure against the varied parameters, histograms of a
+Monte Carlo, each list-valued figure (a value per depth, say) over its members with their
+statistics, and the fragility curves of a PGA sweep. Legends sit outside the axes (they hide no
+data); a figure of a settlement says in its title how many members reached their final one."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -9,11 +11,117 @@ import numpy as np
 from .fragility import fit_lognormal_fragility, fragility_by_level
 from .results import unit_of
 
-__all__ = ["ensemble_plots", "fragility_fits"]
+__all__ = ["ensemble_plots", "fragility_fits", "list_values", "settlement_note"]
+
+#: a legend right of its axes, top-aligned: outside the data, so that it hides none of it
+OUTSIDE = {"loc": "upper left", "bbox_to_anchor": (1.02, 1.0), "borderaxespad": 0.0}
 
 
 def _scalar(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def list_values(rows: list[dict], f: str) -> list[np.ndarray] | None:
+    """The completed members' values of figure ``f`` as float arrays when every one is a list of
+    numbers (None entries as NaN); None when ``f`` is not list-valued.
+
+    >>> [a.tolist() for a in list_values([{"status": "completed", "r": [0.5, None]}], "r")]
+    [[0.5, nan]]
+    >>> list_values([{"status": "completed", "r": 0.5}], "r") is None
+    True
+    """
+    done = [r.get(f) for r in rows if r["status"] == "completed"]
+    if not done or not all(isinstance(v, list) and v and all(_scalar(x) or x is None for x in v) for v in done):
+        return None
+    return [np.array([np.nan if x is None else x for x in v], float) for v in done]
+
+
+def settlement_note(f: str, done: list[dict]) -> str:
+    """For a settlement figure ``f``: whether the members' settlements are final, from what the
+    ensemble collected of their summaries' ``dissipation`` block ("" for another figure).
+
+    >>> rows = [{"dissipation.dissipated": True}, {"dissipation.dissipated": False}]
+    >>> settlement_note("settlement_end_m", rows)
+    '1 of 2 members final (dissipated)'
+    >>> settlement_note("settlement_end_m", [{}])
+    'whether final not collected (add dissipation.dissipated to collect)'
+    """
+    if "settlement" not in f or "final" in f:
+        return ""
+    flags = [r.get("dissipation.dissipated") for r in done]
+    fracs = [r.get("dissipation.fraction_of_final_settlement") for r in done]
+    words = []
+    if all(isinstance(x, bool) for x in flags):
+        words.append(f"{sum(flags)} of {len(flags)} members final (dissipated)")
+    if all(_scalar(x) for x in fracs):
+        words.append(f"reached {100.0 * min(fracs):.0f}–{100.0 * max(fracs):.0f} % of their predicted final")
+    return "; ".join(words) or "whether final not collected (add dissipation.dissipated to collect)"
+
+
+def _list_plot(rows: list[dict], values: list[np.ndarray], f: str, title: str, path: Path, labels=None) -> Path:
+    """Every member's list ``values`` of figure ``f`` (thin lines) with their mean and the band from
+    their minimum to their maximum, against the entries' ``labels`` (a depth: downwards) or their
+    number."""
+    import matplotlib.pyplot as plt
+
+    width = min(v.size for v in values)
+    vals = np.array([v[:width] for v in values])
+    depth = labels is not None and len(labels) >= width and all(_scalar(x) for x in labels[:width])
+    pos = np.asarray(labels[:width], float) if depth else np.arange(1, width + 1)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2) if not depth else (5.4, 5.4))
+    with np.errstate(all="ignore"):
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # an entry no member has: NaN
+            lo, mean, hi = np.nanmin(vals, 0), np.nanmean(vals, 0), np.nanmax(vals, 0)
+    draw = (lambda x, y, *a, **k: ax.plot(y, x, *a, **k)) if depth else ax.plot
+    for v in vals:
+        draw(pos, v, "-", color="0.6", lw=0.6, alpha=0.6)
+    draw(pos, mean, "o-", color="k", lw=1.4, ms=3, label=f"mean of {len(vals)} members")
+    draw(pos, lo, "--", color="tab:blue", lw=1.0, label="min / max")
+    draw(pos, hi, "--", color="tab:blue", lw=1.0)
+    ax.plot([], [], "-", color="0.6", lw=0.6, label="each member")
+    unit = unit_of(f)
+    if depth:
+        ax.invert_yaxis()
+        ax.set_xlabel(f"{f} [{unit}]")
+        ax.set_ylabel(f"{labels_name(labels)} [m]")
+    else:
+        ax.set_xlabel("entry")
+        ax.set_ylabel(f"{f} [{unit}]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, **OUTSIDE)
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+class _Labels(list):
+    """The entries' coordinates of a list figure, with the name of the figure they come from."""
+
+    def __init__(self, values, name: str):
+        super().__init__(values)
+        self.name = name
+
+
+def labels_name(labels) -> str:
+    return getattr(labels, "name", "depth")
+
+
+def _labels_for(f: str, collect: list[str], done: list[dict]):
+    """The depths of the entries of list figure ``f``: a collected list figure beside it whose name
+    ends in ``depth_m`` (``report_depths.depth_m`` for ``report_depths.peak_r_u``), as the first
+    completed member has it; None if there is none."""
+    parent = f.rsplit(".", 1)[0] if "." in f else ""
+    for g in collect:
+        if g != f and g.endswith("depth_m") and (g.rsplit(".", 1)[0] if "." in g else "") == parent:
+            v = done[0].get(g)
+            if isinstance(v, list):
+                return _Labels(v, g)
+    return None
 
 
 def key_unit(model: str, key: str) -> str:
@@ -70,7 +178,7 @@ def _fragility_plot(fits: dict, path: Path, title: str) -> Path:
     ax.set_xlabel(f"{fits['intensity']} [{fits['unit']}]")
     ax.set_ylabel(f"P({fits['figure']} ≥ {fits['threshold']:g})")
     ax.set_ylim(-0.03, 1.03)
-    ax.legend(fontsize=6, loc="lower right")
+    ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(0.0, -0.16), borderaxespad=0.0)  # below: hides nothing
     ax.set_title("fragility: members (dots), lognormal MLE (lines)", fontsize=9)
     if curves and all(_scalar(c["label"]) for c in curves):
         depth = np.array([c["label"] for c in curves], float)
@@ -81,7 +189,7 @@ def _fragility_plot(fits: dict, path: Path, title: str) -> Path:
         bx.set_xlabel("probability over the members")
         bx.set_ylabel(f"{fits['labels'] or 'entry'} (depth from the surface) [m]")
         bx.set_xlim(-0.03, 1.03)
-        bx.legend(fontsize=7, title=fits["intensity"], title_fontsize=7, loc="best")
+        bx.legend(fontsize=7, title=fits["intensity"], title_fontsize=7, **OUTSIDE)
         bx.set_title("probability by depth at each level", fontsize=9)
     else:
         bx.axis("off")
@@ -121,8 +229,9 @@ def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = N
                 ax.set_xlabel(f"{k} [{key_unit(model, k)}]")
                 ax.set_ylabel(f"{f} [{unit_of(f)}]")
                 if groups and len(keys) <= 12:
-                    ax.legend(fontsize=6)
-            fig.suptitle(f"{spec.name}: {f}", fontsize=10)
+                    ax.legend(fontsize=6, **OUTSIDE)
+            note = settlement_note(f, done)
+            fig.suptitle(f"{spec.name}: {f}" + (f"\n{note}" if note else ""), fontsize=10)
             fig.tight_layout()
             paths.append(out / f"figure_{f.replace('.', '_')}.png")
             fig.savefig(paths[-1], dpi=100)
@@ -132,11 +241,22 @@ def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = N
             ax.hist([r[f] for r in done], bins="auto")
             ax.set_xlabel(f"{f} [{unit_of(f)}]")
             ax.set_ylabel("members")
-            ax.set_title(f"{spec.name}: {len(done)} members", fontsize=9)
+            note = settlement_note(f, done)
+            ax.set_title(f"{spec.name}: {len(done)} members" + (f"\n{note}" if note else ""), fontsize=9)
             fig.tight_layout()
             paths.append(out / f"histogram_{f.replace('.', '_')}.png")
             fig.savefig(paths[-1], dpi=100)
             plt.close(fig)
+    listed = [f for f in spec.collect if done and list_values(rows, f) is not None]
+    coordinates = {getattr(_labels_for(f, spec.collect, done), "name", None) for f in listed}
+    for f in listed:
+        if f in coordinates:  # the depths of another list figure: its plot's axis
+            continue
+        values = list_values(rows, f)
+        labels = _labels_for(f, spec.collect, done)
+        note = settlement_note(f, done)
+        title = f"{spec.name}: {f}, {len(values)} members" + (f"\n{note}" if note else "")
+        paths.append(_list_plot(rows, values, f, title, out / f"list_{f.replace('.', '_')}.png", labels))
     if fragility and fragility.get("curves"):
         paths.append(_fragility_plot(fragility, out / "fragility.png", f"{spec.name}: {len(done)} members"))
     return paths
