@@ -29,7 +29,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from PIL import Image, PngImagePlugin
 
-__all__ = ["LeanAxes", "drawn_ticks", "lean_subplots", "new_figure", "symlog_ticks", "tick_locator", "write_png"]
+__all__ = ["LeanAxes", "drawn_ticks", "lean_subplots", "log_ticks", "new_figure", "symlog_ticks", "tick_locator", "write_png"]
 
 #: zlib level of the PNGs: level 3 compresses these line figures as well as the default 6, faster
 PNG_COMPRESS_LEVEL = 3
@@ -190,6 +190,20 @@ def symlog_ticks(axis, lo: float, hi: float, min_gap: float = 0.06) -> list[floa
     return kept
 
 
+def log_ticks(lo: float, hi: float) -> list[float]:
+    """Tick locations of a log axis from ``lo`` to ``hi``: 1 × 10^k, and 2 and 5 × 10^k where it
+    spans less than two decades.
+
+    >>> log_ticks(0.05, 2.0), log_ticks(2e-5, 0.04)
+    ([0.05, 0.1, 0.2, 0.5, 1.0, 2.0], [0.0001, 0.001, 0.01])
+    """
+    lo = max(lo, 1e-300)
+    subs = (1.0,) if hi / lo >= 100.0 else (1.0, 2.0, 5.0)
+    k0, k1 = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
+    return [float(f"{m * 10.0 ** k:.12g}") for k in range(k0, k1 + 1) for m in subs
+            if lo * (1.0 - 1e-9) <= m * 10.0 ** k <= hi * (1.0 + 1e-9)]
+
+
 class _PlainFormatter:
     """Labels as plain numbers (up to four significant digits, matplotlib's minus sign)."""
 
@@ -219,7 +233,7 @@ def _tick_labels(locs, lo: float, hi: float, formatter) -> list[str]:
 def drawn_ticks(ax, x: bool = True, y: bool = True, xlabels: bool = True, ylabels: bool = True,
                 xformatter=None, yformatter=None, grid: bool = True, nbins: int = NBINS,
                 yside: str = "left") -> None:
-    """Ticks of the linear (or symlog: :func:`symlog_ticks`, plain labels) x and y axes of ``ax`` as matplotlib draws them — marks 3.5 pt long
+    """Ticks of the linear (or log, symlog: :func:`log_ticks`, :func:`symlog_ticks`, plain labels) x and y axes of ``ax`` as matplotlib draws them — marks 3.5 pt long
     outside, labels 3.5 pt beyond, a light grid (``grid``), the axis label below or beside the tick
     labels — but drawn as three artists per axis (a line collection of the marks, one of the grid
     lines, one text per label) instead of matplotlib's five artists per tick, made and laid out at
@@ -251,12 +265,15 @@ def drawn_ticks(ax, x: bool = True, y: bool = True, xlabels: bool = True, ylabel
     w_in, h_in = fig.get_size_inches()
     for which, on, labelled, formatter in (("x", x, xlabels, xformatter), ("y", y, ylabels, yformatter)):
         axis = ax.xaxis if which == "x" else ax.yaxis
-        if not on or axis.get_scale() not in ("linear", "symlog"):
+        if not on or axis.get_scale() not in ("linear", "symlog", "log"):
             continue
         lo, hi = sorted(ax.get_xlim() if which == "x" else ax.get_ylim())
         slack = 1e-9 * max(hi - lo, 1e-300)
         if axis.get_scale() == "symlog":
             locs = symlog_ticks(axis, lo, hi)
+            formatter = formatter or _PlainFormatter()
+        elif axis.get_scale() == "log":
+            locs = log_ticks(lo, hi)
             formatter = formatter or _PlainFormatter()
         else:
             locs = [float(v) for v in tick_locator(nbins).tick_values(lo, hi) if lo - slack <= v <= hi + slack]

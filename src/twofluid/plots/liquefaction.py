@@ -1,12 +1,14 @@
 """Figures of a liquefaction run: r_u histories, depth–time map of r_u, settlement, the profile
 (layers, water table, peak r_u, peak strain, simplified-procedure FS) and response spectra.
 
-Drawn for their CPU (docs/benchmarks.md, "Start-up and plots"): margins fixed in inches
-(:func:`_margins`) rather than computed by ``tight_layout``, which lays out every text of a
-figure once more; the ticks of linear axes drawn as collections and texts
-(:func:`twofluid.plots.agg.drawn_ticks`); log axes without minor ticks (:func:`_log_axis`) and
-labelled with plain numbers (0.1, 1, 10, 1e-05; :class:`_Plain`) rather than matplotlib's
-10^x, whose mathtext parser costs about 0.1 s to build; titles placed at the top of their axes
+Drawn for their CPU (docs/benchmarks.md, "Start-up and plots" and "The figures' CPU"): margins
+fixed in inches (:func:`_margins`) rather than computed by ``tight_layout``, which lays out every
+text of a figure once more; axes that make no tick until one is drawn
+(:class:`twofluid.plots.agg.LeanAxes`); the ticks of linear, log and symlog axes drawn as
+collections and texts (:func:`twofluid.plots.agg.drawn_ticks`), log axes without minor ticks (the
+minor grid one collection, :func:`_minor_log_grid`) and labelled with plain numbers (0.1, 1, 10,
+1e−05) rather than matplotlib's 10^x, whose mathtext parser costs about 0.1 s to build; titles
+placed at the top of their axes
 (``y=1.0``) rather than placed anew at each drawing above whatever might stick out there (none
 of these axes has ticks on top).
 """
@@ -19,9 +21,8 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib import colormaps
-from matplotlib.ticker import Formatter, LogLocator, NullLocator
 
-from .agg import drawn_ticks, lean_subplots, new_figure, write_png
+from .agg import drawn_ticks, lean_subplots, log_ticks, new_figure, write_png
 
 __all__ = ["liquefaction_plots", "settlement_state"]
 
@@ -46,19 +47,10 @@ def _margins(fig, left: float = 0.85, right: float = 0.25, bottom: float = 0.62,
     fig.subplots_adjust(left=left / w, right=1.0 - right / w, bottom=bottom / h, top=1.0 - top / h, **space)
 
 
-class _Plain(Formatter):
-    """Every tick labelled as a plain number of up to three significant digits (0.002, 10, 1e−05),
-    with matplotlib's minus sign."""
-
-    def __call__(self, x, pos=None):
-        return self.fix_minus(f"{x:.3g}")
-
-
-def _log_axis(ax, which: str = "x", grid: bool = False) -> None:
-    """Ticks of the log-scaled ``which`` axis ("x" or "y") of ``ax`` (call it once the axes' data
-    and limits are final): labelled ticks at 1 × 10^k, and at 2 and 5 × 10^k too where the axis
-    spans less than two decades (plain numbers, :class:`_PlainLog`); no minor ticks. With ``grid``,
-    the grid lines at the other multiples (2 … 9 × 10^k) are drawn as one line collection instead.
+def _minor_log_grid(ax, which: str = "x") -> None:
+    """Grid lines of the log-scaled ``which`` axis ("x" or "y") of ``ax`` at 2 … 9 × 10^k (those not
+    labelled by :func:`twofluid.plots.agg.log_ticks`) as one line collection, in the grid's style
+    (call it once the axes' limits are final).
 
     matplotlib makes every minor tick of a log axis five artists (two marks, a grid line, two
     labels), 8 a decade and again for each axis that shares it: on the spectra figure about a
@@ -66,38 +58,27 @@ def _log_axis(ax, which: str = "x", grid: bool = False) -> None:
 
     >>> from twofluid.plots.agg import new_figure
     >>> ax = new_figure((3.0, 2.0), 50).subplots()
-    >>> _ = ax.loglog([1e-3, 1.2e-2], [0.01, 10.0]); _log_axis(ax, "x"); _log_axis(ax, "y", grid=True)
-    >>> f = ax.xaxis.get_major_formatter()
-    >>> [f(x) for x in ax.get_xticks() if 1e-3 <= x <= 1.2e-2]
-    ['0.001', '0.002', '0.005', '0.01']
+    >>> _ = ax.loglog([1e-3, 1.2e-2], [0.01, 10.0]); _minor_log_grid(ax, "y")
     >>> ys = [seg[0][1] for seg in ax.collections[0].get_segments()]  # 2 ... 9 x 10^k inside the limits
     >>> int(sum(0.01 < y < 10.0 for y in ys)), all(ax.get_ylim()[0] <= y <= ax.get_ylim()[1] for y in ys)
     (24, True)
     """
-    axis = ax.xaxis if which == "x" else ax.yaxis
-    lo, hi = sorted(ax.get_xlim() if which == "x" else ax.get_ylim())
-    lo = max(lo, 1e-300)
-    subs = (1.0,) if hi / lo >= 100.0 else (1.0, 2.0, 5.0)
-    axis.set_major_locator(LogLocator(subs=subs))
-    axis.set_major_formatter(_Plain())
-    axis.set_minor_locator(NullLocator())
-    if not grid:
-        return
+    import matplotlib as mpl
     from matplotlib.collections import LineCollection
 
+    lo, hi = sorted(ax.get_xlim() if which == "x" else ax.get_ylim())
+    lo = max(lo, 1e-300)
+    labelled = set(log_ticks(lo, hi))
     k0, k1 = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
-    at = [m * 10.0 ** k for k in range(k0, k1 + 1) for m in range(2, 10) if float(m) not in subs]
-    at = [v for v in at if lo <= v <= hi]
+    at = [float(f"{m * 10.0 ** k:.12g}") for k in range(k0, k1 + 1) for m in range(2, 10)]
+    at = [v for v in at if lo <= v <= hi and v not in labelled]
     if which == "x":
         segments, transform = [[(v, 0.0), (v, 1.0)] for v in at], ax.get_xaxis_transform()
     else:
         segments, transform = [[(0.0, v), (1.0, v)] for v in at], ax.get_yaxis_transform()
-    lines = ax.get_xgridlines() + ax.get_ygridlines()  # the major grid's style, for the minor lines
-    style = lines[0] if lines else None
-    ax.add_collection(LineCollection(
-        segments, transform=transform, zorder=style.get_zorder() if style else 1.5,
-        colors=style.get_color() if style else "#b0b0b0", linewidths=style.get_linewidth() if style else 0.8,
-        alpha=style.get_alpha() if style else 0.3), autolim=False)
+    rc = mpl.rcParams
+    ax.add_collection(LineCollection(segments, transform=transform, zorder=1.5, colors=rc["grid.color"],
+                                     linewidths=rc["grid.linewidth"], alpha=0.3), autolim=False)
 
 
 #: width [inch] of a legend column placed right of its axes (a line and a label of ~8 characters at 7 pt)
@@ -136,10 +117,15 @@ def _time_axis(ax, t, col) -> str:
     return f"time [s] (linear to {thresh:g} s, logarithmic after)"
 
 
+#: a settlement at least this fraction of the predicted final one is called final
+FINAL_FRACTION = 0.995
+
+
 def settlement_state(summary: dict) -> dict:
     """How far a run's settlement got, from its ``summary``: ``reached_m``, ``final_m`` (the predicted
     final settlement, None if the summary has none), ``fraction`` (reached / final), ``final`` (the
-    pore pressure dissipated: the settlement is final) and ``words``, which say it for a title.
+    pore pressure dissipated, or :data:`FINAL_FRACTION` of the final settlement reached) and
+    ``words``, which say it for a title.
 
     >>> s = {"settlement_end_m": 0.0737, "dissipation": {"dissipated": False, "final_settlement_m": 0.175,
     ...      "fraction_of_final_settlement": 0.421}}
@@ -148,6 +134,9 @@ def settlement_state(summary: dict) -> dict:
     >>> s["dissipation"].update(dissipated=True, fraction_of_final_settlement=0.997)
     >>> settlement_state(s)["words"]
     '7.37 cm, final (pore pressure dissipated; predicted final 17.5 cm)'
+    >>> s["dissipation"].update(dissipated=False, final_settlement_m=0.0738, fraction_of_final_settlement=0.9986)
+    >>> settlement_state(s)["words"]
+    '7.37 cm, final (100 % of the predicted final 7.38 cm)'
     """
     reached = float(summary["settlement_end_m"])
     d = summary.get("dissipation") or {}
@@ -155,11 +144,14 @@ def settlement_state(summary: dict) -> dict:
     fraction = d.get("fraction_of_final_settlement")
     if fraction is None and final:
         fraction = reached / final
-    done = bool(d.get("dissipated"))
+    dissipated = bool(d.get("dissipated"))
+    done = dissipated or (fraction is not None and fraction >= FINAL_FRACTION)
     if final is None:
         words = f"{100.0 * reached:.3g} cm reached (no final settlement predicted)"
-    elif done:
+    elif dissipated:
         words = f"{100.0 * reached:.3g} cm, final (pore pressure dissipated; predicted final {100.0 * final:.3g} cm)"
+    elif done:
+        words = f"{100.0 * reached:.3g} cm, final ({100.0 * fraction:.0f} % of the predicted final {100.0 * final:.3g} cm)"
     else:
         words = (f"{100.0 * reached:.3g} cm reached, not final: {100.0 * fraction:.0f} % of the predicted final "
                  f"{100.0 * final:.3g} cm")
@@ -295,11 +287,10 @@ def _profile_plot(rec, col, out: Path, title: str, ru_liq: float, summary: dict,
     axes[0].annotate("water table", xy=(0.02, zw), va="bottom", color="c", fontsize=7)
     axes[0].set_ylim(col.ground_surface, 0.0)
     axes[0].set_ylabel("depth below the ground surface [m]")
-    _log_axis(axes[1], "x")
     fig.suptitle(f"{title}: profile\nsettlement, two-fluid: {settlement_state(summary)['words']}; "
                  f"simplified procedure: {100 * run.total_settlement_m:.3g} cm (final)", fontsize=10)
     _margins(fig, right=0.3, top=0.95, wspace=0.12)
-    for ax in axes:  # the depth axis is shared: labelled once; the strain axis is logarithmic (its own ticks)
+    for ax in axes:  # the depth axis is shared: labelled once
         drawn_ticks(ax, ylabels=ax is axes[0])
     return write_png(fig, out / "profile.png")
 
@@ -317,11 +308,10 @@ def _spectra_plot(out: Path, title: str, spec: dict) -> Path:
     axes[1].axhline(1.0, color="k", lw=0.6)
     axes[1].set_ylabel("amplification S_a,surface / S_a,input [-]")
     axes[1].set_xlabel("period [s]")
-    for ax in axes:
-        ax.grid(alpha=0.3)
-    _log_axis(axes[0], "x", grid=True)  # (the period axis is shared)
-    _log_axis(axes[0], "y", grid=True)
-    _log_axis(axes[1], "x", grid=True)
+    _minor_log_grid(axes[0], "x")
+    _minor_log_grid(axes[0], "y")
+    _minor_log_grid(axes[1], "x")
     _margins(fig, right=0.3 + 1.1 * LEGEND_COLUMN, hspace=0.1)
-    drawn_ticks(axes[1], x=False)  # the amplification's linear axis
+    drawn_ticks(axes[0], xlabels=False)  # (the period axis is shared)
+    drawn_ticks(axes[1])
     return write_png(fig, out / "spectra.png")
