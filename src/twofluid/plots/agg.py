@@ -85,8 +85,16 @@ def _set(self, **kwargs):
 
 
 def _lean_axis(cls):
+    def _get_tick(self, major: bool):
+        """matplotlib's new tick, clipped to the axes' patch as the axis clips the ticks it has when
+        it is cleared (``Axis.reset_ticks``), which a lean axis does not have yet."""
+        tick = cls._get_tick(self, major)
+        tick.set_clip_path(self.axes.patch)
+        return tick
+
     return type(f"Lean{cls.__name__}", (cls,), {"majorTicks": _TicksWhenDrawn("majorTicks"),
-                                                 "minorTicks": _TicksWhenDrawn("minorTicks"), "set": _set})
+                                                 "minorTicks": _TicksWhenDrawn("minorTicks"), "set": _set,
+                                                 "_get_tick": _get_tick})
 
 
 class LeanAxes(Axes):
