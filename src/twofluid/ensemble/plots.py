@@ -58,38 +58,39 @@ def settlement_note(f: str, done: list[dict]) -> str:
     return "; ".join(words) or "whether final not collected (add dissipation.dissipated to collect)"
 
 
-def _list_plot(rows: list[dict], values: list[np.ndarray], f: str, title: str, path: Path, labels=None) -> Path:
-    """Every member's list ``values`` of figure ``f`` (thin lines) with their mean and the band from
-    their minimum to their maximum, against the entries' ``labels`` (a depth: downwards) or their
-    number."""
+def _list_plot(values: list[np.ndarray], f: str, title: str, path: Path, depths=None) -> Path:
+    """Every member's list ``values`` of figure ``f`` (thin lines) with their mean, minimum and
+    maximum per entry, against ``depths`` (name, values; downwards) or the entries' number."""
+    import warnings
+
     import matplotlib.pyplot as plt
 
     width = min(v.size for v in values)
     vals = np.array([v[:width] for v in values])
-    depth = labels is not None and len(labels) >= width and all(_scalar(x) for x in labels[:width])
-    pos = np.asarray(labels[:width], float) if depth else np.arange(1, width + 1)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2) if not depth else (5.4, 5.4))
-    with np.errstate(all="ignore"):
-        import warnings
+    down = depths is not None and len(depths[1]) >= width and all(_scalar(x) for x in depths[1][:width])
+    pos = np.asarray(depths[1][:width], float) if down else np.arange(1, width + 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an entry no member has: NaN
+        lo, mean, hi = np.nanmin(vals, 0), np.nanmean(vals, 0), np.nanmax(vals, 0)
+    fig, ax = plt.subplots(figsize=(5.4, 5.4) if down else (6.4, 4.2))
 
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # an entry no member has: NaN
-            lo, mean, hi = np.nanmin(vals, 0), np.nanmean(vals, 0), np.nanmax(vals, 0)
-    draw = (lambda x, y, *a, **k: ax.plot(y, x, *a, **k)) if depth else ax.plot
+    def draw(y, *args, **kwargs):  # the figure along x, and the entries down y where they are depths
+        return ax.plot(y, pos, *args, **kwargs) if down else ax.plot(pos, y, *args, **kwargs)
+
     for v in vals:
-        draw(pos, v, "-", color="0.6", lw=0.6, alpha=0.6)
-    draw(pos, mean, "o-", color="k", lw=1.4, ms=3, label=f"mean of {len(vals)} members")
-    draw(pos, lo, "--", color="tab:blue", lw=1.0, label="min / max")
-    draw(pos, hi, "--", color="tab:blue", lw=1.0)
+        draw(v, "-", color="0.6", lw=0.6, alpha=0.6)
+    draw(mean, "o-", color="k", lw=1.4, ms=3, label=f"mean of {len(vals)} members")
+    draw(lo, "--", color="tab:blue", lw=1.0, label="min / max")
+    draw(hi, "--", color="tab:blue", lw=1.0)
     ax.plot([], [], "-", color="0.6", lw=0.6, label="each member")
-    unit = unit_of(f)
-    if depth:
+    label = f"{f} [{unit_of(f)}]"
+    if down:
         ax.invert_yaxis()
-        ax.set_xlabel(f"{f} [{unit}]")
-        ax.set_ylabel(f"{labels_name(labels)} [m]")
+        ax.set_xlabel(label)
+        ax.set_ylabel(f"{depths[0]} [m]")
     else:
         ax.set_xlabel("entry")
-        ax.set_ylabel(f"{f} [{unit}]")
+        ax.set_ylabel(label)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, **OUTSIDE)
     ax.set_title(title, fontsize=9)
@@ -99,28 +100,20 @@ def _list_plot(rows: list[dict], values: list[np.ndarray], f: str, title: str, p
     return path
 
 
-class _Labels(list):
-    """The entries' coordinates of a list figure, with the name of the figure they come from."""
+def _depths_for(f: str, collect: list[str], done: list[dict]):
+    """(name, values) of the depths of list figure ``f``'s entries: a collected list figure beside it
+    whose name ends in ``depth_m`` (``report_depths.depth_m`` for ``report_depths.peak_r_u``), as
+    the first completed member has it; None if there is none.
 
-    def __init__(self, values, name: str):
-        super().__init__(values)
-        self.name = name
-
-
-def labels_name(labels) -> str:
-    return getattr(labels, "name", "depth")
-
-
-def _labels_for(f: str, collect: list[str], done: list[dict]):
-    """The depths of the entries of list figure ``f``: a collected list figure beside it whose name
-    ends in ``depth_m`` (``report_depths.depth_m`` for ``report_depths.peak_r_u``), as the first
-    completed member has it; None if there is none."""
+    >>> _depths_for("a.r_u", ["a.r_u", "a.depth_m"], [{"a.depth_m": [1.0, 2.0]}])
+    ('a.depth_m', [1.0, 2.0])
+    """
     parent = f.rsplit(".", 1)[0] if "." in f else ""
     for g in collect:
         if g != f and g.endswith("depth_m") and (g.rsplit(".", 1)[0] if "." in g else "") == parent:
             v = done[0].get(g)
             if isinstance(v, list):
-                return _Labels(v, g)
+                return g, v
     return None
 
 
@@ -248,15 +241,15 @@ def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = N
             fig.savefig(paths[-1], dpi=100)
             plt.close(fig)
     listed = [f for f in spec.collect if done and list_values(rows, f) is not None]
-    coordinates = {getattr(_labels_for(f, spec.collect, done), "name", None) for f in listed}
+    axes_of = {d[0] for d in (_depths_for(f, spec.collect, done) for f in listed) if d is not None}
     for f in listed:
-        if f in coordinates:  # the depths of another list figure: its plot's axis
+        if f in axes_of:  # the depths of another list figure: that plot's axis
             continue
         values = list_values(rows, f)
-        labels = _labels_for(f, spec.collect, done)
         note = settlement_note(f, done)
         title = f"{spec.name}: {f}, {len(values)} members" + (f"\n{note}" if note else "")
-        paths.append(_list_plot(rows, values, f, title, out / f"list_{f.replace('.', '_')}.png", labels))
+        paths.append(_list_plot(values, f, title, out / f"list_{f.replace('.', '_')}.png",
+                                _depths_for(f, spec.collect, done)))
     if fragility and fragility.get("curves"):
         paths.append(_fragility_plot(fragility, out / "fragility.png", f"{spec.name}: {len(done)} members"))
     return paths
