@@ -59,6 +59,8 @@ def test_settlement_state_says_final_or_the_fraction_reached():
     partial["dissipation"]["dissipated"] = True
     assert settlement_state(partial)["words"].startswith("7.37 cm, final")
     assert "no final settlement" in settlement_state({"settlement_end_m": 0.01})["words"]
+    nothing = settlement_state({"settlement_end_m": 0.0, "dissipation": {"final_settlement_m": 0.0}})
+    assert nothing["final"] and nothing["fraction"] == 1.0
 
 
 def test_every_figure_with_a_settlement_says_whether_it_is_final_beside_the_predicted_final(drawn):

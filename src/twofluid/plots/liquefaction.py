@@ -142,8 +142,8 @@ def settlement_state(summary: dict) -> dict:
     d = summary.get("dissipation") or {}
     final = d.get("final_settlement_m")
     fraction = d.get("fraction_of_final_settlement")
-    if fraction is None and final:
-        fraction = reached / final
+    if fraction is None and final is not None:
+        fraction = reached / final if final > 0.0 else 1.0  # nothing left to settle
     dissipated = bool(d.get("dissipated"))
     done = dissipated or (fraction is not None and fraction >= FINAL_FRACTION)
     if final is None:
