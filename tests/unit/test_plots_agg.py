@@ -137,3 +137,46 @@ def test_drawn_ticks_of_a_colour_bar_on_its_right_clear_of_its_label():
     assert [t.get_text() for t in texts] == ["0", "20", "40", "60", "80"]
     assert all(box.x1 < t.get_window_extent(r).x0 < label.x0 for t in texts)
     assert len(bar.ax.get_yticks()) == 0
+
+
+def test_lean_axes_draw_the_same_pixels_as_matplotlibs(tmp_path):
+    """LeanAxes make no tick until one is drawn; the picture is matplotlib's Axes' own: drawn ticks,
+    matplotlib's log ticks, an inverted shared axis, a legend, a title, a grid."""
+    from twofluid.plots.agg import drawn_ticks, lean_subplots
+
+    def draw(lean, path):
+        fig = new_figure((4.0, 4.0), dpi=60)
+        axes = lean_subplots(fig, 3, 1, sharex=True) if lean else fig.subplots(3, 1, sharex=True)
+        x = np.linspace(0.0, 10.0, 80)
+        axes[0].plot(x, np.sin(x), label="sin")
+        axes[0].legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
+        axes[0].set_title("a title", y=1.0)
+        axes[1].plot(x, 1.0 + x ** 2)
+        axes[1].set_yscale("log")
+        axes[1].grid(alpha=0.3)
+        axes[2].plot(x, -x)
+        axes[2].invert_yaxis()
+        axes[2].set_xlabel("x [m]")
+        fig.subplots_adjust(left=0.2, right=0.75)
+        drawn_ticks(axes[0], xlabels=False)
+        drawn_ticks(axes[1], x=False, y=False)
+        drawn_ticks(axes[2])
+        with Image.open(write_png(fig, path)) as im:
+            return np.asarray(im)
+
+    np.testing.assert_array_equal(draw(True, tmp_path / "lean.png"), draw(False, tmp_path / "axes.png"))
+
+
+def test_log_and_symlog_axes_get_drawn_ticks():
+    from twofluid.plots.agg import drawn_ticks
+
+    fig = new_figure((4.0, 3.0), dpi=50)
+    ax = fig.subplots()
+    ax.plot([0.0, 3600.0], [1e-4, 0.03])
+    ax.set_xscale("symlog", linthresh=11.0)
+    ax.set_yscale("log")
+    ax.set_xlim(0.0, 3600.0)
+    drawn_ticks(ax)
+    labels = [t.get_text() for t in ax.texts]
+    assert labels == ["0", "5", "10", "100", "1000", "0.0001", "0.001", "0.01"]
+    assert len(ax.get_xticks()) == 0 and len(ax.get_yticks()) == 0

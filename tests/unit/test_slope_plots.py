@@ -44,3 +44,32 @@ def test_slope_figures_do_not_import_pyplot():
     code = "import sys, twofluid.plots.slope; print('matplotlib.pyplot' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_no_legend_hides_a_data_point(tmp_path, monkeypatch):
+    """The legends of the displacement figures lie outside their data: no point of a line inside one."""
+    import numpy as np
+
+    import twofluid.plots.slope as slope
+
+    figures = {}
+    write = slope.write_png
+
+    def keep(fig, path):
+        figures[path.name] = fig
+        return write(fig, path)
+
+    monkeypatch.setattr(slope, "write_png", keep)
+    _run(3.0, tmp_path / "slope")
+    assert set(figures) == {"lateral_displacement.png", "surface_displacement.png"}
+    for name, fig in figures.items():
+        renderer = fig.canvas.get_renderer()
+        pts = np.concatenate([ln.get_transform().transform(np.column_stack([ln.get_xdata(), ln.get_ydata()])
+                                                           .astype(float))
+                              for ax in fig.axes for ln in ax.lines if len(ln.get_xdata())])
+        legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+        assert legends, name
+        for leg in legends:
+            box = leg.get_window_extent(renderer)
+            inside = (pts[:, 0] > box.x0) & (pts[:, 0] < box.x1) & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1)
+            assert not inside.any(), name

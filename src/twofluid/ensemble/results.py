@@ -257,7 +257,8 @@ def figure_stats(rows: list[dict], figures: list[str]) -> dict:
     """{figure: {unit, count, min, mean, std, max}} over the completed members' scalar values; a
     true/false figure gives its count of true (``true``). Beside a settlement a run reached (when
     ``settlement_final`` was collected): ``final``, how many members' settlements are final, in words,
-    ``members_final``, and ``predicted_final``, the statistics of the predicted final settlement.
+    ``members_final``, and ``predicted_final``, the statistics of the predicted final settlement; of a list-valued figure (a value per depth),
+    the same per entry as lists (None where no member has one).
 
     >>> rows = [{"status": "completed", "h_m": 1.0}, {"status": "completed", "h_m": 3.0},
     ...         {"status": "failed", "h_m": None}]
@@ -270,10 +271,27 @@ def figure_stats(rows: list[dict], figures: list[str]) -> dict:
     ('1 of 2 members final; the others stopped before dissipation (predicted final settlement: predicted_final_settlement_m)', 0.2)
     >>> st["settlement_final"]
     {'unit': '-', 'count': 2, 'true': 1}
+    >>> figure_stats([{"status": "completed", "r": [1.0, 2.0]}, {"status": "completed", "r": [3.0, None]}], ["r"])
+    {'r': {'unit': '-', 'count': 2, 'entries': 2, 'min': [1.0, 2.0], 'mean': [2.0, 2.0], 'std': [1.0, 0.0], 'max': [3.0, 2.0]}}
     """
     out = {}
     done = [r for r in rows if r["status"] == "completed"]
     for f in figures:
+        lists = [r[f] for r in done if isinstance(r.get(f), list)]
+        if lists and all(all(isinstance(x, (int, float)) and not isinstance(x, bool) or x is None for x in v)
+                         for v in lists):  # a value per entry: the statistics of each entry over the members
+            width = max(len(v) for v in lists)
+            a = np.array([[np.nan if x is None else x for x in v] + [np.nan] * (width - len(v)) for v in lists], float)
+            n = np.isfinite(a).sum(0)
+            with np.errstate(all="ignore"):
+                stats = {k: [float(x) if c else None for x, c in zip(fn(np.where(np.isfinite(a), a, fill), 0), n)]
+                         for k, fn, fill in (("min", np.min, np.inf), ("max", np.max, -np.inf))}
+                mean = np.nansum(a, 0) / np.maximum(n, 1)
+                std = np.sqrt(np.nansum((a - mean) ** 2, 0) / np.maximum(n, 1))
+            out[f] = {"unit": unit_of(f), "count": len(lists), "entries": width, "min": stats["min"],
+                      "mean": [float(x) if c else None for x, c in zip(mean, n)],
+                      "std": [float(x) if c else None for x, c in zip(std, n)], "max": stats["max"]}
+            continue
         flags = [r[f] for r in done if isinstance(r.get(f), bool)]
         if flags:
             out[f] = {"unit": "-", "count": len(flags), "true": int(sum(flags))}

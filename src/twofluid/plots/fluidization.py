@@ -42,7 +42,7 @@ def fluidization_plot(curve: dict, out_path: Path) -> Path:
         a.xaxis.set_major_formatter(FuncFormatter(lambda x, _p: f"{x:g}"))
         a.axvline(u_mf, ls="-.", color="k", lw=0.8)
         a.grid(alpha=0.3, which="both")
-        a.legend(fontsize=8, loc="upper left")
+        a.legend(fontsize=8, loc="best")  # where it covers the fewest data points
     a1.text(u_mf, a1.get_ylim()[1], f" U_mf = {u_mf:.3g} mm/s", va="top", fontsize=8)
     fig.suptitle(f"{curve['case']}: fluidization curve")
     fig.subplots_adjust(left=0.13, right=0.97, bottom=0.07, top=0.95, hspace=0.08)

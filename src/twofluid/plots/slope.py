@@ -76,10 +76,11 @@ def _profiles(srec, col, out: Path, title: str, slope: dict) -> Path:
     ax.set_ylim(col.ground_surface, 0.0)
     ax.set_xlabel("downslope displacement relative to the base [cm]")
     ax.set_ylabel("depth below the ground surface [m]")
-    ax.legend(fontsize=7, title="time", title_fontsize=7, loc="lower right")
+    ax.legend(fontsize=7, title="time", title_fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+              borderaxespad=0.0)  # right of the axes: it hides no data
     ax.set_title(f"{title}: lateral displacement ({slope['slope_percent']:g} % slope)", y=1.0)
     ax.grid(alpha=0.3)
-    _margins(fig)
+    _margins(fig, right=1.25)
     return write_png(fig, out / "lateral_displacement.png")
 
 
@@ -110,7 +111,8 @@ def _history(srec, col, out: Path, title: str, slope: dict) -> Path:
     ax.set_xlabel("time [s]" + (f" (constant after {end:.4g} s)" if t[-1] > t_max else ""))
     ax.set_ylabel("downslope surface displacement [cm]")
     ax.set_title(f"{title}: surface displacement", y=1.0)
-    ax.legend(fontsize=7, loc="upper left")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=4,
+              borderaxespad=0.0)  # below the time axis' label: it hides no data
     ax.grid(alpha=0.3)
 
     rows = estimate_rows(slope)
@@ -139,5 +141,5 @@ def _history(srec, col, out: Path, title: str, slope: dict) -> Path:
     bx.set_xlabel("displacement [m]")
     bx.set_title("beside it", y=1.0)
     bx.grid(alpha=0.3, axis="x")
-    _margins(fig, right=0.2, wspace=0.55)
+    _margins(fig, right=0.2, bottom=0.95, wspace=0.55)
     return write_png(fig, out / "surface_displacement.png")
