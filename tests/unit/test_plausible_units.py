@@ -19,7 +19,7 @@ for _m in S._MODEL_MODULES:
 
 #: a bundled case of each model, where a key of that model's sections is set
 BASE = {"two_fluid_1d": "settling-illite", "reduced_1d": "settling-illite", "two_fluid_2d": "viscometer",
-        "liquefaction_1d": "liquefaction-layered-site"}
+        "liquefaction_1d": "liquefaction-layered-site", "immersed_avalanche": "immersed-avalanche"}
 
 
 def _dimensional():

@@ -156,6 +156,13 @@ PLAUSIBLE: dict[tuple[str, str], Plausible] = {
     ("layers", "n160cs"): _p((None, 46.0), (2.0, 46.0), note="(N1)60cs; 0: from relative_density"),
     ("layers", "friction_angle"): _p((1.1, 50.0), (20.0, 45.0), RAD,
                                      note="degrees; ≤ 1.1 reads as radians (0: from the density)"),
+    # the immersed granular layer on an incline ([layer] of an immersed_avalanche case)
+    ("layer", "thickness"): _p((1e-5, 1.0), (1e-3, 0.1), MM, zero_ok=False,
+                               note="a laboratory layer: 1 mm to 10 cm usual (Pailha et al. 4.9 mm)"),
+    ("layer", "slope_deg"): _p((1.1, 60.0), (5.0, 45.0), RAD, zero_ok=False,
+                               note="degrees; ≤ 1.1 reads as radians"),
+    ("layer", "skeleton_modulus"): _p((1e3, 1e12), (1e5, 1e10), KPA, zero_ok=False,
+                                      note="the contact stiffness of the grains (glass beads ~4e7 Pa at 10–40 Pa)"),
 }
 
 
