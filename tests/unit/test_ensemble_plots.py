@@ -33,17 +33,17 @@ def _spec(collect):
 
 @pytest.fixture
 def saved(monkeypatch):
-    """{file name: Figure} of every figure saved through matplotlib."""
-    from matplotlib.figure import Figure
+    """{file name: Figure} of every figure the ensemble writes."""
+    from twofluid.ensemble import plots
 
     figures = {}
-    save = Figure.savefig
+    save = plots._save
 
-    def keep(self, path, *a, **k):
-        save(self, path, *a, **k)
-        figures[path.name] = self
+    def keep(fig, path, dpi):
+        save(fig, path, dpi)
+        figures[path.name] = fig
 
-    monkeypatch.setattr(Figure, "savefig", keep)
+    monkeypatch.setattr(plots, "_save", keep)
     return figures
 
 
@@ -101,3 +101,25 @@ def test_no_legend_hides_a_data_point(tmp_path, saved):
             assert not inside.any(), name
             checked += 1
     assert checked >= 2
+
+
+def test_a_figure_is_never_written_through_a_link_planted_in_the_folder(tmp_path):
+    """A symbolic link planted where an ensemble figure goes is neither followed nor replaced (as
+    for every output, io.folders.write_atomic): the write is refused and the link's target,
+    outside the folder, is not touched."""
+    from matplotlib.figure import Figure
+
+    from twofluid.ensemble.plots import _save
+
+    outside = tmp_path / "outside.png"
+    outside.write_bytes(b"the user's file")
+    out = tmp_path / "study"
+    out.mkdir()
+    (out / "figure_x.png").symlink_to(outside)
+    fig = Figure(figsize=(1, 1))
+    fig.subplots().plot([0, 1])
+    with pytest.raises(OSError, match="symbolic link"):
+        _save(fig, out / "figure_x.png", 50)
+    assert outside.read_bytes() == b"the user's file"
+    _save(fig, out / "figure_y.png", 50)
+    assert (out / "figure_y.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -17,6 +17,18 @@ __all__ = ["ensemble_plots", "fragility_fits", "list_values", "settlement_note"]
 OUTSIDE = {"loc": "upper left", "bbox_to_anchor": (1.02, 1.0), "borderaxespad": 0.0}
 
 
+def _save(fig, path: Path, dpi: int) -> None:
+    """Write ``fig`` as PNG whole or not at all, never through a symbolic link planted in the folder
+    (:func:`twofluid.io.folders.write_atomic`)."""
+    import io
+
+    from ..io.folders import write_atomic
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    write_atomic(path, buf.getvalue())
+
+
 def _scalar(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
@@ -95,7 +107,7 @@ def _list_plot(values: list[np.ndarray], f: str, title: str, path: Path, depths=
     ax.legend(fontsize=7, **OUTSIDE)
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    _save(fig, path, 100)
     plt.close(fig)
     return path
 
@@ -188,7 +200,7 @@ def _fragility_plot(fits: dict, path: Path, title: str) -> Path:
         bx.axis("off")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    _save(fig, path, 110)
     plt.close(fig)
     return path
 
@@ -227,7 +239,7 @@ def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = N
             fig.suptitle(f"{spec.name}: {f}" + (f"\n{note}" if note else ""), fontsize=10)
             fig.tight_layout()
             paths.append(out / f"figure_{f.replace('.', '_')}.png")
-            fig.savefig(paths[-1], dpi=100)
+            _save(fig, paths[-1], 100)
             plt.close(fig)
         if spec.sample:
             fig, ax = plt.subplots(figsize=(4.5, 3.5))
@@ -238,7 +250,7 @@ def ensemble_plots(rows: list[dict], spec, out: Path, fragility: dict | None = N
             ax.set_title(f"{spec.name}: {len(done)} members" + (f"\n{note}" if note else ""), fontsize=9)
             fig.tight_layout()
             paths.append(out / f"histogram_{f.replace('.', '_')}.png")
-            fig.savefig(paths[-1], dpi=100)
+            _save(fig, paths[-1], 100)
             plt.close(fig)
     listed = [f for f in spec.collect if done and list_values(rows, f) is not None]
     axes_of = {d[0] for d in (_depths_for(f, spec.collect, done) for f in listed) if d is not None}
