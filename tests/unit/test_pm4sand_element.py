@@ -95,3 +95,25 @@ def test_one_short_case_reproduces_the_frozen_number(frozen, script):
     assert r["n3"] == pytest.approx(row["pm4sand"]["n3"], abs=0.01)
     k = min(10, len(r["gamma_end"]))
     assert r["gamma_end"][:k] == pytest.approx(row["pm4sand"]["gamma_end"][:k], rel=1e-6, abs=1e-9)
+
+
+def test_frozen_columns_hold_the_reported_quantities():
+    """benchmarks/pm4sand_column_results.json: each run has the surface displacement history, the
+    residual and peak strain profiles, peak r_u, the liquefied range, surface Sa and the settlement;
+    the history ends at the reported final displacement, and the profile spans the column."""
+    res = json.loads((BENCH / "pm4sand_column_results.json").read_text())["runs"]
+    assert set(res) == {"sloping-site +1", "sloping-site -1", "liquefaction-layered-site +1"}
+    for run in res.values():
+        h = run["surface_displacement_history"]
+        assert len(h["t_s"]) == len(h["u_m"]) > 100
+        assert h["u_m"][-1] == pytest.approx(run["surface_displacement_end_m"], abs=1e-5)
+        prof = run["profile"]
+        assert prof[0]["depth_m"] < prof[-1]["depth_m"]
+        assert all({"gamma_residual", "gamma_peak", "ru_max", "sigma_v0_kPa"} <= set(p) for p in prof)
+        liq = [p["depth_m"] for p in prof if p["ru_max"] is not None and p["ru_max"] >= 0.95]
+        if liq:
+            lo, hi = run["liquefied_range_m"]
+            assert lo < min(liq) and max(liq) < hi
+        assert set(run["surface_sa_g"]) >= {"0.2", "0.5", "1"} and run["settlement_m"] > -0.01
+    for key in ("sloping-site +1", "sloping-site -1"):
+        assert res[key]["slope"] == pytest.approx(0.03)
