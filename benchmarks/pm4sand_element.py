@@ -111,14 +111,17 @@ def crr15(dr: float) -> float:
     return float(crr_75(n160(dr)))
 
 
-def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_cycles=20, ops=None):
+def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_cycles=20, ops=None,
+        static="drained"):
     """One undrained cyclic simple-shear test (module docstring).
 
     Returns dict: n3 (cycles at |gamma - gamma_s| >= 3 %, None if not reached), gamma_s, K0,
     gamma_end [end of each cycle, from gamma_s], gamma_peak [largest |gamma - gamma_s| in each
     cycle], ru_end, ru_max [per cycle], cycles_run, steps. Stops after ``n_cycles`` or once
     |gamma - gamma_s| >= ``stop_gamma`` (None: 3 %), or (``after_n3``) once ``after_n3`` cycles past
-    N_3% and at least ``min_cycles`` cycles are recorded.
+    N_3% and at least ``min_cycles`` cycles are recorded. ``static="undrained"`` (a sensitivity, not
+    the protocol) holds the volume before the static shear is ramped, r_u then counting from the
+    consolidation stress.
     """
     ops = ops or load_ops()
     stop = GAMMA_LIQ if stop_gamma is None else stop_gamma
@@ -147,12 +150,12 @@ def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_
     if ops.analyze(20) != 0:
         raise RuntimeError("consolidation failed")
     s = ops.eleResponse(1, "stress")
-    k0 = s[0] / s[1]
+    k0, sv_cons = s[0] / s[1], -s[1]
     ops.loadConst("-time", 0.0)
     ops.updateMaterialStage("-material", 1, "-stage", 1)
     ops.setParameter("-val", 0, "-ele", 1, "FirstCall", "1")        # the model initialises on the K0 stress
     ops.setParameter("-val", NU_PLASTIC, "-ele", 1, "poissonRatio", "1")
-    if alpha > 0.0:                              # drained static shear, the vertical load held
+    if alpha > 0.0 and static == "drained":      # drained static shear, the vertical load held
         n = max(1, int(math.ceil(alpha * sv / MAX_DTAU_STATIC)))
         ops.timeSeries("Linear", 2)
         ops.pattern("Plain", 2, 2)
@@ -170,6 +173,16 @@ def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_
     ops.timeSeries("Linear", 4)
     ops.pattern("Plain", 4, 4)
     ops.sp(3, 1, 1.0)                            # horizontal displacement = pseudo-time
+    if alpha > 0.0 and static == "undrained":    # the sensitivity: tau_s ramped at constant volume
+        dg = DGAMMA_MIN
+        while ops.eleResponse(1, "stress")[2] < alpha * sv:
+            ops.integrator("LoadControl", dg)
+            if ops.analyze(1) != 0 or ops.nodeDisp(3, 1) - gam_s > GAMMA_LIQ:
+                raise RuntimeError(f"undrained static shear failed (Dr {dr}, alpha {alpha})")
+            dg = min(1.5 * dg, 1e-5)
+        s = ops.eleResponse(1, "stress")
+        sv0, tau_s = sv_cons, s[2]
+        gam_s = ops.nodeDisp(3, 1)
     amp = csr * sv
     hi, lo = tau_s + amp, tau_s - amp
     # segments: (target, N at its start, N at its end, direction); the first a quarter cycle
@@ -341,6 +354,8 @@ def main(argv=None):
     p.add_argument("--case", default=None, metavar="DR,ALPHA,CSR", help="one test, printed")
     p.add_argument("--hpo", type=float, default=None, help="h_po of --case (default: the JSON's)")
     p.add_argument("--cycles", type=float, default=25.0)
+    p.add_argument("--static", choices=("drained", "undrained"), default="drained",
+                   help="--case: how the static shear is applied (undrained: a sensitivity)")
     p.add_argument("--no-twofluid", action="store_true")
     p.add_argument("--table", action="store_true", help="print --json's results as markdown tables and stop")
     a = p.parse_args(argv)
@@ -356,7 +371,7 @@ def main(argv=None):
     if a.case:
         dr, alpha, csr = (float(v) for v in a.case.split(","))
         hpo = a.hpo if a.hpo is not None else old["h_po"][str(int(dr))]
-        r = run(dr, hpo, alpha, csr, n_cycles=a.cycles, stop_gamma=0.5, ops=ops)
+        r = run(dr, hpo, alpha, csr, n_cycles=a.cycles, stop_gamma=0.5, ops=ops, static=a.static)
         print(json.dumps(r, indent=1))
         return r
     if a.calibrate or old is None:
