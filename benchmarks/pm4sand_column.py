@@ -1,0 +1,373 @@
+"""OpenSees PM4Sand u-p columns of twofluid's bundled sites (``sloping-site``, ``liquefaction-layered-site``).
+
+An independent effective-stress model of the same site beside twofluid's hysteretic column. PM4Sand
+is used only through ``nDMaterial('PM4Sand', ...)`` of openseespy (pinned in pm4sand_element.py).
+The column follows the project's OpenSees peer and ``opensees_layered.py`` (SSPquadUP u-p elements
+0.5 m wide, periodic sides by equalDOF, gravity elastic then plastic with a large permeability, the
+real permeability afterwards, Newmark gamma = 0.6, failed steps redone by the peer's ``recover``,
+compliant base: Lysmer-Kuhlemeyer dashpot with the outcrop velocity as a base force), changed where
+the material differs:
+
+* every layer is PM4Sand with the element protocol of ``pm4sand_element.py``: D_R = Dr of the case,
+  G_o = 167 sqrt(46 Dr^2 + 2.5), h_po calibrated so that Idriss & Boulanger's CRR15 at 1 atm
+  reaches 3 % in 15 uniform cycles (calibrated once per Dr and cached in
+  ``pm4sand_column_hpo.json``), the same secondary parameters (nu = 1/3 in the elastic gravity
+  stage for K0 = 0.5, 0.3 after); the crust (no Dr in the case) takes Dr = 55 % and is drained
+  (pore pressure fixed at 0 at and above the water table);
+* mass densities: the crust's unit weight / g, the sands' (1 - n) rho_s + n rho_w;
+* a slope S (the case's ``[site] slope`` in %) as an infinite slope: the gravity normal to the
+  slope (g cos theta) is the elements' body force; the slope-parallel component is applied after
+  the switch to the plastic stage, drained, as nodal forces (the column's weight times sin theta,
+  solid and water: slope-parallel seepage), as the element protocol applies its static shear;
+  ``--polarity -1`` reverses the record;
+* the case's record scaled to its PGA, its ``duration``; then ``--free`` seconds of free vibration.
+
+Outputs (``--out``: summary.json): surface displacement relative to the base against time (every
+0.05 s), the residual (end of run) and peak shear-strain profiles, peak r_u per element, the
+liquefied range (r_u >= 0.95 during the run), surface 5 %-damped Sa at 0.1-2 s, the settlement.
+
+    python benchmarks/pm4sand_column.py sloping-site [--polarity 1|-1] [--dt 0.005] [--out DIR]
+    python benchmarks/pm4sand_column.py liquefaction-layered-site --free 0 [--out DIR]
+"""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import pm4sand_element as pe  # noqa: E402
+from bench_peers import PEERS  # noqa: E402
+
+ops = pe.load_ops()
+_spec = importlib.util.spec_from_file_location("peer_column", PEERS / "opensees" / "column.py")
+peer = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(peer)
+
+G_ACC = 9.80665
+RHO_W = 1.0                 # Mg/m3
+GAMMA_W = RHO_W * G_ACC     # kN/m3
+K_FLUID = 2.2e6             # kPa
+WIDTH = 0.5                 # m
+CRUST_DR = 55.0             # %
+BEDROCK_RHO, BEDROCK_VS = 2.4, 760.0
+HPO_CACHE = HERE / "pm4sand_column_hpo.json"
+PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0)
+
+
+DATA = HERE.parent / "src" / "twofluid" / "data"
+
+
+def case_file(name):
+    """The bundled case's case.toml, or a path."""
+    p = DATA / "cases" / name / "case.toml"
+    return p if p.exists() else Path(name)
+
+
+def hpo_for(dr):
+    """h_po calibrated for Dr [%] (pm4sand_element.calibrate), cached by Dr rounded to 0.1 %."""
+    cache = json.loads(HPO_CACHE.read_text()) if HPO_CACHE.exists() else {}
+    key = f"{dr:.1f}"
+    if key not in cache:
+        frozen = HERE / "pm4sand_element_results.json"
+        fr = json.loads(frozen.read_text())["h_po"] if frozen.exists() else {}
+        if f"{dr:g}" in fr:
+            cache[key] = fr[f"{dr:g}"]
+        else:
+            cache[key] = pe.calibrate(dr, ops=ops)[0]
+            ops.wipe()
+        HPO_CACHE.write_text(json.dumps(cache, indent=1, sort_keys=True) + "\n")
+    return cache[key]
+
+
+def sa(acc, dt, periods, zeta=0.05):
+    """5 %-damped pseudo-spectral acceleration [same unit as acc] (Newmark average acceleration)."""
+    out = []
+    for T in periods:
+        w = 2 * math.pi / T
+        m, c, k = 1.0, 2 * zeta * w, w * w
+        kh = k + 2 * c / dt + 4 * m / dt ** 2
+        u = v = 0.0
+        a = -acc[0]
+        umax = 0.0
+        for i in range(1, len(acc)):
+            p = -acc[i] + m * (4 * u / dt ** 2 + 4 * v / dt + a) + c * (2 * u / dt + v)
+            un = p / kh
+            vn = 2 * (un - u) / dt - v
+            a = 4 * (un - u) / dt ** 2 - 4 * v / dt - a
+            u, v = un, vn
+            umax = max(umax, abs(u))
+        out.append(w * w * umax)
+    return out
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("case")
+    p.add_argument("--polarity", type=int, choices=(1, -1), default=1)
+    p.add_argument("--dt", type=float, default=0.005)
+    p.add_argument("--free", type=float, default=4.0, help="free vibration after the shaking [s]")
+    p.add_argument("--duration", type=float, default=None, help="shaking [s] (default: the case's)")
+    p.add_argument("--pga", type=float, default=None, help="outcrop PGA [g] (default: the case's)")
+    p.add_argument("--out", default=None)
+    p.add_argument("--beside", nargs="+", metavar=("TWOFLUID_DIR", "PM4SAND_SUMMARY"),
+                   help="print twofluid's run folder beside PM4Sand summary.json files and stop")
+    a = p.parse_args(argv)
+    if a.beside:
+        print(beside(a.beside[0], a.beside[1:]))
+        return None
+    t_start = time.perf_counter()
+    case = tomllib.loads(case_file(a.case).read_text())
+    site = case.get("site", {})
+    wt = float(site.get("water_table_depth", 0.0))
+    slope = float(site.get("slope", 0.0)) / 100.0
+    theta = math.atan(slope)
+    rho_s = case["materials"]["particle_density"] / 1000.0
+    gm_case = case["ground_motion"]
+    # ---------------------------------------------------------------- layers
+    mats, h, lay = [], [], []
+    for i, L in enumerate(case["layers"]):
+        if "unit_weight" in L:
+            rho, e, dr, k = L["unit_weight"] / 1000.0 / G_ACC, 0.6, CRUST_DR, 1e-4
+        else:
+            n = L["porosity"]
+            rho, e, dr, k = (1 - n) * rho_s + n * RHO_W, n / (1 - n), L["relative_density"], L["hydraulic_conductivity"]
+        mats.append(dict(name=L["name"], rho=rho, e=e, dr=dr, k=k, hpo=hpo_for(dr), G_o=pe.g0(dr)))
+        ne = int(round(L["thickness"] / L["element_size"]))
+        h += [L["thickness"] / ne] * ne
+        lay += [i] * ne
+    h, lay = np.array(h[::-1]), np.array(lay[::-1])           # base first
+    nele = h.size
+    y = np.concatenate([[0.0], np.cumsum(h)])
+    depth = y[-1]
+    zc = depth - 0.5 * (y[1:] + y[:-1])
+    ydepth = depth - y
+    sat = zc > wt
+    # ---------------------------------------------------------------- motion
+    dt_gm, gm = peer.read_at2(str(DATA / "ground_motions" / gm_case["file"]))
+    dur = float(gm_case.get("duration", 10.0)) if a.duration is None else a.duration
+    full = gm[:int(round(float(gm_case.get("duration", 10.0)) / dt_gm)) + 1]     # scaled as the case scales it
+    rec = gm[:int(round(dur / dt_gm)) + 1]
+    acc = a.polarity * rec * ((gm_case["pga_g"] if a.pga is None else a.pga) / np.max(np.abs(full))) * G_ACC
+    vel = np.concatenate([[0.0], np.cumsum(0.5 * (acc[1:] + acc[:-1]) * dt_gm)])
+    vel = np.concatenate([vel, np.full(int(a.free / dt_gm) + 2, vel[-1])])
+    # ---------------------------------------------------------------- model
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for j in range(nele + 1):
+        ops.node(2 * j + 1, 0.0, y[j])
+        ops.node(2 * j + 2, WIDTH, y[j])
+    ops.fix(1, 0, 1, 0)
+    ops.fix(2, 0, 1, 0)
+    ops.equalDOF(1, 2, 1)
+    for j in range(1, nele + 1):
+        ops.equalDOF(2 * j + 1, 2 * j + 2, 1, 2)
+    for j in range(nele + 1):
+        if ydepth[j] <= wt + 1e-9:
+            ops.fix(2 * j + 1, 0, 0, 1)
+            ops.fix(2 * j + 2, 0, 0, 1)
+    c_dash = BEDROCK_RHO * BEDROCK_VS * WIDTH
+    dash = 2 * nele + 101
+    ops.node(dash, 0.0, 0.0)
+    ops.fix(dash, 1, 1, 1)
+    ops.uniaxialMaterial("Viscous", 100, c_dash, 1.0)
+    ops.element("zeroLength", 10000, dash, 1, "-mat", 100, "-dir", 1)
+    sec = list(pe.SECONDARY.values())
+    for i, m in enumerate(mats):
+        ops.nDMaterial("PM4Sand", i + 1, m["dr"] / 100.0, m["G_o"], m["hpo"], m["rho"], *sec)
+    w = np.array([mats[lay[j]]["rho"] * G_ACC * h[j] for j in range(nele)])        # kN/m2 per element
+    sv_est = np.array([w[j:].sum() - 0.5 * w[j] - GAMMA_W * max(0.0, zc[j] - wt) for j in range(nele)])
+    nu = pe.SECONDARY["nu"]
+    for j in range(nele):
+        m = mats[lay[j]]
+        p_est = max(0.75 * sv_est[j], 1.0)          # the in-plane mean stress at K0 = 0.5
+        g_e = m["G_o"] * pe.P_ATM * math.sqrt(p_est / pe.P_ATM)
+        b_e = 2 * g_e * (1 + nu) / (3 * (1 - 2 * nu))
+        alpha = 0.25 * h[j] ** 2 / (b_e + 4.0 * g_e / 3.0)
+        ops.element("SSPquadUP", j + 1, 2 * j + 1, 2 * j + 2, 2 * j + 4, 2 * j + 3, int(lay[j]) + 1, 1.0, K_FLUID,
+                    RHO_W, 1.0 / GAMMA_W, 1.0 / GAMMA_W, m["e"], alpha, 0.0, -G_ACC * math.cos(theta))
+    # ---------------------------------------------------------------- gravity
+    stats = peer.Stats()
+    for i in range(len(mats)):
+        ops.updateMaterialStage("-material", i + 1, "-stage", 0)
+    pe_static(1e-6)
+    peer.run_until(10 * 500.0, 500.0, stats)
+    for i in range(len(mats)):
+        ops.updateMaterialStage("-material", i + 1, "-stage", 1)
+    for j in range(nele):
+        ops.setParameter("-val", 0, "-ele", j + 1, "FirstCall", str(int(lay[j]) + 1))
+        ops.setParameter("-val", pe.NU_PLASTIC, "-ele", j + 1, "poissonRatio", str(int(lay[j]) + 1))
+    if slope > 0.0:       # the slope-parallel weight, drained, plastic; the bedrock's static shear at the base
+        ops.loadConst("-time", 0.0)
+        ops.timeSeries("Linear", 5, "-factor", 1.0 / 5000.0)
+        ops.pattern("Plain", 5, 5)
+        total = float(sum(mats[lay[j]]["rho"] * h[j] * WIDTH for j in range(nele))) * G_ACC * math.sin(theta)
+        for j in range(nele + 1):
+            mass = 0.0
+            if j > 0:
+                mass += 0.5 * mats[lay[j - 1]]["rho"] * h[j - 1] * WIDTH
+            if j < nele:
+                mass += 0.5 * mats[lay[j]]["rho"] * h[j] * WIDTH
+            ops.load(2 * j + 1, mass * G_ACC * math.sin(theta) - (total if j == 0 else 0.0), 0.0, 0.0)
+        peer.run_until(5000.0, 50.0, stats)
+        ops.loadConst("-time", 5000.0)
+    peer.run_until(ops.getTime() + 10 * 500.0, 500.0, stats)
+    for j in range(nele):
+        m = mats[lay[j]]
+        ops.setParameter("-val", m["k"] / GAMMA_W, "-ele", j + 1, "hPerm")
+        ops.setParameter("-val", m["k"] / GAMMA_W, "-ele", j + 1, "vPerm")
+    nodes_l = [2 * j + 1 for j in range(nele + 1)]
+    sig = np.array([ops.eleResponse(e, "stress") for e in range(1, nele + 1)])
+    sv0 = -sig[:, 1]
+    tau0 = sig[:, 2]
+    ux0 = np.array([ops.nodeDisp(nn, 1) for nn in nodes_l])
+    uy0 = ops.nodeDisp(nodes_l[-1], 2)
+    p_hyd = GAMMA_W * np.maximum(zc - wt, 0.0) * math.cos(theta)
+    # ---------------------------------------------------------------- shaking
+    ops.setTime(0.0)
+    ops.wipeAnalysis()
+    ops.timeSeries("Path", 2, "-dt", dt_gm, "-values", *vel.tolist(), "-factor", c_dash)
+    ops.pattern("Plain", 2, 2)
+    ops.load(1, 1.0, 0.0, 0.0)
+    w1, w2 = 2 * math.pi * 1.0, 2 * math.pi * 10.0
+    ops.rayleigh(2 * 0.01 * w1 * w2 / (w1 + w2), 2 * 0.01 / (w1 + w2), 0.0, 0.0)
+    work = Path(tempfile.mkdtemp(prefix="pm4_col_"))
+    f = {k: str(work / k) for k in ("pp", "ux", "acc", "uy")}
+    ops.recorder("Node", "-file", f["pp"], "-time", "-dT", 0.01, "-node", *nodes_l, "-dof", 3, "vel")
+    ops.recorder("Node", "-file", f["ux"], "-time", "-dT", 0.01, "-node", *nodes_l, "-dof", 1, "disp")
+    ops.recorder("Node", "-file", f["uy"], "-time", "-dT", 0.01, "-node", nodes_l[-1], "-dof", 2, "disp")
+    ops.recorder("Node", "-file", f["acc"], "-time", "-node", nodes_l[-1], "-dof", 1, "accel")
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-4, 30, 0)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.6, 0.25 * 1.1 ** 2)
+    ops.analysis("Transient")
+    ops.record()
+    d_stats = peer.Stats()
+    t_d0 = time.perf_counter()
+    peer.run_until(dur + a.free, a.dt, d_stats)
+    wall = time.perf_counter() - t_d0
+    ops.remove("recorders")
+    ops.wipe()
+    # ---------------------------------------------------------------- post-process
+    pp = np.loadtxt(f["pp"], ndmin=2)
+    t = pp[:, 0]
+    pn = pp[:, 1:]
+    p_ele = 0.5 * (pn[:, :-1] + pn[:, 1:])
+    ru = np.where(sat[None, :], (p_ele - p_hyd[None, :]) / sv0[None, :], 0.0)
+    ux = np.loadtxt(f["ux"], ndmin=2)[:, 1:] - ux0[None, :]
+    gam = (ux[:, 1:] - ux[:, :-1]) / h[None, :]
+    surf = ux[:, -1] - ux[:, 0]
+    uy = np.loadtxt(f["uy"], ndmin=2)
+    acc_s = np.loadtxt(f["acc"], ndmin=2)
+    for v in f.values():
+        os.remove(v)
+    os.rmdir(work)
+    a_abs = acc_s[:, 1]          # the compliant base: nodal accelerations are absolute
+    dt_rec = float(np.median(np.diff(acc_s[:, 0])))
+    ru_max = ru.max(axis=0)
+    liq = [j for j in range(nele) if sat[j] and ru_max[j] >= 0.95]
+    rng = [float(min(zc[j] - 0.5 * h[j] for j in liq)), float(max(zc[j] + 0.5 * h[j] for j in liq))] if liq else None
+    every = max(1, int(round(0.05 / float(np.median(np.diff(t))))))
+    summary = dict(
+        case=a.case, polarity=a.polarity, slope=slope, dt_s=a.dt, free_s=a.free, openseespy=pe.openseespy_version(),
+        materials=[{k: v for k, v in m.items()} for m in mats], crust_dr_percent=CRUST_DR,
+        surface_displacement_end_m=float(surf[-1]),
+        surface_displacement_end_of_shaking_m=float(np.interp(dur, t, surf)),
+        surface_displacement_peak_m=float(np.max(np.abs(surf))),
+        settlement_m=float(-(uy[-1, 1] - uy0)), liquefied_range_m=rng,
+        liquefied_thickness_m=float(sum(h[j] for j in liq)),
+        surface_pga_g=float(np.max(np.abs(a_abs)) / G_ACC),
+        surface_sa_g={f"{T:g}": v / G_ACC for T, v in zip(PERIODS, sa(a_abs, dt_rec, PERIODS))},
+        steps=d_stats.steps, failed_solves=d_stats.failures, wall_dynamic_s=wall,
+        wall_total_s=time.perf_counter() - t_start,
+        profile=[dict(depth_m=float(zc[j]), layer=mats[lay[j]]["name"], sigma_v0_kPa=float(sv0[j]),
+                      tau0_kPa=float(tau0[j]), ru_max=float(ru_max[j]) if sat[j] else None,
+                      gamma_residual=float(gam[-1, j]), gamma_peak=float(np.max(np.abs(gam[:, j]))))
+                 for j in range(nele - 1, -1, -1)],
+        surface_displacement_history=dict(t_s=t[::every].round(4).tolist(), u_m=surf[::every].round(6).tolist()))
+    print(f"=== PM4Sand column {a.case}, polarity {a.polarity:+d}: surface displacement {100 * surf[-1]:.1f} cm "
+          f"(end of shaking {100 * summary['surface_displacement_end_of_shaking_m']:.1f} cm), settlement "
+          f"{100 * summary['settlement_m']:.1f} cm, liquefied {rng}, PGA {summary['surface_pga_g']:.3f} g, "
+          f"{d_stats.steps} steps, {d_stats.failures} failed, {wall:.0f} s")
+    if a.out:
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+    return summary
+
+
+def beside(tf_dir, pm_files, depths=(2.5, 3.5, 4.5, 5.5, 6.5, 7.5, 9.0)):
+    """Markdown rows: twofluid's run folder (``twofluid run CASE --out DIR``) beside PM4Sand summaries."""
+    import csv
+    tf = json.loads((Path(tf_dir) / "summary.json").read_text())
+    pms = [json.loads(Path(f).read_text()) for f in pm_files]
+    with open(Path(tf_dir) / "spectra.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    per = np.array([float(r["period_s"]) for r in rows])
+    sa_tf = np.array([float(r["Sa_surface_g"]) for r in rows])
+    with open(Path(tf_dir) / "elements.csv") as fh:
+        els = list(csv.DictReader(fh))
+    slope = tf.get("slope")
+    resid = None
+    if (Path(tf_dir) / "lateral_displacement.csv").exists():      # the end-of-run displacement profile
+        with open(Path(tf_dir) / "lateral_displacement.csv") as fh:
+            rd = list(csv.reader(fh))
+        zs = np.array([float(c[2:-1]) for c in rd[0][1:]])
+        u_end = np.array([float(v) for v in rd[-1][1:]])
+        resid = (zs, u_end)
+    lines = ["| | twofluid | " + " | ".join(f"PM4Sand (polarity {p['polarity']:+d})" for p in pms) + " |",
+             "|---|---|" + "---|" * len(pms)]
+    u_tf = slope["surface_displacement_end_m"] if slope else 0.0
+    lines.append(f"| surface displacement, end [m] | {u_tf:.3f} | " + " | ".join(
+        f"{p['surface_displacement_end_m']:.3f}" for p in pms) + " |")
+    if slope:
+        u_s = slope["surface_displacement_end_of_shaking_m"]
+        lines.append(f"| surface displacement, end of shaking [m] | {u_s:.3f} | "
+                     + " | ".join(f"{p['surface_displacement_end_of_shaking_m']:.3f}" for p in pms) + " |")
+    rng = tf["liquefied_depth_range_shaking_m"]
+    lines.append(f"| liquefied (r_u >= 0.95) while shaking [m] | {rng} | " + " | ".join(
+        str(p["liquefied_range_m"]) for p in pms) + " |")
+    lines.append(f"| settlement, end of shaking [m] | {tf['settlement_end_of_shaking_m']:.4f} | " + " | ".join(
+        f"{p['settlement_m']:.4f} (t = {p['free_s'] + 10:g} s)" for p in pms) + " |")
+    lines.append(f"| surface PGA [g] | {tf['shaking']['peak_surface_acceleration_g']:.3f} | " + " | ".join(
+        f"{p['surface_pga_g']:.3f}" for p in pms) + " |")
+    for T in (0.2, 0.5, 1.0):
+        lines.append(f"| surface Sa({T:g} s) [g] | {float(np.interp(T, per, sa_tf)):.3f} | " + " | ".join(
+            f"{p['surface_sa_g'][f'{T:g}']:.3f}" for p in pms) + " |")
+    for z in depths:
+        e = min(els, key=lambda r: abs(float(r["depth_m"]) - z))
+        pr = [min(p["profile"], key=lambda r: abs(r["depth_m"] - z)) for p in pms]
+        if resid is not None:
+            i = int(np.searchsorted(resid[0], z))
+            g_res = (resid[1][i - 1] - resid[1][i]) / (resid[0][i] - resid[0][i - 1])
+        lines.append(f"| peak / residual shear strain at {z:g} m [%] | {100 * float(e['peak_shear_strain']):.2f} / "
+                     + ("-" if resid is None else f"{100 * g_res:.2f}") + " | " + " | ".join(
+                         f"{100 * r['gamma_peak']:.2f} / {100 * r['gamma_residual']:.2f}" for r in pr) + " |")
+    return "\n".join(lines)
+
+
+def pe_static(tol):
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", tol, 50, 0)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+
+
+if __name__ == "__main__":
+    main()
