@@ -149,6 +149,10 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
               "invalid": sum(bool(m.error) for m in members), "ran": 0, "status": "completed"}
     bar = tqdm(total=len(members), initial=len(members) - len(todo), unit="member", disable=not progress,
                desc="members", dynamic_ncols=True)
+    from .. import compiled
+
+    # the members' kernels built once, here, before any worker starts (not once per worker)
+    compiled.prepare([g for m in todo for g in compiled.groups_for(m.case)])
     t0 = time.perf_counter()
     try:
         with sigterm_as_interrupt(), (nullcontext(client) if client else cluster_client(workers, scheduler)) as cl:
