@@ -116,10 +116,12 @@ def prepare(names) -> None:
     names = [n for n in dict.fromkeys(names) if n in specs]
     _PLANNED[:] = names
     try:
-        for i, name in enumerate(names):
+        for name in names:
             if name not in _LOADED:
                 _build_group(specs[name])
             del _PLANNED[0]
+    except Exception:  # (no numba and nothing built, say): the run meets it where it reports it
+        pass
     finally:
         _PLANNED.clear()
 
