@@ -133,7 +133,7 @@ def test_two_processes_building_at_once_both_get_working_kernels(toy):
     suffix = compiled.importlib.machinery.EXTENSION_SUFFIXES[0]
     assert len(list(cache.glob(f"_twofluid_toy_total_*{suffix}"))) == 1
     assert not list(cache.glob("*.tmp"))
-    assert sum("compiling the numerical kernels" in o[1] for o in outs) <= 2
+    assert sum("compiling the numerical kernels" in o[1] for o in outs) == 1  # one built, one waited
 
 
 def test_a_build_killed_half_way_then_rerun_ends_with_working_kernels(toy, monkeypatch):
