@@ -394,7 +394,7 @@ def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = Tru
         except (ImportError, AttributeError, OSError):
             out = None
     if out is None and jit:
-        out = _jit(group_name, module, exports, helpers, folder)
+        out = _jit(module, exports, helpers, folder)
     if out is not None or not jit:
         _LOADED[group_name] = out
     return out
@@ -423,7 +423,7 @@ def _lock(folder: Path, module: str):
         yield
 
 
-def _jit(group_name: str, module: str, exports: dict, helpers: tuple, folder: Path | None) -> dict:
+def _jit(module: str, exports: dict, helpers: tuple, folder: Path | None) -> dict:
     """The group as ``numba.njit`` functions: cached in ``folder/jit/<module>`` (the group's hash
     keys the cache, so that an edited callee in another file is recompiled, which numba's own
     cache does not see), in memory only where no folder is writable (one line says so)."""
