@@ -8,24 +8,31 @@ liquefaction column's 7 000 shear sub-steps spend in the kernel itself (0.03 s).
 is compiled ahead of time instead, with ``numba.pycc``, into an ordinary extension module
 kept in a cache folder; later processes import that module (about 1 ms) and do not import
 numba at all. Kernels used together are built into one module (:func:`group`: one build,
-one import). A module is named after a hash of the source files of its functions, their
-signatures, the Python ABI and the NumPy version, so an edited kernel module or another
-interpreter builds a new one; it is written under a temporary name and renamed, so that
-processes building at the same time never load half a file.
+one import). A module is named after a hash of the package's version, the source files of its
+functions and of every file they take code or constants from (:func:`_sources`), their
+signatures, the Python ABI and the NumPy version, so an edited kernel, an edited callee in
+another file, another release or another interpreter builds a new one (numba's own cache keys a
+function on its own file alone, and would keep a caller compiled against an old callee). A build
+holds a lock on its module (a second process building the same group at once waits, then loads
+it; a killed build's lock dies with it and its leftovers are removed by the next), and writes
+under a temporary name that it renames, so that no process ever loads half a file.
 
-The build is done once per installation and cache folder: ``twofluid build-kernels``
-(:func:`build_all`, the README's install command runs it) builds every group, its groups in
-parallel over the CPUs; a run that needs a group not built yet builds it and says so in one line
-on standard error. The figures of the build are in ``docs/benchmarks.md``.
+A run builds only the groups its model needs (:func:`groups_for`), before it starts
+(:func:`prepare`; an ensemble in its parent, before the workers), and says so in one line on
+standard error naming them. ``twofluid build-kernels`` (:func:`build_all`) builds every group
+of :data:`GROUPS` ahead, in parallel over the CPUs. The figures of the build are in
+``docs/benchmarks.md``.
 
-Where a module cannot be built (``numba.pycc`` missing — it is deprecated in numba — no C
-toolchain to link it, no writable cache folder) the kernel is ``numba.njit(cache=True)``.
-With ``TWOFLUID_DISABLE_JIT=1`` (or numba's own ``NUMBA_DISABLE_JIT=1``) every kernel is its
-plain Python function, un-compiled: the same source, for a debugger or print statements, some
-hundred times slower; it is a debugging aid, not a fallback.
+Where a module cannot be built (``numba.pycc`` missing — it is deprecated in numba — or no C
+toolchain to link it) the kernel is ``numba.njit`` cached in ``<cache folder>/jit/<module>``
+(the same key). Where no cache folder is writable, modules already built in any of them are
+loaded; the others are compiled by ``numba.njit`` for the process alone, and one line says why
+(a correct, slower run). With ``TWOFLUID_DISABLE_JIT=1`` (or numba's own
+``NUMBA_DISABLE_JIT=1``) every kernel is its plain Python function, un-compiled: the same
+source, for a debugger or print statements, some hundred times slower; it is a debugging aid.
 
 Cache folder: ``$TWOFLUID_CACHE_DIR`` if set, else the ``__pycache__`` folder beside this
-module if it is writable, else ``~/.cache/twofluid``.
+module if it is writable, else ``~/.cache/twofluid`` (built modules are looked for in both).
 
 >>> folder = cache_dir()
 >>> folder is None or folder.is_dir()
@@ -42,7 +49,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-__all__ = ["kernel", "group", "cache_dir", "jit_disabled", "build_all"]
+__all__ = ["kernel", "group", "cache_dir", "jit_disabled", "build_all", "groups_for", "prepare"]
 
 _LOADED: dict[str, Callable | None] = {}
 _ANNOUNCED = False
@@ -72,21 +79,74 @@ def jit_disabled() -> bool:
     return any(os.environ.get(v, "0") not in ("", "0") for v in ("TWOFLUID_DISABLE_JIT", "NUMBA_DISABLE_JIT"))
 
 
-def _announce(folder: Path) -> None:
-    """One line on standard error, once per process, when a build starts."""
+#: the groups a run of each ``[case] model`` needs (the 1D models' steps, the band solver, the
+#: closure laws, the extrapolated first iterate, Newton's acceptance test; a liquefaction column's
+#: shear wave and its response spectra). :func:`groups_for` adds the shear law's group.
+MODEL_GROUPS = {
+    "two_fluid_1d": ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
+    "reduced_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept"),
+    "liquefaction_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept",
+                        "spectra_peaks"),
+    "two_fluid_2d": (),
+}
+_PLANNED: list[str] = []
+
+
+def groups_for(case: dict) -> list[str]:
+    """The kernel groups (:data:`GROUPS`) a run of ``case`` (a validated case dict) needs.
+
+    >>> groups_for({"case": {"model": "two_fluid_2d"}})
+    []
+    """
+    model = case.get("case", {}).get("model")
+    out = list(MODEL_GROUPS.get(model, ()))
+    if model == "liquefaction_1d":
+        hysteretic = case.get("shear_wave", {}).get("model") == "hysteretic"
+        out.append("hysteretic" if hysteretic else "shear_substeps")
+    return out
+
+
+def prepare(names) -> None:
+    """Load the kernel groups ``names`` (:data:`GROUPS`), building those not built yet, before a run
+    starts (one line on standard error names them, :func:`_announce`). A group a run needs but
+    ``names`` misses is still built when first needed, and announced then."""
+    if jit_disabled() or os.environ.get("TWOFLUID_KERNELS_PROBE") or cache_dir() is None:
+        return  # (no writable cache: each process compiles what it needs itself, and says so)
+    specs = dict(GROUPS)
+    names = [n for n in dict.fromkeys(names) if n in specs]
+    _PLANNED[:] = names
+    try:
+        for name in names:
+            if name not in _LOADED:
+                _build_group(specs[name])
+            del _PLANNED[0]
+    except Exception:  # (no numba and nothing built, say): the run meets it where it reports it
+        pass
+    finally:
+        _PLANNED.clear()
+
+
+def _announce(folder: Path, group_name: str) -> None:
+    """One line on standard error, once per process, when a build starts: the group being built
+    and, under :func:`prepare`, the groups planned after it (some of which may turn out built)."""
     global _ANNOUNCED
     if not _ANNOUNCED and not os.environ.get("TWOFLUID_BUILDING_KERNELS"):
         _ANNOUNCED = True
-        print(f"twofluid: compiling the numerical kernels once (up to a minute of CPU; kept in {folder}; "
-              "`twofluid build-kernels` does it ahead)", file=sys.stderr, flush=True)
+        names = [group_name] + [n for n in _PLANNED if n != group_name and n not in _LOADED]
+        print(f"twofluid: compiling the numerical kernels this run needs, once: {', '.join(names)} "
+              f"(kept in {folder}; `twofluid build-kernels` builds them all ahead)", file=sys.stderr, flush=True)
+
+
+def _folders() -> list[Path]:
+    """Where the ahead-of-time modules may be (module docstring), in order."""
+    env = os.environ.get("TWOFLUID_CACHE_DIR")
+    return [Path(env)] if env else [Path(__file__).parent / "__pycache__", Path.home() / ".cache" / "twofluid"]
 
 
 def cache_dir() -> Path | None:
-    """The folder of the ahead-of-time modules (module docstring), or None if none is writable."""
-    env = os.environ.get("TWOFLUID_CACHE_DIR")
-    candidates = [Path(env)] if env else [Path(__file__).parent / "__pycache__",
-                                          Path.home() / ".cache" / "twofluid"]
-    for folder in candidates:
+    """The folder the ahead-of-time modules are built into (module docstring), or None if none is
+    writable (then modules already built in any of the folders are still loaded)."""
+    for folder in _folders():
         try:
             folder.mkdir(parents=True, exist_ok=True)
         except OSError:
@@ -96,23 +156,90 @@ def cache_dir() -> Path | None:
     return None
 
 
+def _find(module: str) -> Path | None:
+    """The built module ``module`` in any of the cache folders (writable or not), or None."""
+    suffix = importlib.machinery.EXTENSION_SUFFIXES[0]
+    for folder in _folders():
+        path = folder / f"{module}{suffix}"
+        if path.is_file():
+            return path
+    return None
+
+
+_WARNED_UNWRITABLE = False
+
+
+def _warn_unwritable() -> None:
+    """One line on standard error, once per process, where no cache folder can be written."""
+    global _WARNED_UNWRITABLE
+    if not _WARNED_UNWRITABLE:
+        _WARNED_UNWRITABLE = True
+        where = ", ".join(str(f) for f in _folders())
+        print(f"twofluid: no writable kernel cache folder ({where}): the kernels not built there are "
+              "compiled for this process only (slower; set TWOFLUID_CACHE_DIR to a writable folder)",
+              file=sys.stderr, flush=True)
+
+
 def _module_name(name: str, func: Callable, signature: str, helpers: tuple = ()) -> str:
     return _group_name(name, {name: (func, signature)}, helpers)
 
 
+def _sources(funcs) -> list[str]:
+    """The source files of ``funcs`` and of every function and module that they name, followed
+    through the functions so found, but the standard library's and installed libraries' (the
+    package's own files count wherever it is installed): what a compiled kernel may have taken in
+    (numba compiles callees and freezes global constants into the caller)."""
+    import sysconfig
+    import types
+
+    package = str(Path(__file__).parent)
+    libraries = tuple({p for k in ("stdlib", "platstdlib", "purelib", "platlib")
+                       if (p := sysconfig.get_paths().get(k))})
+
+    def ours(file: str) -> bool:  # the package's, or another project's sources (not a library's)
+        return file.startswith(package) or (file.endswith(".py") and not file.startswith(libraries))
+
+    files, seen, todo = set(), set(), list(funcs)
+    while todo:
+        f = todo.pop()
+        code = getattr(f, "__code__", None)
+        if code is None or id(f) in seen:
+            continue
+        seen.add(id(f))
+        files.add(code.co_filename)
+        names = set(code.co_names)
+        for const in code.co_consts:  # nested code objects (comprehensions, inner functions)
+            if isinstance(const, types.CodeType):
+                names.update(const.co_names)
+        g = getattr(f, "__globals__", {})
+        for name in names:
+            obj = g.get(name)
+            obj = getattr(obj, "py_func", obj)  # a helper replaced by its compiled version
+            if isinstance(obj, types.ModuleType):
+                file = getattr(obj, "__file__", None) or ""
+                if ours(file):  # its constants and functions, read as module.name
+                    files.add(file)
+            elif isinstance(obj, types.FunctionType) and ours(obj.__code__.co_filename):
+                todo.append(obj)
+    return sorted(files)
+
+
 def _group_name(group: str, exports: dict, helpers: tuple = ()) -> str:
-    """The module of a group of kernels: named after a hash of the source files of the kernels and
-    the helpers they call, their names and signatures, the Python ABI and the NumPy version."""
+    """The module of a group of kernels: named after a hash of the package's version, the source
+    files of the kernels, of the helpers they call and of every package function or module they
+    name (:func:`_sources`), their names and signatures, the Python ABI and the NumPy version."""
     import numpy
+
+    from . import __version__
 
     digest = hashlib.sha256()
     funcs = [f for f, _sig in exports.values()] + list(helpers)
-    for file in sorted({f.__code__.co_filename for f in funcs}):
-        # the whole source file: reading it costs microseconds where inspect.getsource of each
+    for file in sorted(set(_sources(funcs)) | {f.__code__.co_filename for f in funcs}):
+        # whole source files: reading them costs microseconds where inspect.getsource of each
         # function tokenizes the module (~40 ms for the project's kernels); any edit rebuilds
         digest.update(Path(file).read_bytes())
     key = [f"{f.__qualname__}:{sig}" for f, sig in exports.values()] + [f.__qualname__ for f in helpers]
-    digest.update("\n".join(key + [sys.implementation.cache_tag, numpy.__version__]).encode())
+    digest.update("\n".join(key + [__version__, sys.implementation.cache_tag, numpy.__version__]).encode())
     return f"_twofluid_{group}_{digest.hexdigest()[:16]}"
 
 
@@ -138,7 +265,7 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         return None
     suffix = importlib.machinery.EXTENSION_SUFFIXES[0]
     target = folder / f"{module}{suffix}"
-    _announce(folder)
+    _announce(folder, module.split('_twofluid_', 1)[-1].rsplit('_', 1)[0])
     work = Path(tempfile.mkdtemp(prefix="twofluid-aot-"))
     try:
         cc = _cc_class(CC, folder)(module)
@@ -252,40 +379,86 @@ def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = Tru
     if os.environ.get("TWOFLUID_KERNELS_PROBE"):  # build_all's probe: what is there, nothing built
         build = jit = False
     out = None
-    folder = cache_dir()
+    helpers = tuple(getattr(f, "py_func", f) for f in helpers)  # a helper the JIT path replaced
+    exports = {k: (getattr(f, "py_func", f), sig) for k, (f, sig) in exports.items()}
     module = _group_name(group_name, exports, helpers)
-    if folder is not None:
-        path = folder / f"{module}{importlib.machinery.EXTENSION_SUFFIXES[0]}"
-        if not path.is_file() and build:
-            path = _build(folder, module, exports, helpers) or path
-        if path.is_file():
-            try:
-                mod = _import(path, module)
-                out = {name: getattr(mod, name) for name in exports}
-            except (ImportError, AttributeError, OSError):
-                out = None
-    if out is None and jit:
+    path = _find(module)
+    folder = cache_dir()
+    if path is None and build and folder is not None:
+        with _lock(folder, module):  # one build at a time per module; the others wait, then load it
+            path = _find(module) or _build(folder, module, exports, helpers)
+    if path is not None:
         try:
-            import numba
-        except ImportError:
-            raise ImportError("twofluid needs numba for its kernels (pip install numba; README, "
-                              "'Dependencies'); TWOFLUID_DISABLE_JIT=1 runs them as plain Python, "
-                              "for debugging only") from None
-        if numba is not None:
-            try:  # numba's first compile or cache load imports all of scipy.linalg (~0.1 s) only to
-                # find its cython_blas, which these kernels do not use: that module is loaded alone
-                from .scipy_kernels import _extension
-
-                _extension("scipy.linalg", "cython_blas")
-            except (ImportError, OSError):
-                pass
-            njit = numba.njit(cache=True, nogil=True)
-            for f in helpers:  # the module's own name for each helper now calls the compiled one
-                f.__globals__[f.__name__] = njit(f)
-            out = {name: njit(func) for name, (func, _sig) in exports.items()}
+            mod = _import(path, module)
+            out = {name: getattr(mod, name) for name in exports}
+        except (ImportError, AttributeError, OSError):
+            out = None
+    if out is None and jit:
+        out = _jit(module, exports, helpers, folder)
     if out is not None or not jit:
         _LOADED[group_name] = out
     return out
+
+
+@contextlib.contextmanager
+def _lock(folder: Path, module: str):
+    """An exclusive lock on ``folder/.<module>.lock`` (released when the process ends, killed or
+    not); leftovers of a build killed half-way are removed under it. Without ``fcntl`` (Windows)
+    no lock: two builds then both write the module, each atomically."""
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    try:
+        fh = open(folder / f".{module}.lock", "a")
+    except OSError:
+        yield
+        return
+    with fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        for tmp in folder.glob(f".{module}.*.tmp"):  # a build killed between its copy and rename
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+        yield
+
+
+def _jit(module: str, exports: dict, helpers: tuple, folder: Path | None) -> dict:
+    """The group as ``numba.njit`` functions: cached in ``folder/jit/<module>`` (the group's hash
+    keys the cache, so that an edited callee in another file is recompiled, which numba's own
+    cache does not see), in memory only where no folder is writable (one line says so)."""
+    try:
+        import numba
+    except ImportError:
+        raise ImportError("twofluid needs numba for its kernels (pip install numba; README, "
+                          "'Dependencies'); TWOFLUID_DISABLE_JIT=1 runs them as plain Python, "
+                          "for debugging only") from None
+    try:  # numba's first compile or cache load imports all of scipy.linalg (~0.1 s) only to
+        # find its cython_blas, which these kernels do not use: that module is loaded alone
+        from .scipy_kernels import _extension
+
+        _extension("scipy.linalg", "cython_blas")
+    except (ImportError, OSError):
+        pass
+    cache = None
+    if folder is not None:
+        cache = folder / "jit" / module
+        try:
+            cache.mkdir(parents=True, exist_ok=True)
+        except OSError:
+            cache = None
+    if cache is None:
+        _warn_unwritable()
+    saved = numba.config.CACHE_DIR
+    try:  # numba reads its cache folder when a function is decorated
+        numba.config.CACHE_DIR = str(cache) if cache is not None else saved
+        njit = numba.njit(cache=cache is not None, nogil=True)
+        for f in helpers:  # the module's own name for each helper now calls the compiled one
+            f = getattr(f, "py_func", f)
+            f.__globals__[f.__name__] = njit(f)
+        return {name: njit(getattr(func, "py_func", func)) for name, (func, _sig) in exports.items()}
+    finally:
+        numba.config.CACHE_DIR = saved
 
 
 def _build_group(spec: str) -> None:

@@ -232,6 +232,10 @@ def run_members(members, collect: list[str], out_dir, *, keep_runs: bool = False
                disable=progress is not True, desc="members", dynamic_ncols=True)
     lines = (ProgressLines(Path(out).name, len(members)).start(len(members) - len(todo))
              if progress == "lines" else None)
+    from .. import compiled
+
+    # the members' kernels built once, here, before any worker starts (not once per worker)
+    compiled.prepare([g for m in todo for g in compiled.groups_for(m.case)])
     t0 = time.perf_counter()
     try:
         with sigterm_as_interrupt(), (nullcontext(client) if client else cluster_client(workers, scheduler)) as cl:

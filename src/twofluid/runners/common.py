@@ -442,6 +442,9 @@ def run_case(case, out_dir=None, progress: bool = False, plots: bool | None = No
         out = check_out_dir(out_dir)
     mod, func = RUNNERS[case["case"]["model"]].split(":")
     runner = getattr(importlib.import_module(mod), func)
+    from .. import compiled
+
+    compiled.prepare(compiled.groups_for(case))  # the kernels this run needs, built once (one line)
     wall0 = time.perf_counter()
     try:
         with sigterm_as_interrupt() as sig:

@@ -1,0 +1,84 @@
+"""The kernels' one-off build, group by group: the CPU of each group's build in a process of its
+own and a fresh cache folder (``twofluid.compiled.GROUPS``), with numba's own compile events per
+function (type inference and lowering of each export and of each helper it calls).
+
+    python benchmarks/bench_build.py [GROUP ...] [--events]
+
+Prints, per group, the process's CPU [s] (user + system, children included: the C compiler and
+linker), the CPU of importing numba, and with ``--events`` the numba compile time of each
+function. Each group gets an empty cache folder, so nothing is shared between groups but numba's
+C helper objects that every build of the first group compiles (the first group pays them).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+CHILD = r'''
+import json, os, sys, time, resource
+def cpu():
+    s, c = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return s.ru_utime + s.ru_stime + c.ru_utime + c.ru_stime
+t0 = cpu()
+import numba
+from numba.core import event
+t1 = cpu()
+events = []
+class Rec(event.Listener):
+    def on_start(self, ev):
+        ev.data["t0"] = time.process_time()
+    def on_end(self, ev):
+        d = ev.data
+        events.append((str(d.get("dispatcher", "")).split(" ")[0][:60] if d.get("dispatcher") else "",
+                       str(d.get("args", ""))[:60], time.process_time() - d.get("t0", time.process_time())))
+rec = Rec()
+event.register("numba:compile", rec)
+from twofluid import compiled
+compiled._build_group(sys.argv[1])
+t2 = cpu()
+out = compiled._LOADED.get(sys.argv[2]) or {}
+aot = bool(out) and all(type(f).__name__ == "builtin_function_or_method" for f in out.values())
+print(json.dumps({"numba_import": t1 - t0, "build": t2 - t1, "aot": aot, "events": events}))
+'''
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("groups", nargs="*")
+    p.add_argument("--events", action="store_true")
+    args = p.parse_args(argv)
+    from twofluid import compiled
+
+    groups = [g for g in compiled.GROUPS if not args.groups or g[0] in args.groups]
+    total = 0.0
+    for name, spec in groups:
+        with tempfile.TemporaryDirectory(prefix="twofluid-bench-build-") as tmp:
+            env = dict(os.environ, TWOFLUID_CACHE_DIR=tmp, TWOFLUID_BUILDING_KERNELS="1")
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            w0 = time.perf_counter()
+            r = subprocess.run([sys.executable, "-c", CHILD, spec, name], env=env, capture_output=True, text=True)
+            wall = time.perf_counter() - w0
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+            if r.returncode != 0:
+                print(f"{name}: failed\n{r.stderr[-2000:]}")
+                continue
+            d = json.loads(r.stdout.strip().splitlines()[-1])
+            total += cpu
+            print(f"{name:16s} process CPU {cpu:6.2f} s  wall {wall:6.2f} s  numba import {d['numba_import']:.2f} s"
+                  f"  build {d['build']:.2f} s  {'ahead of time' if d['aot'] else 'JIT'}", flush=True)
+            if args.events:
+                for disp, sig, t in sorted(d["events"], key=lambda e: -e[2])[:25]:
+                    print(f"    {t:6.2f} s  {disp} {sig}")
+    print(f"all: {total:.2f} s of CPU; load {os.getloadavg()[0]:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

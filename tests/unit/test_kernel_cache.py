@@ -1,0 +1,380 @@
+"""The kernel cache (twofluid.compiled) under the ways a real installation meets it: an edited
+callee in another file, two processes building at once, a build killed half-way, a cache nobody
+can write, and the groups a run or an ensemble builds before it starts.
+
+A toy kernel in two files stands for the project's: ``kmod_a.total`` calls ``kmod_b.helper`` (a
+listed helper) and reads ``kmod_b.OFFSET`` (a constant numba freezes into the caller)."""
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import twofluid
+from twofluid import compiled
+
+KMOD_A = textwrap.dedent('''
+    import kmod_b
+
+    def total(x):
+        s = 0.0
+        for i in range(x.size):
+            s += kmod_b.helper(x[i])
+        return s + kmod_b.OFFSET
+''')
+KMOD_B = "SCALE = 2.0\nOFFSET = 0.5\n\n\ndef helper(v):\n    return SCALE * v\n"
+SIGNATURE = "f8(f8[::1])"
+X = np.linspace(0.0, 1.0, 11)
+
+
+def expected(scale: float = 2.0, offset: float = 0.5) -> float:
+    """The toy's value, summed in the kernel's order."""
+    s = 0.0
+    for v in X:
+        s += scale * v
+    return s + offset
+
+
+# the child: builds or loads the group, prints its value, how it was had and whether numba was loaded
+CHILD = textwrap.dedent('''
+    import sys
+    sys.path.insert(0, sys.argv[1])
+    if sys.argv[2] == "jit":
+        sys.modules["numba.pycc"] = None  # no ahead-of-time build: numba's JIT and its cache
+    import numpy as np
+    import kmod_a, kmod_b
+    from twofluid import compiled
+    out = compiled.group("toy_total", {"total": (kmod_a.total, %r)}, helpers=(kmod_b.helper,))
+    f = out["total"]
+    how = "aot" if type(f).__name__ == "builtin_function_or_method" else "jit"
+    print(repr(f(np.linspace(0.0, 1.0, 11))), how, "numba" in sys.modules)
+''' % SIGNATURE)
+
+
+def _env(cache: Path, **extra) -> dict:
+    env = {k: v for k, v in os.environ.items() if k not in ("TWOFLUID_DISABLE_JIT", "NUMBA_DISABLE_JIT")}
+    env.update(TWOFLUID_CACHE_DIR=str(cache), **extra)
+    return env
+
+
+def _child(src: Path, cache: Path, mode: str = "aot", prefix: list[str] | None = None, **env):
+    r = subprocess.run([*(prefix or []), sys.executable, "-c", CHILD, str(src), mode], capture_output=True,
+                       text=True, env=_env(cache, **env), timeout=600)
+    assert r.returncode == 0, r.stderr[-3000:]
+    value, how, numba_loaded = r.stdout.split()
+    return float(value), how, numba_loaded == "True", r.stderr
+
+
+@pytest.fixture
+def toy(tmp_path):
+    pytest.importorskip("numba")
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "kmod_a.py").write_text(KMOD_A)
+    (src / "kmod_b.py").write_text(KMOD_B)
+    return src, tmp_path / "cache"
+
+
+def _aot_or_skip(how: str) -> None:
+    if how != "aot":
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+
+
+@pytest.mark.parametrize("mode", ["aot", "jit"])
+def test_editing_a_callee_in_another_file_recompiles(toy, mode):
+    """numba's own cache keys a function on its own file only; the group's module (and the JIT's
+    cache folder) is keyed on every file it takes code or constants from, so an edited helper or
+    constant in another file gives the new result, not the stale one."""
+    src, cache = toy
+    value, how, _, _ = _child(src, cache, mode)
+    if mode == "aot":
+        _aot_or_skip(how)
+    assert how == mode and value == expected()
+    assert _child(src, cache, mode)[0] == value  # found again (same key)
+    (src / "kmod_b.py").write_text(KMOD_B.replace("SCALE = 2.0", "SCALE = 3.0"))
+    assert _child(src, cache, mode)[0] == expected(3.0)
+    (src / "kmod_b.py").write_text(KMOD_B.replace("SCALE = 2.0", "SCALE = 3.0").replace("OFFSET = 0.5",
+                                                                                        "OFFSET = 1.5"))
+    assert _child(src, cache, mode)[0] == expected(3.0, 1.5)
+
+
+def test_the_package_version_keys_the_cache(toy, monkeypatch):
+    src, _ = toy
+    monkeypatch.syspath_prepend(str(src))
+    import kmod_a
+    import kmod_b
+
+    exports = {"total": (kmod_a.total, SIGNATURE)}
+    name = compiled._group_name("toy_total", exports, (kmod_b.helper,))
+    monkeypatch.setattr(twofluid, "__version__", twofluid.__version__ + ".dev1")
+    assert compiled._group_name("toy_total", exports, (kmod_b.helper,)) != name
+    assert str(src / "kmod_b.py") in compiled._sources([kmod_a.total])
+
+
+def test_two_processes_building_at_once_both_get_working_kernels(toy):
+    """Started together on an empty cache: one builds, the other waits for it and loads its module;
+    both answer, and the cache holds one module and no half-written file."""
+    src, cache = toy
+    procs = [subprocess.Popen([sys.executable, "-c", CHILD, str(src), "aot"], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True, env=_env(cache)) for _ in range(2)]
+    outs = [p.communicate(timeout=600) for p in procs]
+    assert all(p.returncode == 0 for p in procs), [o[1][-2000:] for o in outs]
+    results = [o[0].split() for o in outs]
+    _aot_or_skip(results[0][1])
+    assert [float(r[0]) for r in results] == [expected()] * 2 and {r[1] for r in results} == {"aot"}
+    suffix = compiled.importlib.machinery.EXTENSION_SUFFIXES[0]
+    assert len(list(cache.glob(f"_twofluid_toy_total_*{suffix}"))) == 1
+    assert not list(cache.glob("*.tmp"))
+    assert sum("compiling the numerical kernels" in o[1] for o in outs) == 1  # one built, one waited
+
+
+def test_a_build_killed_half_way_then_rerun_ends_with_working_kernels(toy, monkeypatch):
+    """A build killed while it compiles (its lock held) and a half-copied module left beside it:
+    the next run builds the module, loads it and removes the leftover."""
+    src, cache = toy
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(src), "aot"], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, env=_env(cache))
+    deadline = time.monotonic() + 300
+    while not list(cache.glob(".*.lock")) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.3)  # into the compilation
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    monkeypatch.syspath_prepend(str(src))
+    import kmod_a
+    import kmod_b
+
+    module = compiled._group_name("toy_total", {"total": (kmod_a.total, SIGNATURE)}, (kmod_b.helper,))
+    cache.mkdir(exist_ok=True)
+    (cache / f".{module}.12345.tmp").write_bytes(b"\x7fELF half a module")
+    value, how, _, _ = _child(src, cache)
+    _aot_or_skip(how)
+    assert value == expected()
+    assert not list(cache.glob("*.tmp"))
+
+
+def _readonly_prefix(paths: list[Path]) -> list[str]:
+    """A command prefix that runs its command with ``paths`` read-only: a private mount namespace
+    with read-only bind mounts where this runs as root (root writes through file modes); else
+    None (the caller then takes the write permission away instead)."""
+    if os.geteuid() != 0:
+        return None
+    script = " && ".join(f'mount --bind -o ro "${i + 1}" "${i + 1}"' for i in range(len(paths))) + \
+        f' && shift {len(paths)} && exec "$@"'
+    prefix = ["unshare", "-m", "sh", "-c", script, "sh", *map(str, paths)]
+    if shutil.which("unshare") is None or subprocess.run([*prefix, "true"], capture_output=True).returncode:
+        pytest.skip("cannot make a folder read-only for root here (no mount namespace)")
+    return prefix
+
+
+@pytest.fixture
+def readonly(tmp_path):
+    """run(paths, cmd) -> the command's CompletedProcess with ``paths`` read-only."""
+    changed = []
+
+    def run(paths, cmd, env):
+        prefix = _readonly_prefix(paths)
+        if prefix is None:
+            for p in paths:
+                changed.append((p, p.stat().st_mode))
+                p.chmod(0o555)
+        return subprocess.run([*(prefix or []), *cmd], capture_output=True, text=True, env=env, timeout=900)
+
+    yield run
+    for p, mode in changed:
+        p.chmod(mode)
+
+
+def _package_home_cache(tmp_path, cache):
+    home = tmp_path / "home"
+    home.mkdir()
+    return [Path(twofluid.__file__).parent, home, cache], home
+
+
+def test_a_readonly_cache_with_the_module_built_loads_it(toy, tmp_path, readonly):
+    """The package folder, HOME and the cache folder read-only, the module built in the cache: it
+    is loaded (no numba, nothing printed)."""
+    src, cache = toy
+    _aot_or_skip(_child(src, cache)[1])
+    paths, home = _package_home_cache(tmp_path, cache)
+    r = readonly(paths, [sys.executable, "-c", CHILD, str(src), "aot"], _env(cache, HOME=str(home)))
+    assert r.returncode == 0, r.stderr[-3000:]
+    value, how, numba_loaded = r.stdout.split()
+    assert (float(value), how, numba_loaded, r.stderr) == (expected(), "aot", "False", "")
+
+
+def test_a_readonly_empty_cache_compiles_in_memory_and_says_why(toy, tmp_path, readonly):
+    """Nothing built and nowhere to build: the kernel is compiled for the process alone (right
+    answer, slower), with one line naming the folders and the way out."""
+    src, cache = toy
+    cache.mkdir()
+    paths, home = _package_home_cache(tmp_path, cache)
+    r = readonly(paths, [sys.executable, "-c", CHILD, str(src), "aot"], _env(cache, HOME=str(home)))
+    assert r.returncode == 0, r.stderr[-3000:]
+    value, how, _ = r.stdout.split()
+    assert float(value) == expected() and how == "jit"
+    lines = r.stderr.splitlines()
+    assert len(lines) == 1 and "no writable kernel cache folder" in lines[0] and "TWOFLUID_CACHE_DIR" in lines[0]
+    assert not list(cache.iterdir())
+
+
+SHORT_BED = textwrap.dedent('''
+    import json, sys
+    import twofluid
+    c = twofluid.load_case("fluidized-bed-step")
+    c["time"]["end"], c["output"]["times"] = 0.2, [0.2]
+    r = twofluid.run_case(c, None)
+    p = r.tables["profiles.csv"]
+    print(json.dumps({"status": r.summary["status"], **{k: [float(v) for v in p[k]] for k in p}}))
+''')
+
+
+def _short_bed(env, prefix=None):
+    r = subprocess.run([*(prefix or []), sys.executable, "-c", SHORT_BED], capture_output=True, text=True,
+                       env=env, timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    import json
+
+    return json.loads(r.stdout.splitlines()[-1]), r.stderr
+
+
+def test_a_run_with_its_kernels_in_a_readonly_cache(tmp_path, readonly):
+    """A bed run whose kernels are built, with the package folder, HOME and the cache read-only,
+    completes as with a writable cache, and prints nothing about kernels."""
+    pytest.importorskip("numba")
+    cache = compiled.cache_dir()
+    if cache is None:
+        pytest.skip("no writable kernel cache to build the run's kernels in")
+    env = _env(cache)
+    ref, _ = _short_bed(env)  # builds what is missing
+    paths, home = _package_home_cache(tmp_path, cache)
+    r = readonly(paths, [sys.executable, "-c", SHORT_BED], dict(env, HOME=str(home)))
+    assert r.returncode == 0, r.stderr[-3000:]
+    import json
+
+    got = json.loads(r.stdout.splitlines()[-1])
+    assert got == ref and ref["status"] == "completed"
+    assert "kernel" not in r.stderr
+
+
+SHORT_SITE = textwrap.dedent('''
+    import json
+    import numpy as np
+    import twofluid
+    c = twofluid.load_case("liquefaction-layered-site")
+    c["time"]["end"], c["output"]["times"], c["ground_motion"]["duration"] = 0.06, [0.06], 0.06
+    r = twofluid.run_case(c, None)
+    out = {"status": r.summary["status"]}
+    for name, table in r.tables.items():
+        for k, v in table.items():
+            if np.asarray(v).dtype.kind == "f":
+                out[f"{name}:{k}"] = [float(x) for x in v]
+    print(json.dumps(out))
+''')
+
+
+def _short_run(script, env):
+    r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    import json
+
+    return json.loads(r.stdout.splitlines()[-1])
+
+
+@pytest.mark.parametrize("script", [SHORT_BED, SHORT_SITE], ids=["fluidized-bed-step", "layered-site"])
+def test_the_unjitted_path_equals_the_compiled_one(script):
+    """The same source run as plain Python (TWOFLUID_DISABLE_JIT=1) and compiled: a short run's
+    tables (the bed's ten steps; the layered site's first three steps of shaking, the hysteretic
+    law) agree to 1e-12 of each column's largest magnitude."""
+    pytest.importorskip("numba")
+    cache = compiled.cache_dir()
+    if cache is None:
+        pytest.skip("no writable kernel cache")
+    fast = _short_run(script, _env(cache))
+    slow = _short_run(script, _env(cache, TWOFLUID_DISABLE_JIT="1"))
+    assert fast["status"] == slow["status"] == "completed" and fast.keys() == slow.keys()
+    for k in fast:
+        if k == "status":
+            continue
+        a, b = np.array(fast[k]), np.array(slow[k])
+        assert np.array_equal(np.isnan(a), np.isnan(b)), k  # (a field undefined where there are no solids)
+        a, b = a[~np.isnan(a)], b[~np.isnan(b)]
+        scale = max(np.abs(a).max(initial=0.0), 1e-300)
+        assert np.abs(a - b).max(initial=0.0) <= 1e-12 * scale, k
+
+
+RECORD = textwrap.dedent('''
+    import sys
+    import twofluid
+    from twofluid import compiled
+    seen, real = set(), compiled.group
+    compiled.group = lambda name, *a, **k: (seen.add(name), real(name, *a, **k))[1]
+    compiled.prepare = lambda names: None  # what the run itself loads
+    case = twofluid.load_case(sys.argv[1])
+    end = float(sys.argv[2])
+    case["time"]["end"], case["output"]["times"] = end, [end]
+    if "ground_motion" in case:
+        case["ground_motion"]["duration"] = end
+    twofluid.run_case(case, None)
+    print(" ".join(sorted(seen)))
+    print(" ".join(compiled.groups_for(case)))
+''')
+
+
+@pytest.mark.parametrize("name", ["fluidized-bed-step", "slis-step-change", "liquefaction-elcentro",
+                                  "liquefaction-layered-site"])
+def test_groups_for_names_every_group_a_short_run_loads(name):
+    """:func:`compiled.groups_for` is what :func:`compiled.prepare` builds before a run: a group a
+    short run of each 1D model (and both shear laws) loads beyond it would be built mid-run."""
+    pytest.importorskip("numba")
+    if compiled.cache_dir() is None:
+        pytest.skip("no writable kernel cache")
+    r = subprocess.run([sys.executable, "-c", RECORD, name, "0.1"], capture_output=True, text=True,
+                       env=_env(compiled.cache_dir()), timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    seen, planned = (set(line.split()) for line in r.stdout.splitlines()[-2:])
+    assert seen and seen <= planned, seen - planned
+
+
+def test_prepare_announces_the_groups_it_builds_in_one_line(toy, tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("TWOFLUID_CACHE_DIR", str(tmp_path / "empty"))
+    monkeypatch.delenv("TWOFLUID_BUILDING_KERNELS", raising=False)
+    monkeypatch.setattr(compiled, "_ANNOUNCED", False)
+    built = []
+    monkeypatch.setattr(compiled, "_build_group", lambda spec: (built.append(spec),
+                                                                compiled._announce(tmp_path, spec.split(":")[0])))
+    monkeypatch.setattr(compiled, "GROUPS", (("g1", "g1:x"), ("g2", "g2:x")))
+    compiled.prepare(["g1", "g2", "unknown"])
+    err = capsys.readouterr().err.splitlines()
+    assert built == ["g1:x", "g2:x"]
+    assert len(err) == 1 and err[0].startswith("twofluid: compiling the numerical kernels this run needs, once: g1, g2")
+
+
+def test_an_ensemble_builds_its_kernels_in_the_parent_before_any_worker(monkeypatch, tmp_path):
+    """run_members builds the groups of its members' models before it opens the cluster."""
+    from twofluid.ensemble import engine
+    from twofluid.ensemble.members import Member
+
+    calls = []
+    monkeypatch.setattr(compiled, "prepare", lambda names: calls.append(("prepare", sorted(set(names)))))
+
+    class Stop(Exception):
+        pass
+
+    def no_cluster(*a, **k):
+        calls.append(("cluster",))
+        raise Stop
+
+    monkeypatch.setattr(engine, "cluster_client", no_cluster)
+    case = twofluid.load_case("slis-step-change")
+    with pytest.raises(Stop):
+        engine.run_members([Member(0, {}, case, "h0"), Member(1, {}, case, "h1")], [], tmp_path / "out")
+    assert calls == [("prepare", sorted(compiled.groups_for(case))), ("cluster",)]
