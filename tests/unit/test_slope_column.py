@@ -1,4 +1,4 @@
-"""The liquefaction column on an infinite slope (issue 22): the key, the static start, rest, outputs.
+"""The liquefaction column on an infinite slope: the key, the static start, rest, outputs.
 
 Compared quantities, each with its definition:
 
@@ -6,7 +6,7 @@ Compared quantities, each with its definition:
   weight: slope-parallel seepage), against the same sum written out by hand for a uniform column;
 - rest: the largest downslope displacement of any node relative to the base, from the static
   state, after 200 s without shaking at static FS = τ_max/τ_s = 1.05 in every saturated element
-  (issue 22: ≤ 1e-9 m);
+  (at most 1e-9 m);
 - FS_post = S_r/τ_s per element against lateral_spread.post_liquefaction_fs with
   static_shear_stress(σ_v, S) (σ_v the total vertical stress at the element centre, the column's
   mass above it): the column's thicknesses are normal to the slope, so the two differ by cos α
@@ -158,8 +158,7 @@ def test_fs_post_is_residual_strength_over_static_shear(sloping_run):
 
 
 def test_determinacy_under_a_1e5_perturbation():
-    """The surface displacement at the end moves by at most 2 % when the record's PGA moves by 1e-5
-    (issue 22)."""
+    """The surface displacement at the end moves by at most 2 % when the record's PGA moves by 1e-5."""
     d = []
     pga0 = _case()["ground_motion"]["pga_g"]
     for pga in (pga0, pga0 * (1.0 + 1e-5)):
@@ -179,7 +178,7 @@ def shipped_displacement():
 
 def test_determinacy_under_halved_steps(shipped_displacement):
     """The vertical step, the shear sub-step and the flow step halved together move the surface
-    displacement by at most 5 % (issue 22). On main before the hysteretic law's branches carried
+    displacement by at most 5 %. On main before the hysteretic law's branches carried
     their own dilation gain, one element of the loose sand took 24 % of strain and the halving moved
     the displacement by -19 %."""
     c = _case()
@@ -191,7 +190,7 @@ def test_determinacy_under_halved_steps(shipped_displacement):
 
 def test_determinacy_under_halved_elements_in_the_liquefied_layer(shipped_displacement):
     """The loose sand's elements halved (0.25 m to 0.125 m) move the surface displacement by at most
-    10 % (issue 22)."""
+    10 %."""
     c = _case()
     c["layers"][1]["element_size"] *= 0.5
     d = _displacement(c)
