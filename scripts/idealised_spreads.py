@@ -205,7 +205,7 @@ def main(argv=None) -> int:
     pick = [int(x) - 1 for x in a.columns.split(",") if x.strip()] or list(range(len(COLUMNS)))
     a.out.mkdir(parents=True, exist_ok=True)
     lines = ["| column | role | S [%] | T15 [m] | M | R [km] | F15 [%] | records (scale) | FS min | FS_post | "
-             "column [m] (runs) | Youd [m] | column/Youd | Zhang I&B [m] | Newmark [m] |", "|" + "---|" * 15]
+             "liquefied [m] | column [m] (runs) | Youd [m] | column/Youd | Zhang I&B [m] | Newmark [m] |", "|" + "---|" * 16]
     ratios, rows_csv = [], []
     for i in pick:
         name, s, t15, m, r, f15, role = COLUMNS[i]
@@ -240,11 +240,12 @@ def main(argv=None) -> int:
         ratio = d_col / youd if youd else None
         if role != "control" and not flow and ratio:
             ratios.append(ratio)
+        liq = float(np.mean([x["liquefied_m"] for x in runs]))
         each = ", ".join(f"{x['d_m']:.3g}" for x in runs)
         nm_s = f"{np.mean(nm):.3g}" if nm else ("flow" if runs[0]["newmark_flow"] else "-")
         recs = ", ".join(f"{n.split('_')[1]} x{f:.2f}" for n, p, f, d in mot)
         lines.append(f"| {name} | {role}{' (flow slide)' if flow else ''} | {s:g} | {t15:g} | {m:g} | {r:g} | {f15:g} | "
-                     f"{recs} | {fs_min if fs_min is None else f'{fs_min:.2f}'} | {fsp:.2f} | {d_col:.3g} "
+                     f"{recs} | {fs_min if fs_min is None else f'{fs_min:.2f}'} | {fsp:.2f} | {liq:.3g} | {d_col:.3g} "
                      f"({each}) | "
                      f"{youd if youd is None else f'{youd:.3g}'} | {ratio if ratio is None else f'{ratio:.3g}'} | "
                      f"{runs[0]['zhang_m']:.3g} | {nm_s} |")
