@@ -28,7 +28,7 @@ def _run(case, edit):
     s = r.summary["slope"]
     f = s["flow_after_shaking"] or {}
     return (s["surface_displacement_end_m"], s["share_after_shaking"], r.summary["liquefied_depth_range_m"],
-            s["estimates"]["zhang_2004"]["displacement_m"], s["estimates"]["newmark"].get("displacement_m"),
+            s["estimates"]["zhang_2004_ib_gamma_max"]["displacement_m"], s["estimates"]["newmark"].get("displacement_m"),
             s["localisation"]["depth_m"], f.get("shear_wave_end_s"), f.get("time_99_percent_s"))
 
 

@@ -162,8 +162,8 @@ _MOTION = [
       "magnitude scaling factor); 6.95: Imperial Valley 1940, the bundled El Centro record (each bundled "
       "record's M_w: data/ground_motions/PROVENANCE.md)", lo=5.0, hi=9.0),
     K("distance_km", float, 0.0, "km", "horizontal distance R from the site to the nearest bound of the "
-      "seismic energy source: on a sloping site with an unscaled record (pga_g the record's own PGA within "
-      "0.5 %) the summary adds Youd et al.'s (2002) estimate, which depends on M and R; 0: not given",
+      "seismic energy source: on a sloping site whose record is scaled by a factor within 0.5-2 (chosen near "
+      "this M and R) the summary adds Youd et al.'s (2002) estimate, which depends on M and R; 0: not given",
       lo=0.0, hi=500.0),
     K("polarity", int, 1, "-", "sign of the record: 1 as recorded, -1 reversed (a → −a, after the scaling); on "
       "level ground the response is the mirror image (same r_u, settlement, peak strains)", choices=(1, -1)),

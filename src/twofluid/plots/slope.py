@@ -31,18 +31,18 @@ def estimate_rows(slope: dict) -> list[tuple[str, float | None, tuple | None, st
     """(label, displacement [m] or None, (lower, upper) band or None, note) of the run and each estimate
     of a summary's ``slope`` block, in the order drawn.
 
-    >>> s = {"surface_displacement_end_m": 0.5, "estimates": {"zhang_2004": {"displacement_m": 9.8},
+    >>> s = {"surface_displacement_end_m": 0.5, "estimates": {"zhang_2004_ib_gamma_max": {"displacement_m": 9.8},
     ...      "newmark": {"displacement_m": None, "flow_failure": True}, "youd_2002": {"median_m": None,
     ...      "note": "not evaluated: the record is scaled"}}}
     >>> [(r[0], r[1], r[3]) for r in estimate_rows(s)]
-    [('this run', 0.5, ''), ('Newmark', None, 'flow failure'), ('Zhang et al. 2004', 9.8, ''), ('Youd et al. 2002', None, 'not evaluated')]
+    [('this run', 0.5, ''), ('Newmark', None, 'flow failure'), ('Zhang 2004 with I&B γ_max', 9.8, ''), ('Youd et al. 2002', None, 'not evaluated')]
     """
     est = slope["estimates"]
-    nm, zh, yd = est["newmark"], est["zhang_2004"], est["youd_2002"]
+    nm, zh, yd = est["newmark"], est["zhang_2004_ib_gamma_max"], est["youd_2002"]
     rows = [("this run", slope["surface_displacement_end_m"], None, "")]
     note = "flow failure" if nm.get("flow_failure") else ("" if nm.get("displacement_m") is not None else "not evaluated")
     rows.append(("Newmark", nm.get("displacement_m"), None, note))
-    rows.append(("Zhang et al. 2004", zh.get("displacement_m"), None, ""))
+    rows.append(("Zhang 2004 with I&B γ_max", zh.get("displacement_m"), None, ""))
     if yd.get("median_m") is not None:
         rows.append(("Youd et al. 2002", yd["median_m"], (yd["lower_m"], yd["upper_m"]), ""))
     else:

@@ -150,6 +150,7 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
         "layers": layers,
         "estimates": _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r),
     }
+    out["beyond_measured_spreads"] = _beyond_field(d_end, layers, out["estimates"][ZHANG_KEY]["displacement_m"])
     if out["still_moving_when_shear_wave_stopped"]:
         if flow is None:
             out["note"] = (f"the surface still moved at {v_wave:.3g} m/s when the shear wave stopped: the "
@@ -199,61 +200,133 @@ def _flow_block(col, srec: SlopeRecorder, d_end: float) -> dict | None:
     }
 
 
+#: no measured ground-slope spread in the Youd et al. (2002) database exceeds this [m]
+FIELD_MAX_M = 5.4
+#: name of the strain-potential estimate: Zhang et al.'s (2004) LD = (S + 0.2) LDI with the γ_max(FS, Dr)
+#: of Idriss & Boulanger (2008), not Zhang et al.'s own γ_max curves
+ZHANG_KEY = "zhang_2004_ib_gamma_max"
+ZHANG_NAME = "Zhang 2004 with I&B gamma_max"
+
+
+def total_stress_node_motion(case: dict, polarity: int):
+    """(t [s], absolute acceleration [m/s²] of every node, bottom first) of the total-stress
+    companion of ``case`` (every layer ``liquefiable = false``, n̄ held: the column without
+    pore-pressure generation, as :func:`twofluid.runners.liquefaction.total_stress_surface`) with
+    the record's sign ``polarity``, run to the end of its shear wave in steps of the record's
+    sample interval (at least the shear sub-step), sampled after each step. None without shaking."""
+    import copy
+
+    from .liquefaction import build_column
+
+    if case["ground_motion"]["pga_g"] == 0.0:
+        return None
+    c = copy.deepcopy(case)
+    for la in c["layers"]:
+        la["liquefiable"] = False
+    c["ground_motion"]["polarity"] = int(polarity)
+    b = build_column(c)
+    col = b.column
+    col.shear_only = True
+    dt = max(col.shear_step, float(b.motion.dt) if b.motion.dt else b.dt)
+    s = b.state
+    t, a = [s.t], [np.zeros(len(s.wave.a))]
+    for step in col.run(s, col.shear_end, dt, dt):
+        s = step.state
+        a_in = col.a_g(s.t) if s.t <= col.shaking_end + 1e-12 else 0.0
+        t.append(s.t)
+        a.append(a_in + np.asarray(s.wave.a, dtype=float))
+    return np.array(t), np.array(a)
+
+
+def _newmark(case, col, rec, s_r) -> dict:
+    """The Newmark block on S_r at the liquefied element of least k_y, driven by the total-stress
+    companion's absolute acceleration at that element's base, for both polarities of the record."""
+    slope = case["site"]["slope"]
+    out = {"method": "one-way rigid block on the residual strength S_r of the liquefied element (r_u >= 0.95 in "
+                     "this run) with the least yield coefficient k_y (sigma_v: the column's weight above the "
+                     "element's base), driven by the absolute acceleration at that depth of the total-stress "
+                     "companion run (every layer liquefiable = false: independent of the effective-stress law), "
+                     "from the element's first liquefaction in this run on; the record run with both polarities, "
+                     "displacement_m their mean"}
+    ns = col.n_sat
+    liq = np.flatnonzero(np.asarray(rec.ever[:ns], dtype=bool))
+    if not liq.size:
+        return dict(out, displacement_m=None, note="not evaluated: nothing liquefied while the shear wave ran")
+    w = col.wave.rho * col.wave.h * col.v.mat.g
+    sigma_v = np.cumsum(w[::-1])[::-1]  # weight above each element's base [Pa]
+    k_y = ls.yield_coefficient(s_r[liq], sigma_v[liq], slope)
+    e = int(liq[int(np.argmin(k_y))])
+    first = np.asarray(rec.first, dtype=float)
+    t0 = float(first[e]) if np.isfinite(first[e]) else float(np.nanmin(first[:ns]))
+    depth = float(col.ground_surface - col.y_all[e])
+    out.update(sliding_depth_m=depth, triggering_time_s=t0, k_y_g=float(k_y.min()),
+               fs_post=float(ls.post_liquefaction_fs(s_r[e], ls.static_shear_stress(sigma_v[e], slope))))
+    if k_y.min() <= 0.0:
+        return dict(out, displacement_m=None, flow_failure=True,
+                    message=f"flow failure: k_y = {k_y.min():.4f} g <= 0 at {depth:g} m (FS_post <= 1)")
+    pol = int(case["ground_motion"]["polarity"])
+    by = {}
+    for p in (pol, -pol):
+        try:
+            t, a = total_stress_node_motion(case, p)
+        except (ArithmeticError, ValueError, RuntimeError) as exc:  # StepFailure is a RuntimeError
+            return dict(out, displacement_m=None, note=f"not evaluated: the total-stress companion failed ({exc})")
+        dt = float(np.median(np.diff(t)))
+        grid = np.arange(0.0, t[-1] + 0.5 * dt, dt)
+        r = ls.newmark_infinite_slope(np.interp(grid, t, a[:, e]), dt, float(s_r[e]), float(sigma_v[e]), slope,
+                                      t_start_s=t0)
+        by[str(p)] = r.displacement_m
+    mean = 0.5 * (by["1"] + by["-1"])
+    return dict(out, displacement_m=mean, displacement_by_polarity_m=by, flow_failure=False,
+                message=f"Newmark sliding block on S_r at {depth:g} m, k_y = {k_y.min():.4f} g: {by['1']:.3g} m "
+                        f"(polarity 1), {by['-1']:.3g} m (polarity -1), mean {mean:.3g} m along the slope")
+
+
 def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
-    """Zhang et al. (2004) on the simplified table, the Newmark block on the run's own motion at the
-    sliding depth, and why Youd et al. (2002) is not given."""
+    """Zhang et al.'s (2004) LD with I&B's γ_max on the simplified table, the Newmark block on the
+    total-stress companion's motion, and Youd et al. (2002) where M and R apply."""
     slope = case["site"]["slope"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         z = ls.zhang2004(simp_run.z_top_m, simp_run.z_bottom_m, simp_run.FS, simp_run.relative_density,
                          slope_percent=slope)
-    zhang = {"displacement_m": z.displacement_m, "ldi_m": z.ldi_m, "in_fitted_range": z.in_range,
-             "method": "LD = (S + 0.2) LDI, LDI = sum gamma_max(FS, Dr) h over the simplified procedure's rows "
-                       "(FS of the 'run' table: level-ground CRR, no K_alpha, as Zhang et al. 2004)"}
-    newmark = {"method": "one-way rigid block on the localisation element's residual strength S_r (sigma_v: the "
-                         "column's weight above the element's base), driven by the run's absolute acceleration of "
-                         "the firm ground under it (the node below the band of liquefied elements that holds it; "
-                         "sampled at the vertical steps) from the element's first liquefaction on"}
-    first = rec.first
-    t0 = first[e_loc] if e_loc < col.n_sat else np.nan
-    if not np.isfinite(t0) and np.any(np.isfinite(first)):
-        t0 = float(np.nanmin(first))
-    if not np.isfinite(t0) or len(srec.acc_t) < 2:
-        newmark.update(displacement_m=None, note="not evaluated: nothing liquefied while the shear wave ran")
-    else:
-        t = np.array(srec.acc_t)
-        j = e_loc  # the firm ground: the node below the liquefied band that holds the sliding element
-        while 0 < j <= col.n_sat and rec.ever[j - 1]:
-            j -= 1
-        a = np.array(srec.acc)[:, j]
-        dt = float(np.median(np.diff(t)))
-        grid = np.arange(t[0], t[-1] + 0.5 * dt, dt)
-        a_grid = np.interp(grid, t, a)
-        w = col.wave.rho * col.wave.h * col.v.mat.g
-        sigma_v = float(w[e_loc:].sum())
-        r = ls.newmark_infinite_slope(a_grid, dt, float(s_r[e_loc]), sigma_v, slope, t_start_s=float(t0 - t[0]))
-        newmark.update(displacement_m=r.displacement_m, flow_failure=r.flow_failure, k_y_g=r.k_y,
-                       fs_post=r.fs_post, triggering_time_s=float(t0), sliding_depth_m=float(
-                           col.depth_all[e_loc] + 0.5 * col.wave.h[e_loc]),
-                       driving_motion_depth_m=float(col.ground_surface - col.y_all[j]), message=r.message)
-    return {"zhang_2004": zhang, "newmark": newmark, "youd_2002": _youd(case, site, simp_run)}
+    zhang = {"name": ZHANG_NAME, "displacement_m": z.displacement_m, "ldi_m": z.ldi_m,
+             "in_fitted_range": z.in_range,
+             "method": "a second estimate: Zhang et al.'s (2004) LD = (S + 0.2) LDI, LDI = sum gamma_max(FS, Dr) h "
+                       "over the simplified procedure's rows (FS of the 'run' table: level-ground CRR, no K_alpha), "
+                       "with gamma_max(FS, Dr) of Idriss & Boulanger (2008), not Zhang et al.'s own curves"}
+    return {ZHANG_KEY: zhang, "newmark": _newmark(case, col, rec, s_r), "youd_2002": _youd(case, site, simp_run)}
 
 
-#: largest relative difference between pga_g and the record's own PGA for "unscaled"
-UNSCALED = 0.005
+def _beyond_field(d_end: float, layers: list, zhang_m: float) -> dict:
+    """The flag for a column that spreads further than any measured ground-slope spread without a
+    flow slide: FS_post > 1 in every liquefied layer and d_end > max(Zhang, 5.4 m)."""
+    limit = max(float(zhang_m), FIELD_MAX_M)
+    flag = bool(layers) and all(not la["flow_slide"] for la in layers) and d_end > limit
+    return {"flag": flag, "limit_m": limit,
+            "definition": f"FS_post > 1 in every liquefied layer and the surface displacement above max({ZHANG_NAME}, "
+                          f"{FIELD_MAX_M:g} m): no measured ground-slope spread in the Youd et al. (2002) database "
+                          f"exceeds {FIELD_MAX_M:g} m"}
+
+
+#: the scale factors (pga_g over the record's own PGA) within which a record stands for its case's M and R
+SCALE_RANGE = (0.5, 2.0)
 
 
 def _youd(case, site, simp_run) -> dict:
-    """Youd et al. (2002), ground-slope form, with its ×/÷ 2.5 band: only for an unscaled record
-    (its M and R are the earthquake's) with ``[ground_motion] distance_km``, and the F15 and D50_15
-    of the saturated rows with (N1)60 < 15 given (``fines_content``, ``mean_grain_size``)."""
+    """Youd et al. (2002), ground-slope form, with its ×/÷ 2.5 band, for the earthquake the case states
+    (``[ground_motion] magnitude`` and ``distance_km``), where the record is scaled by a factor within
+    0.5–2 (a record chosen near that M and R and scaled to a ground-motion model's median PGA there) and
+    the F15 and D50_15 of the saturated rows with (N1)60 < 15 are given (``fines_content``,
+    ``mean_grain_size``)."""
     from ..casefile import schema_liquefaction as sl
     from ..io import ground_motion as gm
 
     g = case["ground_motion"]
-    out = {"median_m": None, "method": "Youd, Hansen & Bartlett (2002) ground-slope MLR, median x/÷ 2.5; "
-           "(N1)60 of the rows taken as their (N1)60cs; T15 over the saturated rows with (N1)60 < 15 "
-           "above 20 m, F15 and D50_15 their thickness-weighted fines_content and mean_grain_size"}
+    out = {"median_m": None, "method": "Youd, Hansen & Bartlett (2002) ground-slope MLR, median x/÷ 2.5, at the "
+           "case's [ground_motion] magnitude and distance_km; (N1)60 of the rows taken as their (N1)60cs; T15 "
+           "over the saturated rows with (N1)60 < 15 above 20 m, F15 and D50_15 their thickness-weighted "
+           "fines_content and mean_grain_size"}
     if g["distance_km"] <= 0.0:
         return dict(out, note="not evaluated: [ground_motion] distance_km not given")
     m = gm.load(sl._record_path(case, case.get("_source", "") or "<case>"),
@@ -261,10 +334,12 @@ def _youd(case, site, simp_run) -> dict:
     if g["duration"] > 0.0:
         m = gm.GroundMotion(*(x[m.time <= g["duration"] + 1e-12] for x in (m.time, m.acceleration)), m.name,
                             m.source, m.dt)
-    own = m.pga / ls.G
-    if abs(g["pga_g"] / own - 1.0) > UNSCALED:
-        return dict(out, note=f"not evaluated: the record is scaled (pga_g = {g['pga_g']:g} g, its own PGA "
-                              f"{own:.4g} g); Youd et al. depend on the earthquake's M and R, not on the record")
+    factor = g["pga_g"] / (m.pga / ls.G)
+    out["scale_factor"] = factor
+    lo, hi = SCALE_RANGE
+    if not lo <= factor <= hi:
+        return dict(out, note=f"not evaluated: the record is scaled by {factor:.3g}, outside {lo:g}-{hi:g}; "
+                              "Youd et al. depend on the earthquake's M and R, which such a record no longer stands for")
     layers = case["layers"]
     owner = np.concatenate([site.layer_of, site.crust_layer_of])
     fines = np.array([layers[i]["fines_content"] for i in owner])
@@ -291,11 +366,11 @@ def slope_lines(sl: dict) -> list[str]:
 
     >>> sl = {"surface_displacement_end_m": 0.4876, "share_after_shaking": 0.0255,
     ...       "flow_after_shaking": {"flow_stopped": True, "shear_wave_end_s": 14.44, "time_99_percent_s": 10.14},
-    ...       "estimates": {"newmark": {"displacement_m": 0.723}, "zhang_2004": {"displacement_m": 9.8},
+    ...       "estimates": {"newmark": {"displacement_m": 0.723}, ZHANG_KEY: {"displacement_m": 9.8},
     ...                     "youd_2002": {"median_m": None}}}
     >>> print("\\n".join(slope_lines(sl)))
       lateral spreading: surface 0.488 m downslope, 2.5 % of it after the shaking; flow stopped (99 % at 10.1 s, shear wave to 14.4 s)
-      beside it: Newmark 0.723 m, Zhang et al. 2004 9.8 m, Youd et al. 2002 not evaluated
+      beside it: Newmark 0.723 m, Zhang 2004 with I&B gamma_max 9.8 m, Youd et al. 2002 not evaluated
     """
     d, share, f = sl["surface_displacement_end_m"], sl["share_after_shaking"], sl.get("flow_after_shaking")
     line = f"  lateral spreading: surface {d:.3g} m downslope"
@@ -310,7 +385,11 @@ def slope_lines(sl: dict) -> list[str]:
     nm = est["newmark"]
     parts = ["Newmark " + ("flow failure" if nm.get("flow_failure") else f"{nm['displacement_m']:.3g} m"
                           if nm.get("displacement_m") is not None else "not evaluated"),
-             f"Zhang et al. 2004 {est['zhang_2004']['displacement_m']:.3g} m",
+             f"{ZHANG_NAME} {est[ZHANG_KEY]['displacement_m']:.3g} m",
              "Youd et al. 2002 " + (f"{est['youd_2002']['median_m']:.3g} m" if est["youd_2002"].get("median_m")
                                     is not None else "not evaluated")]
-    return [line, "  beside it: " + ", ".join(parts)]
+    lines = [line, "  beside it: " + ", ".join(parts)]
+    if sl.get("beyond_measured_spreads", {}).get("flag"):
+        lines.append(f"  flag: FS_post > 1 yet the surface moved more than {sl['beyond_measured_spreads']['limit_m']:.3g} m, "
+                     "beyond every measured ground-slope spread")
+    return lines

@@ -1,0 +1,62 @@
+"""The idealised set's protocol (scripts/idealised_spreads.py), checked without running a column:
+the fines correction, the columns' profile, the grid's ranges and roles, the record choice."""
+import importlib.util
+import math
+from pathlib import Path
+
+import pytest
+
+from twofluid.runners.liquefaction import validated
+
+PATH = Path(__file__).resolve().parents[2] / "scripts" / "idealised_spreads.py"
+
+
+@pytest.fixture(scope="module")
+def ideal():
+    spec = importlib.util.spec_from_file_location("idealised_spreads", PATH)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_fines_correction_is_idriss_boulanger(ideal):
+    # Δ(N1)60 = exp(1.63 + 9.7/(FC + 0.01) − (15.7/(FC + 0.01))²): about 0 at 5 %, 5.37 at 30 %, 5.5 at 35 %
+    assert ideal.fines_corrected(8.0, 5.0) == pytest.approx(8.0, abs=0.01)
+    assert ideal.fines_corrected(8.0, 30.0) == pytest.approx(8.0 + math.exp(1.63 + 9.7 / 30.01 - (15.7 / 30.01) ** 2),
+                                                            rel=1e-12)
+    assert 13.3 < ideal.fines_corrected(8.0, 30.0) < 13.5
+    assert ideal.fines_corrected(8.0, 35.0) == pytest.approx(13.5, abs=0.1)
+
+
+def test_the_grid_spans_the_protocol(ideal):
+    cols = ideal.COLUMNS
+    assert len(cols) >= 12 and len({c[0] for c in cols}) == len(cols)
+    assert {c[1] for c in cols} == {0.5, 1.0, 2.0, 3.0, 4.0}
+    assert {c[2] for c in cols} == {1.5, 3.0, 6.0, 10.0}
+    assert all(6.4 <= c[3] <= 7.7 and 1.0 <= c[4] <= 30.0 for c in cols)
+    assert {c[5] for c in cols} == {5.0, 30.0}
+    assert sum(c[6] == "control" for c in cols) >= 2 and sum(c[6] == "near-flow" for c in cols) >= 2
+
+
+def test_a_column_is_the_protocol_profile(ideal):
+    c = validated(ideal.column_case(2.0, 6.0, 7.0, 10.0, 30.0, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2", 0.3, -1))
+    crust, t15, dense = c["layers"]
+    assert crust["thickness"] == 1.5 and crust["unit_weight"] == 18000.0 and c["site"]["water_table_depth"] == 1.5
+    assert t15["thickness"] == 6.0 and t15["n160cs"] == pytest.approx(ideal.fines_corrected(8.0, 30.0))
+    assert t15["hydraulic_conductivity"] == 1e-5 and t15["fines_content"] == 30.0
+    assert dense["thickness"] == 5.0 and dense["n160cs"] == 29.0 and dense["hydraulic_conductivity"] == 1e-4
+    assert c["shear_wave"]["base"] == "compliant" and c["shear_wave"]["bedrock_shear_velocity"] == 760.0
+    g = c["ground_motion"]
+    assert (g["magnitude"], g["distance_km"], g["polarity"], g["pga_g"]) == (7.0, 10.0, -1, 0.3)
+    assert g["duration"] == ideal.arias_t95("RSN6_IMPVALL.I_I-ELC180-hor1.AT2") == 26.4
+    assert validated(ideal.column_case(1.0, 3.0, 7.0, 10.0, 5.0))["layers"][1]["hydraulic_conductivity"] == 1e-4
+
+
+def test_records_nearest_in_m_and_r_within_the_scale_range(ideal):
+    pytest.importorskip("pygmm")
+    mot = ideal.motions(6.95, 6.1)  # Imperial Valley at El Centro's distance: El Centro itself first
+    assert mot[0][0] == "RSN6_IMPVALL.I_I-ELC180-hor1.AT2" and mot[0][3] == 0.0
+    assert len(mot) == 2 and mot[0][3] <= mot[1][3]
+    for m, r in ((7.0, 15.0), (6.4, 30.0)):
+        for name, pga, factor, d in ideal.motions(m, r):
+            assert 0.5 <= factor <= 2.0 and pga == ideal.bssa14_pga(m, r)
