@@ -148,7 +148,7 @@ class AvalancheLayer:
         """
         atol = np.concatenate([1e-12 * self.m / self.phi0**2, np.full(self.n, 1e-12)])
         solver = BDF(self.rhs, 0.0, self.y0.copy(), float(t_end), rtol=rtol, atol=atol,
-                     max_step=max_step, first_step=first_step, jac_sparsity=self.jac_sparsity())
+                     max_step=max_step, first_step=min(first_step, float(t_end)), jac_sparsity=self.jac_sparsity())
         yield 0.0, self.y0.copy(), None
         while solver.status == "running":
             msg = solver.step()
