@@ -208,16 +208,21 @@ def test_displacement_grows_with_the_pga(shipped_displacement):
 
 def test_the_strain_does_not_localise_in_one_element():
     """No element of the loose sand ratchets far beyond its neighbours: at 14 s (the shaking and the
-    ring-down over) the largest shear strain from the static state is within 2x the layer's median
-    (before the law's fix, 24 % in one element against 3-4 % in the others)."""
+    ring-down over) each element's shear strain from the static state is within 2x the larger of its
+    two neighbours' (before the law's fix, 24 % in one element against 3-4 % in the others). The
+    liquefied part of the layer strains more towards its base, where it liquefied first, a gradient
+    over several elements, not a single one."""
     b = build_column(_case())
     col = b.column
     s = b.state
     for step in col.run(s, 14.0, b.dt, b.dt_after):
         s = step.state
     loose = np.flatnonzero(b.site.layer_of == 1)
-    dg = np.asarray(s.wave.gamma)[loose] - s.shear[loose, law.S_GC]
-    assert dg.max() <= 2.0 * np.median(dg), dg
+    sh = s.shear[loose]  # the static strain: γ_c, or where it started to follow the cycles γ_c0
+    dg = np.abs(np.asarray(s.wave.gamma)[loose] - np.where(sh[:, law.S_RAT] > 0.0, sh[:, law.S_GC0], sh[:, law.S_GC]))
+    assert dg.max() > 0.03  # the layer did liquefy and strain
+    nb = np.maximum(np.r_[0.0, dg[:-1]], np.r_[dg[1:], 0.0])
+    assert np.all(dg <= 2.0 * nb), dg
 
 
 def test_youd_for_the_stated_earthquake_where_the_record_is_scaled_within_half_to_twice(sloping_run):

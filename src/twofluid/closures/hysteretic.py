@@ -9,8 +9,8 @@ an element's row in a state array and a parameter array, in plain Python that nu
 The law is the composition of its mechanisms, one module each: the backbone and strength
 (:mod:`.hysteretic_backbone`), the Masing/MRDF memory of reversal points
 (:mod:`.hysteretic_memory`), the damage count and Seed–Booker generation (:mod:`.hysteretic_damage`),
-the dilation zone of cyclic mobility (:mod:`.hysteretic_dilation`) and the flow rule
-(:mod:`.hysteretic_flow`), over one layout of the state and parameter arrays
+the dilation zone of cyclic mobility (:mod:`.hysteretic_dilation`), the flow rule
+(:mod:`.hysteretic_flow`) and the strain after triggering (:mod:`.hysteretic_ratchet`), over one layout of the state and parameter arrays
 (:mod:`.hysteretic_layout`). This module composes them: the stress at a trial strain
 (:func:`skeleton_stress`), the commit of a converged sub-step (:func:`commit`,
 :func:`commit_generating`) and the states to start from; it re-exports every mechanism's functions,
@@ -78,7 +78,8 @@ wiggle and ratcheted at its strength (24 % of strain in one element of the 3 % s
 element was set by the step). A branch from a reversal above τ_max (a dilated state) is widened by
 κ = max(1, |d − τ_0/τ_max|/(1 + F)) in stress and strain, so that it still reaches d τ_max; a
 liquefied element takes Masing's branches (F = 1) between its dilation stops. γ_c is the strain
-the sand was consolidated at (0 on level ground, the static strain on a slope) and stays there;
+the sand was consolidated at (0 on level ground, the static strain on a slope) and stays there
+until the element triggers ("Strain after triggering");
 γ_d = ``gamma_d0`` until the element liquefies (D ≥ 1), and from then on the zone widens with the
 strain travelled inside it, d(γ_d²) = Δγ_d |dγ| for |γ − γ_c| < γ_d (Δγ_d = ``gamma_d_step``), up
 to the limiting strain γ_lim(Dr) of Idriss & Boulanger (2008): a half cycle that crosses the zone
@@ -107,6 +108,15 @@ that), or the run reports a flow slide. Upslope, against the static shear, its d
 unchanged. Without this rule the dilation envelope (σ′_v0 tan φ′ over γ_dr beyond γ_d) stopped a
 5 % slope with FS_post = 0.86 within seconds of the shaking's end: a flow slide held by cyclic
 mobility, which the static shear never reverses to engage.
+
+**Strain after triggering.** Once the element has triggered (D ≥ 1, or 3 % of strain from γ_c),
+γ_c follows the cycles: at each reversal whose stress is within the strength (not on a dilation
+stop) it moves the share κ w of the way to the mean strain of the half cycle that ended there,
+w = min(1, |Δ(τ/τ_max)|/2), and γ_dr grows with its drift, γ_dr (1 + √(|γ_c − γ_c0|/γ_w))
+(:mod:`.hysteretic_ratchet`). On level ground the mean strain stays at γ_c; on a slope it moves
+downslope by each cycle's increment, so the element crosses the zone every cycle and the strain
+keeps accumulating instead of shaking down near 3 %. The move happens where the stress lies within
+τ_max, so within the envelope wherever the centre is: no stress jumps.
 
 **Pore-pressure generation.** Cyclic damage counted per half cycle of stress, the half cycles found
 by rainflow counting as the history arrives (:func:`_count_damage`: a small wiggle within a large
@@ -150,6 +160,7 @@ from . import hysteretic_backbone as _hb
 from . import hysteretic_damage as _hd
 from . import hysteretic_dilation as _hz
 from . import hysteretic_memory as _hm
+from . import hysteretic_ratchet as _hr
 # the mechanisms' functions, the law's public API and the kernel's helpers, under one name
 from .hysteretic_backbone import (gqh_ratio, strength_modulus, _constants, _gqh)  # noqa: F401
 from .hysteretic_flow import (flows)  # noqa: F401
@@ -161,7 +172,7 @@ from .hysteretic_layout import *  # noqa: F401,F403  (every index of the state a
 from .hysteretic_layout import (NPARAM, NSTACK, NSTATE, P_ALPHA, P_B, P_CRR, P_GD0, P_GDR, P_GT, P_K2, P_LIQ, P_P1, P_RCAP, P_SIG0,
     P_SR, P_TANPHI, P_TAUS, P_TH1, P_TH2, P_TH3, P_TH4, P_TH5, Q_A, Q_B, Q_D, Q_FM, Q_GM, Q_GR, Q_N,
     Q_S, S_D, S_DIR, S_DPART, S_G, S_GC, S_GD, S_GM, S_GREV, S_LIQ, S_NREV, S_NSTK, S_RF, S_RFDIR,
-    S_RFN, S_RG, S_STK, S_T, S_TAU, S_TLIQ)
+    S_RFN, S_RG, S_STK, S_T, S_TAU, S_TLIQ, S_TREV, S_RAT)
 
 __all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "direction", "masing_weight",
            "commit", "commit_counted", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
@@ -283,12 +294,15 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
         _hd._count_damage(g, tau_count, st, par, e)
+    if d_old != 0.0 and d != d_old and st[e, S_RAT] > 0.0:  # strain after triggering: γ_c follows the mean
+        _hr.follow_mean(g_old, st, par, e)
     if d_old != 0.0 and d != d_old:  # the strain reversed at g_old: a new branch
         n, _ = _hm._open_count(d, st, e)  # pushed: g_old, with the pairs it closes dropped
         st[e, S_STK + 2 * (n - 1)] = g_old
         st[e, S_STK + 2 * (n - 1) + 1] = st[e, S_T]
         st[e, S_NSTK] = n
         st[e, S_GREV] = g_old
+        st[e, S_TREV] = st[e, S_T]
         st[e, S_NREV] += 1.0
     st[e, S_DIR] = d
     st[e, S_G] = g
@@ -302,6 +316,8 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     if par[e, P_LIQ] > 0.0 and st[e, S_LIQ] == 0.0 and st[e, S_D] + st[e, S_DPART] >= 1.0:
         st[e, S_LIQ] = 1.0
         st[e, S_TLIQ] = t
+    if st[e, S_RAT] == 0.0 and par[e, P_LIQ] > 0.0:
+        _hr.start(g, st, e)
     return st[e, S_D] + st[e, S_DPART]
 
 
@@ -388,7 +404,7 @@ def new_state(n_elements: int, par=None) -> np.ndarray:
     """A virgin state array (no shear history) for ``n_elements`` elements; γ_d from ``par``.
 
     >>> new_state(2).shape
-    (2, 98)
+    (2, 101)
     """
     st = np.zeros((n_elements, NSTATE))
     st[:, S_TLIQ] = -1.0

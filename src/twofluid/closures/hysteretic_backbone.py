@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 from . import backbones as _bb
+from . import hysteretic_ratchet as _hr
 from .hysteretic_layout import (C_C3, C_TH1, C_TH2, C_TH4, C_TH5, KPA, P_GDR, P_GMAXFIX, P_K2, P_LIQ, P_PSFIX, P_SIG0, P_SR,
     P_TANPHI, P_TAUS, P_TH1, P_TH2, P_TH3, P_TH4, P_TH5, S_GC, S_GD)
 
@@ -36,10 +37,10 @@ def strength_modulus(ps, par, e):
 
 def _constants(st, par, e):
     """Constants of element ``e`` for the scalar functions of the law (``C_*``): GQ/H θ1, θ2,
-    θ3^θ5, θ4, θ5; whether it dilates (P_LIQ), τ_s, S_r, γ_dr, σ′_v0 tan φ′; γ_c and γ_d; 2^−θ5."""
+    θ3^θ5, θ4, θ5; whether it dilates (P_LIQ), τ_s, S_r, γ_dr (:func:`.hysteretic_ratchet.dilation_strain`), σ′_v0 tan φ′; γ_c and γ_d; 2^−θ5."""
     th5 = par[e, P_TH5]
     return (par[e, P_TH1], par[e, P_TH2], par[e, P_TH3] ** th5, par[e, P_TH4], th5, par[e, P_LIQ],
-            par[e, P_TAUS], par[e, P_SR], par[e, P_GDR], par[e, P_SIG0] * par[e, P_TANPHI],
+            par[e, P_TAUS], par[e, P_SR], _hr.dilation_strain(st, par, e), par[e, P_SIG0] * par[e, P_TANPHI],
             st[e, S_GC], st[e, S_GD], 0.5 ** th5)
 
 

@@ -5,7 +5,7 @@ One place for every index, so that each mechanism module reads the same layout.
 """
 from __future__ import annotations
 
-__all__ = ['KPA', 'S_G', 'S_T', 'S_TAU', 'S_GREV', 'S_DIR', 'S_NREV', 'S_GM', 'S_D', 'S_DPART', 'S_RG', 'S_EPS', 'S_LIQ', 'S_GC', 'S_GD', 'S_TLIQ', 'S_RFDIR', 'S_RFN', 'S_RF', 'RF_SIZE', 'S_NSTK', 'S_STK', 'NSTACK', 'R_MASING', 'NSTATE', 'STATE_COLUMNS', 'P_K2', 'P_TANPHI', 'P_SR', 'P_TH1', 'P_TH2', 'P_TH3', 'P_TH4', 'P_TH5', 'P_P1', 'P_P2', 'P_P3', 'P_CRR', 'P_B', 'P_GT', 'P_GLIM', 'P_SIG0', 'P_LIQ', 'P_GDR', 'P_GMAXFIX', 'P_PSFIX', 'P_DR', 'P_ALPHA', 'P_RCAP', 'P_DGD', 'P_GD0', 'P_TAUS', 'NPARAM', 'PARAM_COLUMNS', 'C_TH1', 'C_TH2', 'C_C3', 'C_TH4', 'C_TH5', 'C_LIQ', 'C_TAUS', 'C_SR', 'C_GDR', 'C_TDMAX', 'C_GC', 'C_GD', 'C_H5', 'NCONST', 'Q_D', 'Q_S', 'Q_GR', 'Q_VIRGIN', 'Q_N', 'Q_FM', 'Q_GM', 'Q_A', 'Q_B', 'NPREP']
+__all__ = ['KPA', 'S_G', 'S_T', 'S_TAU', 'S_GREV', 'S_DIR', 'S_NREV', 'S_GM', 'S_D', 'S_DPART', 'S_RG', 'S_EPS', 'S_LIQ', 'S_GC', 'S_GD', 'S_GC0', 'S_TREV', 'S_RAT', 'S_TLIQ', 'S_RFDIR', 'S_RFN', 'S_RF', 'RF_SIZE', 'S_NSTK', 'S_STK', 'NSTACK', 'R_MASING', 'NSTATE', 'STATE_COLUMNS', 'P_K2', 'P_TANPHI', 'P_SR', 'P_TH1', 'P_TH2', 'P_TH3', 'P_TH4', 'P_TH5', 'P_P1', 'P_P2', 'P_P3', 'P_CRR', 'P_B', 'P_GT', 'P_GLIM', 'P_SIG0', 'P_LIQ', 'P_GDR', 'P_GMAXFIX', 'P_PSFIX', 'P_DR', 'P_ALPHA', 'P_RCAP', 'P_DGD', 'P_GD0', 'P_TAUS', 'P_KC', 'P_GW', 'NPARAM', 'PARAM_COLUMNS', 'C_TH1', 'C_TH2', 'C_C3', 'C_TH4', 'C_TH5', 'C_LIQ', 'C_TAUS', 'C_SR', 'C_GDR', 'C_TDMAX', 'C_GC', 'C_GD', 'C_H5', 'NCONST', 'Q_D', 'Q_S', 'Q_GR', 'Q_VIRGIN', 'Q_N', 'Q_FM', 'Q_GM', 'Q_A', 'Q_B', 'NPREP']
 
 KPA = 1000.0
 
@@ -33,12 +33,16 @@ S_NSTK = S_RF + 3 * RF_SIZE  # number of open strain-reversal points of the stre
 S_STK = S_NSTK + 1  # those points, oldest first: (γ_k [-], τ_k/τ_max [-]) at S_STK + 2k, S_STK + 2k + 1
 NSTACK = 16  # open reversal points kept (module docstring, "Unloading and reloading")
 R_MASING = 0.8  # generated ratio from which the loops turn from MRDF's towards Masing's (:func:`masing_weight`)
-NSTATE = S_STK + 2 * NSTACK
+S_GC0 = S_STK + 2 * NSTACK  # centre of the cycles when the element triggered γ_c0 [-]
+S_TREV = S_GC0 + 1  # τ/τ_max at the last reversal [-]
+S_RAT = S_GC0 + 2  # 1 once the strain after triggering has started (:mod:`.hysteretic_ratchet`)
+NSTATE = S_GC0 + 3
 STATE_COLUMNS = (("gamma", "tau_ratio", "tau", "gamma_rev", "direction",
                   "reversals", "gamma_max", "damage", "damage_part", "r_generated", "eps_v",
                   "liquefied", "gamma_centre", "gamma_d", "t_liquefied", "count_direction", "count_points")
                  + tuple(f"{q}_{j}" for j in range(RF_SIZE) for q in ("count_tau", "count_gamma", "count_damage"))
-                 + ("open_reversals",) + tuple(f"{q}_open_{k}" for k in range(NSTACK) for q in ("gamma", "tau_ratio")))
+                 + ("open_reversals",) + tuple(f"{q}_open_{k}" for k in range(NSTACK) for q in ("gamma", "tau_ratio"))
+                 + ("gamma_centre_triggered", "tau_ratio_rev", "triggered"))
 
 # ---- columns of the per-element parameter array
 P_K2 = 0  # Seed–Idriss K2max [-]
@@ -61,11 +65,13 @@ P_RCAP = 22  # largest generated ratio r_cap [-]
 P_DGD = 23  # widening of γ_d per liquefied half cycle [-]
 P_GD0 = 24  # γ_d before liquefaction [-]
 P_TAUS = 25  # static shear stress τ_s of a slope [Pa] (signed, downslope > 0; 0 on level ground)
-NPARAM = 26
+P_KC = 26  # share κ of the way γ_c moves to the last half cycle's mean strain once liquefied [-] (0: fixed)
+P_GW = 27  # centre drift γ_w over which γ_dr doubles (weakening of the dilation) [-]
+NPARAM = 28
 PARAM_COLUMNS = ("k2max", "tan_phi", "residual_strength", "theta1", "theta2", "theta3", "theta4",
                  "theta5", "p1", "p2", "p3", "crr", "b", "gamma_threshold", "gamma_lim", "sigma_v0",
                  "liquefiable", "gamma_dilation", "g_max_fixed", "p_s_fixed", "dr", "alpha", "r_cap",
-                 "gamma_d_step", "gamma_d0", "tau_static")
+                 "gamma_d_step", "gamma_d0", "tau_static", "k_centre", "gamma_weakening")
 
 
 # ---- the law at a trial strain, written as scalar functions of two tuples of floats: the

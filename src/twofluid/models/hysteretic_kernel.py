@@ -37,7 +37,7 @@ import math
 import numpy as np
 
 from ..closures import hysteretic as _law
-from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm
+from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm, hysteretic_ratchet as _hr
 from . import newmark_bands as _nb
 from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_GC, S_GD, S_RG
 
@@ -304,7 +304,8 @@ _HELPERS = _nb.HELPERS + (_body_force, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
-                          _law._commit_generating, _hf.flows, _hz.widen_zone)
+                          _law._commit_generating, _hf.flows, _hz.widen_zone,
+                          _hr.start, _hr.follow_mean, _hr.dilation_strain)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
 

@@ -51,6 +51,8 @@ DEFAULTS = {
     "gamma_d_steps": 100.0,  # γ_d widens by γ_lim/100 per crossing of the zone once liquefied [-]
     "alpha": 0.7,  # Seed–Booker shape [-]
     "r_cap": 0.999,  # largest generated ratio [-]
+    "k_centre": 1.0,  # once triggered, γ_c moves this share of the way to each half cycle's mean strain [-]
+    "gamma_weakening": 0.2,  # γ_dr doubles once γ_c has drifted this far from where it triggered [-]
 }
 
 
@@ -108,7 +110,7 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
 
     >>> p = parameters(sigma_v0=[50e3, 100e3], n160cs=10.0)
     >>> p.shape, bool(p[1, law.P_SR] > p[0, law.P_SR])
-    ((2, 26), True)
+    ((2, 28), True)
     """
     sig = np.atleast_1d(np.asarray(sigma_v0, dtype=float))
     ne = sig.size
@@ -148,6 +150,8 @@ def parameters(*, sigma_v0, n160cs=None, qc1ncs=None, dr=None, k2max=30.0, frict
     par[:, law.P_ALPHA] = opts["alpha"]
     par[:, law.P_RCAP] = opts["r_cap"]
     par[:, law.P_GD0] = opts["gamma_d0"]
+    par[:, law.P_KC] = opts["k_centre"]
+    par[:, law.P_GW] = opts["gamma_weakening"]
     return np.ascontiguousarray(par)
 
 
