@@ -66,6 +66,7 @@ GROUPS = (
     ("shear_substeps", "twofluid.models.shear_kernel:compiled"),
     ("hysteretic", "twofluid.models.hysteretic_kernel:compiled"),
     ("spectra_peaks", "twofluid.geotech.spectra:_compiled_peaks"),
+    ("column_record", "twofluid.models.record_kernel:compiled"),
 )
 
 
@@ -86,7 +87,7 @@ MODEL_GROUPS = {
     "two_fluid_1d": ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
     "reduced_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept"),
     "liquefaction_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept",
-                        "spectra_peaks"),
+                        "spectra_peaks", "column_record"),
     "two_fluid_2d": (),
 }
 _PLANNED: list[str] = []

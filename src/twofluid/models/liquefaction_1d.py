@@ -589,9 +589,7 @@ class LiquefactionColumn:
         dn = np.ascontiguousarray(self._ndot * span)
         m = max(1, math.ceil(span / self._substep(s.t) - 1e-9))
         ne = wave.h.size
-        clo = v.clo
-        full = lambda x: np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (ns,)))
-        A, p_ref = full(clo.A), full(clo.p_ref)
+        A, p_ref = self._skeleton_arrays()
         for attempt in range(5):
             dt = span / m
             times = s.t + np.arange(1.0, m + 1.0) * dt
@@ -613,6 +611,18 @@ class LiquefactionColumn:
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
         out = WaveState(t_new, u, vel, acc, np.diff(u) / wave.h, tau)
         return out, nb, st, m, list(zip(times.tolist(), surface.tolist()))
+
+    def _skeleton_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The skeleton law's A and p_ref per saturated element as the kernel takes them (contiguous
+        float64), made again only when the closures hold another A or p_ref (the reconsolidation
+        floor replaces them)."""
+        clo, ns = self.v.clo, self.n_sat
+        key = getattr(self, "_skeleton_key", None)
+        if key is None or key[0] is not clo.A or key[1] is not clo.p_ref:
+            full = lambda x: np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (ns,)))
+            self._skeleton_key = (clo.A, clo.p_ref)
+            self._skeleton = (full(clo.A), full(clo.p_ref))
+        return self._skeleton
 
     def _flowing_phase(self, t: float) -> bool:
         """True once the shear wave runs past ``free_vibration`` because the column still flows."""

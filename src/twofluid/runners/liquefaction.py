@@ -52,6 +52,7 @@ from ..io.folders import default_out_dir
 from ..io.results import (CsvStream, NonFiniteOutput, ResultWriter, check_finite, write_json,
                           write_resolved_case)
 from ..models.liquefaction_1d import ColumnState, FlowStop, LiquefactionColumn, VerticalColumn
+from ..models import record_kernel
 from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings, StepFailure
@@ -280,29 +281,46 @@ class _Recorder:
         self.field_t, self.field = [], []
         self.ever = np.zeros(ne, dtype=bool)
         self.damage = DamageRecord(col)  # CSR_eq15 snapshots and the residual strains
+        # the per-step reductions in one compiled call (models.record_kernel; its plain Python without numba)
+        self._step = record_kernel.compiled() or record_kernel.record_step
+        self._elem = np.array(self.elem, dtype=np.int64)
+        self._sig0_elem = _c(self.sig0_elem)
+        self._ru_liq = float(ru_liq)
+        self._liq = np.zeros(ne, dtype=bool)
+        self._scalars = np.zeros(4)
+        self._fixed, self._fixed_of = (), None  # the column's constant arrays as the kernel takes them
+
+    def _constants(self) -> tuple:
+        """(P_hydrostatic, σ′_v0, n0, element lengths) as contiguous float64, converted again only if
+        the column holds other arrays (a new initial state)."""
+        col = self.col
+        of = (col.p_hydro, col.sigma_v0, col.n0)
+        if self._fixed_of is None or any(a is not b for a, b in zip(of, self._fixed_of)):
+            self._fixed_of = of
+            self._fixed = (*map(_c, of), _c(col.v.mesh.lengths))
+        return self._fixed
 
     def record(self, s: ColumnState, field: bool, surface=()):
-        col = self.col
-        excess = col.excess_pressure(s)
-        ru = excess / col.sigma_v0  # = col.excess_ratio(s)
-        up = ru > self.peak  # (np.copyto ... where: the masked assignments, without indexing twice)
-        np.copyto(self.peak, ru, where=up)
-        np.copyto(self.t_peak, s.t, where=up)
-        liq = ru > self.ru_liq
-        np.copyto(self.first, s.t, where=np.isnan(self.first) & liq)
-        self.ever |= liq
-        self.damage.record(s, liq)
-        np.maximum(self.peak_strain, np.abs(s.wave.gamma), out=self.peak_strain)
-        self.last_contribution = col.settlement_contributions(s)
-        np.maximum(self.max_contribution, self.last_contribution, out=self.max_contribution)
+        col, v = self.col, s.vertical
+        ne, k = self.peak.size, self._elem.size
+        ru, contribution = np.empty(ne), np.empty(ne)
+        ru_elem, sig_elem = np.empty(k), np.empty(k)
         self.ps = col.granular_pressure(s)  # the probes' σ′_v too
+        p_hydro, sigma_v0, n0, lengths = self._constants()
+        settle, pbase, ru_top, flux_top = self._step(
+            float(s.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
+            self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
+            self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
+            ru_elem, sig_elem, self._scalars)
+        self.damage.record(s, self._liq)
+        self.last_contribution = contribution
         self.t.append(s.t)
-        self.ru.append(ru[self.elem])
-        self.sig.append(self.ps[self.elem] / self.sig0_elem)
-        self.settle.append(float(self.last_contribution.sum()))  # = col.settlement(s)
-        self.pbase.append(float(excess[0]))
-        self.ru_top.append(float(ru[-1]))
-        self.flux_top.append(col.surface_seepage(s))
+        self.ru.append(ru_elem)
+        self.sig.append(sig_elem)
+        self.settle.append(float(settle))  # = col.settlement(s)
+        self.pbase.append(float(pbase))
+        self.ru_top.append(float(ru_top))
+        self.flux_top.append(float(flux_top))  # = col.surface_seepage(s)
         if surface:
             times, acc = zip(*surface)
             self.surface_t.extend(times)
@@ -326,6 +344,12 @@ class _Recorder:
         head = [base, surface, self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
                 col.surface_displacement(s), self.flux_top[-1]]
         return np.concatenate([head, ru[self.elem], self.ps[self.elem]])
+
+
+def _c(a) -> np.ndarray:
+    """``a`` as the compiled record takes it: a C-contiguous float64 array (itself where it is one)."""
+    return a if type(a) is np.ndarray and a.dtype == np.float64 and a.flags.c_contiguous else \
+        np.ascontiguousarray(a, dtype=np.float64)
 
 
 def _profile(col: LiquefactionColumn, s: ColumnState, peak) -> dict:
