@@ -22,6 +22,7 @@ from twofluid.casefile.loader import case_text
 from twofluid.casefile.schema import CaseError
 from twofluid.cli import main
 from twofluid.closures import hysteretic as law
+from twofluid.geotech import lateral_spread as ls
 from twofluid.models import hysteretic_kernel as hk
 from twofluid.models.liquefaction_1d import ColumnState
 from twofluid.runners.common import run_case
@@ -33,8 +34,9 @@ TAN = 0.03  # the bundled site's slope, 3 %
 
 
 def _submerged(groundwater="submerged", **edits):
-    """The bundled sloping site without its crust (water table at the ground surface), unshaken."""
-    c = sloping_case(ground_motion__pga_g=0.0, **edits)
+    """The bundled sloping site without its crust (water table at the ground surface), unshaken
+    unless ``edits`` say otherwise."""
+    c = sloping_case(**{"ground_motion__pga_g": 0.0, **edits})
     c["site"]["water_table_depth"] = 0.0
     c["site"]["groundwater"] = groundwater
     c["layers"] = c["layers"][1:]
@@ -140,3 +142,26 @@ def test_summary_names_the_groundwater(tmp_path):
     assert sl["groundwater"] == GROUNDWATER["submerged"] and sl["groundwater"].startswith("submerged")
     for la in sl["layers"]:
         np.testing.assert_allclose(la["alpha_static"], [TAN, TAN], rtol=1e-9)
+
+
+def test_newmark_block_drives_with_the_buoyant_weight(tmp_path):
+    c = _submerged(ground_motion__pga_g=0.315, ground_motion__duration=4.0, time__end=30.0)
+    c["output"]["times"] = []
+    r = run_case(c, tmp_path / "out")
+    nm = r.summary["slope"]["estimates"]["newmark"]
+    if "sliding_depth_m" not in nm:
+        pytest.fail(f"nothing liquefied in the shaken submerged column: {nm}")
+    # the block's S_r, τ_d = S_r/FS_post and k_y = (S_r − τ_d)(1 + t²)/σ_v give σ_v (its inertia) and
+    # σ_d = τ_d (1 + t²)/t (what drives); their difference must be the water's weight above the
+    # element's base, ρ_f g d, whatever the column's density at the end of the run
+    b = build_column(c)
+    col = b.column
+    d = nm["sliding_depth_m"]
+    e = int(np.argmin(np.abs((col.ground_surface - col.y_all[:-1]) - d)))
+    s_r = col.hysteretic[e, law.P_SR]
+    t = 0.03
+    tau_d = s_r / nm["fs_post"]
+    sigma_v = (s_r - tau_d) * (1.0 + t * t) / nm["k_y_g"]
+    sigma_d = tau_d * (1.0 + t * t) / t
+    assert sigma_v - sigma_d == pytest.approx(1000.0 * c["materials"]["gravity"] * d, rel=1e-9)
+    assert "submerged" in nm["method"]

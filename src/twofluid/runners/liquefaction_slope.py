@@ -268,6 +268,8 @@ def _newmark(case, col, rec, s_r) -> dict:
         wd = w.copy()
         wd[:ns] -= col.rho_b * col.wave.h[:ns] * col.v.mat.g
         sigma_d = np.cumsum(wd[::-1])[::-1]
+        out["method"] += ("; a submerged slope: the buoyant weight above the element's base drives "
+                          "(sigma_drive = sigma'_v), the total weight is the inertia")
     k_y = ls.yield_coefficient(s_r[liq], sigma_v[liq], slope, sigma_d[liq])
     e = int(liq[int(np.argmin(k_y))])
     first = np.asarray(rec.first, dtype=float)
