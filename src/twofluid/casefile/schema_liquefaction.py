@@ -52,10 +52,15 @@ _SITE = [
       hi_open=True),
     K("water_table_pressure", float, 0.0, "Pa", "liquid pressure at the water table (datum of P)"),
     K("slope", float, 0.0, "%", "ground slope S = 100 tan α in per cent (0: level ground): an infinite "
-      "slope with the water table parallel to the ground surface and slope-parallel seepage, so the "
-      "total weight drives, τ_s = σ_v sin α cos α (a submerged slope would drive about half as hard); "
-      "thicknesses and depths are measured normal to the slope. Needs [shear_wave] model = "
-      "\"hysteretic\" and no surcharge (docs/lateral-spreading.md)", lo=0.0, hi=10.0),
+      "slope, driven as [site] groundwater says; thicknesses and depths are measured normal to the "
+      "slope. Needs [shear_wave] model = \"hysteretic\" and no surcharge (docs/lateral-spreading.md)",
+      lo=0.0, hi=10.0),
+    K("groundwater", str, "slope_parallel_seepage", "-", "a sloping site's groundwater: "
+      "\"slope_parallel_seepage\" (the water table parallel to the ground surface, the pore pressure "
+      "constant along the slope: the total weight drives, τ_s = σ_v sin α cos α) or \"submerged\" "
+      "(under still open water, the water table at or above the ground surface and no crust: the "
+      "buoyant weight drives, τ_s = σ′_v sin α cos α, about half; the inertia keeps the total mass). "
+      "Not used on level ground", choices=("slope_parallel_seepage", "submerged")),
 ]
 
 LAYER_KEYS = [
@@ -421,6 +426,10 @@ def _check_slope(case: dict, source: str) -> None:
     if case["site"]["surcharge"] > 0.0:
         raise CaseError(source, "[site] surcharge", f"{case['site']['surcharge']:g} Pa on a slope of {slope:g} %: "
                         "valid on a sloping site is 0 only (its downslope component is not modelled)")
+    if case["site"]["groundwater"] == "submerged" and case["site"]["water_table_depth"] > 0.0:
+        raise CaseError(source, "[site] water_table_depth", f"{case['site']['water_table_depth']:g} m with "
+                        "[site] groundwater = \"submerged\": valid is 0 only (a submerged slope has its water "
+                        "table at or above the ground surface, no crust; water above it: water_table_pressure)")
     if case["ground_motion"]["pga_g"] > 0.0 and case["ground_motion"]["baseline_order"] == 0:
         raise CaseError(source, "[ground_motion] baseline_order", f"0 on a slope of {slope:g} %: valid on a "
                         "sloping site are 1-3 (its displacements need a baseline-corrected record)")

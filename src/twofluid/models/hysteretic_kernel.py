@@ -47,10 +47,12 @@ _MAX_EXPONENT = 700.0
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
-              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma, body):
+              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma, body, rho_b):
     """Advance len(a_in) sub-steps in place; returns 0, 1 (Newton did not converge: halve the
     sub-step) or 2 (a non-finite value). ``body`` [m/s²]: the downslope body force per unit mass
-    of an infinite slope, g sin α (0 on level ground; :func:`_body_force`)."""
+    of an infinite slope, g sin α (0 on level ground; :func:`_body_force`); ``rho_b`` [kg/m³]: the
+    density the saturated elements' driving weight leaves out (ρ_f under still open water, a
+    submerged slope: the buoyant weight drives; 0 with slope-parallel seepage: the total weight)."""
     ne = h.size
     nv = ne + 1
     m = a_in.size
@@ -139,7 +141,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
                 _nb.inertia_residual(md, mo, m1, cd, co, acc, vel, ag, res)
                 if body != 0.0:
-                    _body_force(m1, body, first, res)
+                    _body_force(m1, body, first, res, h, ns, rho_b)
                 for e in range(ne):
                     g = (un[e + 1] - un[e]) / h[e]
                     c = _law._constants_row(cst, e)
@@ -216,15 +218,23 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     return 0
 
 
-def _body_force(m1, body, first, res):
+def _body_force(m1, body, first, res, h, ns, rho_b):
     """Subtract the slope's downslope weight (M 1) b, b = g sin α [m/s²], from the nodal residual;
-    on a compliant base (``first`` = 0) the bedrock carries the column's whole downslope weight as
-    a static traction at the base node (its dashpot acts on the motion only), so that the static
-    state is an equilibrium on either base."""
+    with ``rho_b`` > 0 (a submerged slope) the saturated elements (the first ``ns``) drive with
+    (ρ − ρ_b) only, the consistent load ∫ N (ρ − ρ_b) b of each (half to each node), while their
+    inertia keeps ρ. On a compliant base (``first`` = 0) the bedrock carries the column's whole
+    downslope weight as a static traction at the base node (its dashpot acts on the motion only),
+    so that the static state is an equilibrium on either base."""
     total = 0.0
     for j in range(m1.size):
         res[j] -= m1[j] * body
         total += m1[j]
+    if rho_b != 0.0:
+        for e in range(ns):
+            half = 0.5 * rho_b * h[e]
+            res[e] += half * body
+            res[e + 1] += half * body
+            total -= 2.0 * half
     if first == 0:
         res[0] += total * body
 
@@ -295,7 +305,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 #: argument types for the ahead-of-time build (C-contiguous float64 arrays, floats, integers)
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
-             "f8[::1], f8[::1], f8, f8, f8)")
+             "f8[::1], f8[::1], f8, f8, f8, f8)")
 _HELPERS = _nb.HELPERS + (_body_force, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
@@ -340,9 +350,10 @@ def element_cycles(*args, jit: bool = True, bias: float = 0.0) -> float:
     return float(_element_cycles(*args))
 
 
-def substeps(*args, jit: bool = True, body: float = 0.0) -> int:
+def substeps(*args, jit: bool = True, body: float = 0.0, rho_b: float = 0.0) -> int:
     """Run the sub-steps (arguments as :func:`_substeps` but ``body``, the slope's g sin α [m/s²],
-    a keyword: 0 on level ground), compiled where possible."""
-    args = args + (float(body),)
+    and ``rho_b``, the density its saturated elements' driving weight leaves out [kg/m³], keywords:
+    0 on level ground and with slope-parallel seepage), compiled where possible."""
+    args = args + (float(body), float(rho_b))
     k = compiled() if jit else None
     return int(k(*args)) if k is not None else int(_substeps(*args))

@@ -68,12 +68,18 @@ Infinite slope (``slope_percent`` S > 0, tan α = S/100; hysteretic law only): t
 normal to the ground surface (its y, thicknesses and depths are measured normal to the slope;
 cos α > 0.999 up to S = 4.5 %), the vertical two-fluid model sees g cos α (the runner gives its
 mesh the inclination α and multiplies the surcharge by cos α), and the shear wave, now along the
-slope, carries the downslope body force ρ̄ g sin α of the *total* mixture weight: the water table
-is parallel to the ground surface and the groundwater seeps parallel to the slope, so the pore
-pressure does not vary along the slope and the seepage force carries the water's share of the
-driving weight (τ_s = σ_v sin α cos α with the total σ_v; under still open water, a submerged
-slope, only the buoyant weight would drive, about half). On a compliant base the bedrock carries
-the column's downslope weight as a static traction. The run starts from the static equilibrium
+slope, carries a downslope body force. With slope-parallel seepage (the default) it is ρ̄ g sin α
+of the *total* mixture weight: the water table is parallel to the ground surface and the
+groundwater seeps parallel to the slope, so the pore pressure does not vary along the slope and
+the seepage force carries the water's share of the driving weight (τ_s = σ_v sin α cos α with the
+total σ_v). A submerged slope (``submerged``: under still open water, the water table at or above
+the ground surface, no crust) is driven by its buoyant weight only, (ρ̄ − ρ_f) g sin α: the
+hydrostatic pore pressure grows downslope by ρ_f g sin α per metre, which holds back the water's
+share, and the water above the ground surface adds no shear: τ_s = g sin α Σ (ρ̄ − ρ_f) h =
+σ′_v sin α cos α, so at rest τ_s/P_s = tan α in every saturated element, P_s = g cos α Σ (ρ̄ − ρ_f) h
+the effective stress normal to the slope (σ′_v cos²α, σ′_v the vertical effective stress at the
+vertical depth d/cos α of a normal depth d). The inertia keeps the total mass ρ̄ either way. On
+a compliant base the bedrock carries the column's downslope weight as a static traction. The run starts from the static equilibrium
 under that shear: each element is loaded monotonically on its backbone to τ_s
 (:meth:`LiquefactionColumn.static_shear`, :func:`twofluid.closures.hysteretic.static_state`),
 with its static strain, and the displacements reported are measured from that state
@@ -321,7 +327,7 @@ class LiquefactionColumn:
                  base_impedance: float | None = None, crust: Crust | None = None,
                  fast_shear: bool = True, base_acceleration_at: Callable | None = None,
                  hysteretic: np.ndarray | None = None, numerical_damping: float = 0.0,
-                 slope_percent: float = 0.0, flow: FlowStop | None = None):
+                 slope_percent: float = 0.0, flow: FlowStop | None = None, submerged: bool = False):
         if vertical.bottom.kind != "wall" or vertical.top.kind != "outlet":
             raise ValueError("the liquefaction column needs a wall at the bottom and an outlet at the top")
         self.v, self.sand, self.crust = vertical, sand, crust
@@ -375,6 +381,11 @@ class LiquefactionColumn:
         #: infinite slope (module docstring, "Infinite slope"): the downslope body force g sin α [m/s²]
         self.slope_percent = float(slope_percent)
         self.body = vertical.mat.g * math.sin(math.atan(self.slope_percent / 100.0))
+        #: the density the saturated elements' driving weight leaves out [kg/m³]: ρ_f on a submerged
+        #: slope (the buoyant weight drives), 0 with slope-parallel seepage (the total weight)
+        self.rho_b = float(vertical.mat.rho_f) if submerged else 0.0
+        if submerged and crust is not None:
+            raise ValueError("a submerged slope has its water table at or above the ground surface: no crust")
         if self.body != 0.0 and self.hysteretic is None:
             raise ValueError("a sloping column needs the hysteretic shear law")
         self.u_static = np.zeros(nt + 1)  # the static displacement profile the run starts from [m]
@@ -419,10 +430,11 @@ class LiquefactionColumn:
         τ_s = g sin α (Σ_above ρ h + ρ_e h_e/2), the downslope weight of the column above the
         element's centre with the mixture density ρ̄(n) of the saturated elements and the crust's
         — the total weight: the water table parallel to the ground surface with slope-parallel
-        seepage (module docstring, "Infinite slope"). It is the discrete static equilibrium of the
-        shear sub-steps (consistent mass: each node carries half of each element next to it)."""
+        seepage; on a submerged slope ρ̄ − ρ_f, the buoyant weight (module docstring, "Infinite
+        slope"). It is the discrete static equilibrium of the shear sub-steps (consistent mass and
+        load: each node carries half of each element next to it)."""
         rho = np.array(self.wave.rho, dtype=float)
-        rho[:self.n_sat] = self.mixture_density(np.asarray(n, dtype=float))
+        rho[:self.n_sat] = self.mixture_density(np.asarray(n, dtype=float)) - self.rho_b
         w = rho * self.wave.h
         above = np.cumsum(w[::-1])[::-1] - w
         return self.body * (above + 0.5 * w)
@@ -602,7 +614,8 @@ class LiquefactionColumn:
                 u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
                 wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
                 0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
-                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1], body=self.body)
+                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1], body=self.body,
+                rho_b=self.rho_b)
             if code != 1:
                 break
             m *= 2

@@ -130,6 +130,7 @@ def build_column(case: dict, reference: bool = False) -> Built:
                                 hysteretic=hysteretic_parameters(case, site, sigma_v0, crust,
                                                                  np.broadcast_to(sand.k2max, sigma_v0.shape)),
                                 numerical_damping=sw["numerical_damping"], slope_percent=slope,
+                                submerged=st["groundwater"] == "submerged",
                                 flow=FlowStop(sw["flow_velocity"], sw["flow_window"], sw["flow_max"],
                                               sw["flow_step"]))
     if slope > 0.0:

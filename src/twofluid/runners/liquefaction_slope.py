@@ -86,6 +86,16 @@ def _at(times, values, t) -> float:
     return float(values[min(i, len(values) - 1)]) if values else 0.0
 
 
+#: the ``groundwater`` text of the summary's ``slope`` block, per [site] groundwater
+GROUNDWATER = {
+    "slope_parallel_seepage": "slope_parallel_seepage: water table parallel to the ground surface, slope-parallel "
+                              "seepage: the total weight drives, tau_static = sigma_v sin(alpha) cos(alpha) (a "
+                              "submerged slope: about half)",
+    "submerged": "submerged: under still open water, the water table at or above the ground surface: the buoyant "
+                 "weight drives, tau_static = sigma'_v sin(alpha) cos(alpha) (tau_static/P_s = tan(alpha), P_s the "
+                 "effective stress normal to the slope); the inertia keeps the total mass"}
+
+
 def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_run) -> dict:
     """The ``slope`` block of summary.json (docs/outputs.md)."""
     par, ns = col.hysteretic, col.n_sat
@@ -134,8 +144,7 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
                          "the static start); the range: elements with at least half of it"}
     out = {
         "slope_percent": slope, "angle_deg": math.degrees(math.atan(slope / 100.0)),
-        "groundwater": "water table parallel to the ground surface, slope-parallel seepage: the total weight "
-                       "drives, tau_static = sigma_v sin(alpha) cos(alpha) (a submerged slope: about half)",
+        "groundwater": GROUNDWATER[case["site"]["groundwater"]],
         "displacement_definition": "downslope, relative to the base, from the static state at t = 0; never "
                                    "baseline-corrected (the input record is: [ground_motion] baseline_order)",
         "surface_displacement_end_m": d_end,
@@ -254,13 +263,20 @@ def _newmark(case, col, rec, s_r) -> dict:
         return dict(out, displacement_m=None, note="not evaluated: nothing liquefied while the shear wave ran")
     w = col.wave.rho * col.wave.h * col.v.mat.g
     sigma_v = np.cumsum(w[::-1])[::-1]  # weight above each element's base [Pa]
-    k_y = ls.yield_coefficient(s_r[liq], sigma_v[liq], slope)
+    sigma_d = sigma_v  # the weight that drives: the total (slope-parallel seepage) ...
+    if col.rho_b != 0.0:  # ... or the buoyant (a submerged slope: no crust, every element saturated)
+        wd = w.copy()
+        wd[:ns] -= col.rho_b * col.wave.h[:ns] * col.v.mat.g
+        sigma_d = np.cumsum(wd[::-1])[::-1]
+        out["method"] += ("; a submerged slope: the buoyant weight above the element's base drives "
+                          "(sigma_drive = sigma'_v), the total weight is the inertia")
+    k_y = ls.yield_coefficient(s_r[liq], sigma_v[liq], slope, sigma_d[liq])
     e = int(liq[int(np.argmin(k_y))])
     first = np.asarray(rec.first, dtype=float)
     t0 = float(first[e]) if np.isfinite(first[e]) else float(np.nanmin(first[:ns]))
     depth = float(col.ground_surface - col.y_all[e])
     out.update(sliding_depth_m=depth, triggering_time_s=t0, k_y_g=float(k_y.min()),
-               fs_post=float(ls.post_liquefaction_fs(s_r[e], ls.static_shear_stress(sigma_v[e], slope))))
+               fs_post=float(ls.post_liquefaction_fs(s_r[e], ls.static_shear_stress(sigma_d[e], slope))))
     if k_y.min() <= 0.0:
         return dict(out, displacement_m=None, flow_failure=True,
                     message=f"flow failure: k_y = {k_y.min():.4f} g <= 0 at {depth:g} m (FS_post <= 1)")
@@ -274,7 +290,7 @@ def _newmark(case, col, rec, s_r) -> dict:
         dt = float(np.median(np.diff(t)))
         grid = np.arange(0.0, t[-1] + 0.5 * dt, dt)
         r = ls.newmark_infinite_slope(np.interp(grid, t, a[:, e]), dt, float(s_r[e]), float(sigma_v[e]), slope,
-                                      t_start_s=t0)
+                                      sigma_drive_Pa=float(sigma_d[e]), t_start_s=t0)
         by[str(p)] = r.displacement_m
     mean = 0.5 * (by["1"] + by["-1"])
     return dict(out, displacement_m=mean, displacement_by_polarity_m=by, flow_failure=False,
