@@ -20,7 +20,8 @@ under a temporary name that it renames, so that no process ever loads half a fil
 A run builds only the groups its model needs (:func:`groups_for`), before it starts
 (:func:`prepare`; an ensemble in its parent, before the workers), and says so in one line on
 standard error naming them. ``twofluid build-kernels`` (:func:`build_all`) builds every group
-of :data:`GROUPS` ahead, in parallel over the CPUs. The figures of the build are in
+of :data:`GROUPS` ahead, in parallel over the CPUs (:data:`FAMILIES`: the groups that share helpers
+in one process). The figures of the build are in
 ``docs/benchmarks.md``.
 
 Where a module cannot be built (``numba.pycc`` missing — it is deprecated in numba — or no C
@@ -338,6 +339,13 @@ def _cc_class(CC, folder: Path):
     return _CC
 
 
+#: each helper's ``numba.njit`` dispatcher, kept for the process: a helper that several groups call
+#: (the band solver's, the closure laws') is then typed and compiled once per argument types in a
+#: process that builds several groups (a run's :func:`prepare`, a worker of :func:`build_all`), and
+#: its machine code linked into each module that calls it
+_HELPER_DISPATCHERS: dict = {}
+
+
 @contextlib.contextmanager
 def _compiled_helpers(helpers: tuple):
     """The ``helpers`` replaced in their modules by their ``numba.njit`` versions while a kernel that
@@ -350,7 +358,9 @@ def _compiled_helpers(helpers: tuple):
     saved = [(f.__globals__, f.__name__, f) for f in helpers]
     try:
         for g, name, f in saved:
-            g[name] = numba.njit(nogil=True)(f)
+            if f not in _HELPER_DISPATCHERS:
+                _HELPER_DISPATCHERS[f] = numba.njit(nogil=True)(f)
+            g[name] = _HELPER_DISPATCHERS[f]
         yield
     finally:
         for g, name, f in saved:
@@ -479,14 +489,20 @@ def _probe() -> None:
             print(name)
 
 
-#: groups whose getters call another group's (built first, so that it is not built twice at once)
-_AFTER = {"reduced_1d": "band_lu", "full_1d": "band_lu"}
+#: groups built in one process by :func:`build_all`, in this order: each set shares helpers (the band
+#: solver's and the closure laws' in the first, the shear laws' in the second), which that process
+#: then compiles once (:data:`_HELPER_DISPATCHERS`); a group not listed is a set of its own
+FAMILIES = (
+    ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
+    ("hysteretic", "shear_substeps", "spectra_peaks", "column_record"),
+)
 
 
 def build_all(workers: int | None = None) -> list[str]:
-    """Build every group of :data:`GROUPS` not yet in the cache folder, each in a process of its own,
-    ``workers`` at a time (default: the CPU count); returns the groups that could not be built ahead
-    of time (empty where all were). With nothing to build it costs one process's imports.
+    """Build every group of :data:`GROUPS` not yet in the cache folder, a set of :data:`FAMILIES` per
+    process, ``workers`` processes at a time (default: the CPU count); returns the groups that could
+    not be built ahead of time (empty where all were). With nothing to build it costs one process's
+    imports.
 
     >>> callable(build_all)
     True
@@ -503,28 +519,26 @@ def build_all(workers: int | None = None) -> list[str]:
     probe = subprocess.run([sys.executable, "-c", "from twofluid import compiled; compiled._probe()"],
                            env=dict(env, TWOFLUID_KERNELS_PROBE="1"), capture_output=True, text=True)
     missing = probe.stdout.split() if probe.returncode == 0 else [name for name, _ in GROUPS]
-    code = ("import sys; from twofluid import compiled; compiled._build_group(sys.argv[1]); "
-            "out = compiled._LOADED.get(sys.argv[2]) or {None: None}; "
-            "print('aot' if all(type(f).__name__ == 'builtin_function_or_method' for f in out.values()) else 'jit')")
-    # the longest builds first (so that two workers end together), a group after the one it calls
-    pending = sorted(((n, s) for n, s in GROUPS if n in missing), key=lambda g: g[0] not in ("reduced_1d",))
-    running, failed, done = [], [], {n for n, _ in GROUPS if n not in missing}
+    code = ("import sys; from twofluid import compiled\n"
+            "for spec, name in zip(sys.argv[1::2], sys.argv[2::2]):\n"
+            "    compiled._build_group(spec); out = compiled._LOADED.get(name) or {None: None}\n"
+            "    print(name, 'aot' if all(type(f).__name__ == 'builtin_function_or_method' for f in out.values())"
+            " else 'jit', flush=True)")
+    specs = dict(GROUPS)
+    listed = [n for family in FAMILIES for n in family]
+    sets = [[n for n in family if n in missing] for family in FAMILIES]
+    sets += [[n] for n, _ in GROUPS if n in missing and n not in listed]
+    pending = [s for s in sets if s]
+    running, failed = [], []
     while pending or running:
-        ready = [g for g in pending if _AFTER.get(g[0], g[0]) in done | {g[0]}
-                 and _AFTER.get(g[0]) not in {r[0] for r in running}]
-        while ready and len(running) < workers:
-            g = ready.pop(0)
-            pending.remove(g)
-            running.append((g[0], subprocess.Popen([sys.executable, "-c", code, g[1], g[0]], env=env,
-                                                   stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)))
-        if not running:  # a dependency that is neither built nor pending: build the group anyway
-            _AFTER.clear()
-            continue
+        while pending and len(running) < workers:
+            names = pending.pop(0)
+            argv = [a for n in names for a in (specs[n], n)]
+            running.append((names, subprocess.Popen([sys.executable, "-c", code, *argv], env=env,
+                                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)))
         time.sleep(0.05)
         for r in [r for r in running if r[1].poll() is not None]:
             running.remove(r)
-            out = r[1].communicate()[0]
-            done.add(r[0])
-            if r[1].returncode != 0 or out.strip() != "aot":
-                failed.append(r[0])
-    return failed
+            report = dict(line.split()[:2] for line in r[1].communicate()[0].splitlines() if len(line.split()) >= 2)
+            failed += [n for n in r[0] if report.get(n) != "aot"]
+    return [n for n, _ in GROUPS if n in failed]
