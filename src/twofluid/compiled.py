@@ -295,10 +295,29 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
 _MIXIN_CFLAGS = ["-O1", "-g0"]
 
 
+#: the module name numba's ``modulemixin.c`` is compiled under once (:func:`_cc_class`)
+_MIXIN_NAME = "_twofluid_pycc_mixin"
+
+
+def _mixin_shim(build_dir: str, module: str) -> str:
+    """A C file defining ``pycc_init_<module>``, the one symbol of numba's ``modulemixin.c`` that
+    the module's own code calls by the module's name, as a call of the shared copy's (compiled
+    once under :data:`_MIXIN_NAME`, its symbols hidden in each module): milliseconds to compile,
+    where ``modulemixin.c`` (numba's helper library, included whole) takes 0.6 s of CPU."""
+    path = Path(build_dir) / f"{module}_mixin_shim.c"
+    path.write_text(
+        "struct _object;\nstruct PyMethodDef;\n"
+        f"int pycc_init_{_MIXIN_NAME}(struct _object *, struct PyMethodDef *, void *, void *);\n"
+        f"int pycc_init_{module}(struct _object *m, struct PyMethodDef *d, void *e, void *g)\n"
+        f"{{ return pycc_init_{_MIXIN_NAME}(m, d, e, g); }}\n")
+    return str(path)
+
+
 def _cc_class(CC, folder: Path):
-    """``numba.pycc.CC`` whose C helper code is compiled with :data:`_MIXIN_CFLAGS`, and whose
-    helper sources that do not depend on the module's name are compiled once per numba version
-    and interpreter into ``folder/.pycc-objects`` and reused by later builds."""
+    """``numba.pycc.CC`` whose C helper code is compiled with :data:`_MIXIN_CFLAGS` once per numba
+    version and interpreter into ``folder/.pycc-objects`` and reused by later builds: the sources
+    that do not depend on the module's name as they are, ``modulemixin.c`` under a fixed name with
+    a shim per module (:func:`_mixin_shim`)."""
 
     class _CC(CC):
         def _get_extra_cflags(self):
@@ -313,16 +332,25 @@ def _cc_class(CC, folder: Path):
             flags = self._get_extra_cflags()
             named = [src for src in sources if os.path.basename(src) == "modulemixin.c"]
             shared = [src for src in sources if src not in named]
-            objects = self._toolchain.compile_objects(named, build_dir, include_dirs=include_dirs,
-                                                      macros=macros, extra_cflags=flags)
+            if named and macros[0][0] == "PYCC_MODULE_NAME":  # the name is in two symbols only: a shim
+                objects = self._toolchain.compile_objects([_mixin_shim(build_dir, macros[0][1])], build_dir,
+                                                          extra_cflags=flags)
+                shared = sources
+            else:
+                objects = self._toolchain.compile_objects(named, build_dir, include_dirs=include_dirs,
+                                                          macros=macros, extra_cflags=flags)
             key = hashlib.sha256("\n".join([numba.__version__, sys.implementation.cache_tag, sys.platform,
                                              repr(macros[1:]), repr(flags), *shared]).encode()).hexdigest()[:16]
             store = folder / ".pycc-objects"
             for src in shared:
                 cached = store / f"{key}-{os.path.basename(src)}.o"
                 if not cached.is_file():
+                    shared_macros, shared_flags = macros, flags
+                    if src in named:  # compiled once, under a fixed name, its symbols hidden
+                        shared_macros = [("PYCC_MODULE_NAME", _MIXIN_NAME)] + list(macros[1:])
+                        shared_flags = flags + ["-fvisibility=hidden"]
                     built = self._toolchain.compile_objects([src], build_dir, include_dirs=include_dirs,
-                                                            macros=macros, extra_cflags=flags)[0]
+                                                            macros=shared_macros, extra_cflags=shared_flags)[0]
                     try:
                         store.mkdir(exist_ok=True)
                         tmp = store / f".{cached.name}.{os.getpid()}.tmp"
