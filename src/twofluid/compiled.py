@@ -342,6 +342,9 @@ def _cc_class(CC, folder: Path):
             key = hashlib.sha256("\n".join([numba.__version__, sys.implementation.cache_tag, sys.platform,
                                              repr(macros[1:]), repr(flags), *shared]).encode()).hexdigest()[:16]
             store = folder / ".pycc-objects"
+            for src in sources:  # the object of "numba/pycc/../core/x.c" is written through the
+                # folder of numba/pycc in build_dir, which only a compile of modulemixin.c made
+                os.makedirs(os.path.join(build_dir, os.path.dirname(src).lstrip(os.sep)), exist_ok=True)
             for src in shared:
                 cached = store / f"{key}-{os.path.basename(src)}.o"
                 if not cached.is_file():
