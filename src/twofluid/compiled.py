@@ -373,7 +373,8 @@ def _cc_class(CC, folder: Path):
 #: each helper's ``numba.njit`` dispatcher, kept for the process: a helper that several groups call
 #: (the band solver's, the closure laws') is then typed and compiled once per argument types in a
 #: process that builds several groups (a run's :func:`prepare`, a worker of :func:`build_all`), and
-#: its machine code linked into each module that calls it
+#: its machine code linked into each module that calls it. Only compiled code calls them: numba
+#: makes them no Python or C-callable wrapper
 _HELPER_DISPATCHERS: dict = {}
 
 
@@ -390,7 +391,7 @@ def _compiled_helpers(helpers: tuple):
     try:
         for g, name, f in saved:
             if f not in _HELPER_DISPATCHERS:
-                _HELPER_DISPATCHERS[f] = numba.njit(nogil=True)(f)
+                _HELPER_DISPATCHERS[f] = numba.njit(nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)(f)
             g[name] = _HELPER_DISPATCHERS[f]
         yield
     finally:
