@@ -2,12 +2,15 @@
 own and a fresh cache folder (``twofluid.compiled.GROUPS``), with numba's own compile events per
 function (type inference and lowering of each export and of each helper it calls).
 
-    python benchmarks/bench_build.py [GROUP ...] [--events]
+    python benchmarks/bench_build.py [GROUP ...] [--events] [--together]
 
 Prints, per group, the process's CPU [s] (user + system, children included: the C compiler and
 linker), the CPU of importing numba, and with ``--events`` the numba compile time of each
 function. Each group gets an empty cache folder, so nothing is shared between groups but numba's
 C helper objects that every build of the first group compiles (the first group pays them).
+``--together`` builds the groups named in one process and one cache folder instead, as a run's
+first build or a worker of ``twofluid build-kernels`` does (helpers shared between groups then
+compiled once).
 """
 from __future__ import annotations
 
@@ -40,10 +43,12 @@ class Rec(event.Listener):
 rec = Rec()
 event.register("numba:compile", rec)
 from twofluid import compiled
-compiled._build_group(sys.argv[1])
+pairs = list(zip(sys.argv[1::2], sys.argv[2::2]))
+for spec, _name in pairs:
+    compiled._build_group(spec)
 t2 = cpu()
-out = compiled._LOADED.get(sys.argv[2]) or {}
-aot = bool(out) and all(type(f).__name__ == "builtin_function_or_method" for f in out.values())
+outs = [compiled._LOADED.get(name) or {} for _spec, name in pairs]
+aot = all(out and all(type(f).__name__ == "builtin_function_or_method" for f in out.values()) for out in outs)
 print(json.dumps({"numba_import": t1 - t0, "build": t2 - t1, "aot": aot, "events": events}))
 '''
 
@@ -52,17 +57,22 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("groups", nargs="*")
     p.add_argument("--events", action="store_true")
+    p.add_argument("--together", action="store_true",
+                   help="build the groups in one process and cache folder, as a run or a build-kernels worker does")
     args = p.parse_args(argv)
     from twofluid import compiled
 
     groups = [g for g in compiled.GROUPS if not args.groups or g[0] in args.groups]
     total = 0.0
-    for name, spec in groups:
+    batches = [groups] if args.together else [[g] for g in groups]
+    for batch in batches:
+        name = "+".join(n for n, _ in batch)
+        argv_groups = [a for n, spec in batch for a in (spec, n)]
         with tempfile.TemporaryDirectory(prefix="twofluid-bench-build-") as tmp:
             env = dict(os.environ, TWOFLUID_CACHE_DIR=tmp, TWOFLUID_BUILDING_KERNELS="1")
             before = resource.getrusage(resource.RUSAGE_CHILDREN)
             w0 = time.perf_counter()
-            r = subprocess.run([sys.executable, "-c", CHILD, spec, name], env=env, capture_output=True, text=True)
+            r = subprocess.run([sys.executable, "-c", CHILD, *argv_groups], env=env, capture_output=True, text=True)
             wall = time.perf_counter() - w0
             after = resource.getrusage(resource.RUSAGE_CHILDREN)
             cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)

@@ -20,7 +20,8 @@ under a temporary name that it renames, so that no process ever loads half a fil
 A run builds only the groups its model needs (:func:`groups_for`), before it starts
 (:func:`prepare`; an ensemble in its parent, before the workers), and says so in one line on
 standard error naming them. ``twofluid build-kernels`` (:func:`build_all`) builds every group
-of :data:`GROUPS` ahead, in parallel over the CPUs. The figures of the build are in
+of :data:`GROUPS` ahead, in parallel over the CPUs (:data:`FAMILIES`: the groups that share helpers
+in one process). The figures of the build are in
 ``docs/benchmarks.md``.
 
 Where a module cannot be built (``numba.pycc`` missing — it is deprecated in numba — or no C
@@ -294,10 +295,29 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
 _MIXIN_CFLAGS = ["-O1", "-g0"]
 
 
+#: the module name numba's ``modulemixin.c`` is compiled under once (:func:`_cc_class`)
+_MIXIN_NAME = "_twofluid_pycc_mixin"
+
+
+def _mixin_shim(build_dir: str, module: str) -> str:
+    """A C file defining ``pycc_init_<module>``, the one symbol of numba's ``modulemixin.c`` that
+    the module's own code calls by the module's name, as a call of the shared copy's (compiled
+    once under :data:`_MIXIN_NAME`, its symbols hidden in each module): milliseconds to compile,
+    where ``modulemixin.c`` (numba's helper library, included whole) takes 0.6 s of CPU."""
+    path = Path(build_dir) / f"{module}_mixin_shim.c"
+    path.write_text(
+        "struct _object;\nstruct PyMethodDef;\n"
+        f"int pycc_init_{_MIXIN_NAME}(struct _object *, struct PyMethodDef *, void *, void *);\n"
+        f"int pycc_init_{module}(struct _object *m, struct PyMethodDef *d, void *e, void *g)\n"
+        f"{{ return pycc_init_{_MIXIN_NAME}(m, d, e, g); }}\n")
+    return str(path)
+
+
 def _cc_class(CC, folder: Path):
-    """``numba.pycc.CC`` whose C helper code is compiled with :data:`_MIXIN_CFLAGS`, and whose
-    helper sources that do not depend on the module's name are compiled once per numba version
-    and interpreter into ``folder/.pycc-objects`` and reused by later builds."""
+    """``numba.pycc.CC`` whose C helper code is compiled with :data:`_MIXIN_CFLAGS` once per numba
+    version and interpreter into ``folder/.pycc-objects`` and reused by later builds: the sources
+    that do not depend on the module's name as they are, ``modulemixin.c`` under a fixed name with
+    a shim per module (:func:`_mixin_shim`)."""
 
     class _CC(CC):
         def _get_extra_cflags(self):
@@ -312,16 +332,28 @@ def _cc_class(CC, folder: Path):
             flags = self._get_extra_cflags()
             named = [src for src in sources if os.path.basename(src) == "modulemixin.c"]
             shared = [src for src in sources if src not in named]
-            objects = self._toolchain.compile_objects(named, build_dir, include_dirs=include_dirs,
-                                                      macros=macros, extra_cflags=flags)
+            if named and macros[0][0] == "PYCC_MODULE_NAME":  # the name is in two symbols only: a shim
+                objects = self._toolchain.compile_objects([_mixin_shim(build_dir, macros[0][1])], build_dir,
+                                                          extra_cflags=flags)
+                shared = sources
+            else:
+                objects = self._toolchain.compile_objects(named, build_dir, include_dirs=include_dirs,
+                                                          macros=macros, extra_cflags=flags)
             key = hashlib.sha256("\n".join([numba.__version__, sys.implementation.cache_tag, sys.platform,
                                              repr(macros[1:]), repr(flags), *shared]).encode()).hexdigest()[:16]
             store = folder / ".pycc-objects"
+            for src in sources:  # the object of "numba/pycc/../core/x.c" is written through the
+                # folder of numba/pycc in build_dir, which only a compile of modulemixin.c made
+                os.makedirs(os.path.join(build_dir, os.path.dirname(src).lstrip(os.sep)), exist_ok=True)
             for src in shared:
                 cached = store / f"{key}-{os.path.basename(src)}.o"
                 if not cached.is_file():
+                    shared_macros, shared_flags = macros, flags
+                    if src in named:  # compiled once, under a fixed name, its symbols hidden
+                        shared_macros = [("PYCC_MODULE_NAME", _MIXIN_NAME)] + list(macros[1:])
+                        shared_flags = flags + ["-fvisibility=hidden"]
                     built = self._toolchain.compile_objects([src], build_dir, include_dirs=include_dirs,
-                                                            macros=macros, extra_cflags=flags)[0]
+                                                            macros=shared_macros, extra_cflags=shared_flags)[0]
                     try:
                         store.mkdir(exist_ok=True)
                         tmp = store / f".{cached.name}.{os.getpid()}.tmp"
@@ -338,6 +370,14 @@ def _cc_class(CC, folder: Path):
     return _CC
 
 
+#: each helper's ``numba.njit`` dispatcher, kept for the process: a helper that several groups call
+#: (the band solver's, the closure laws') is then typed and compiled once per argument types in a
+#: process that builds several groups (a run's :func:`prepare`, a worker of :func:`build_all`), and
+#: its machine code linked into each module that calls it. Only compiled code calls them: numba
+#: makes them no Python or C-callable wrapper
+_HELPER_DISPATCHERS: dict = {}
+
+
 @contextlib.contextmanager
 def _compiled_helpers(helpers: tuple):
     """The ``helpers`` replaced in their modules by their ``numba.njit`` versions while a kernel that
@@ -350,7 +390,9 @@ def _compiled_helpers(helpers: tuple):
     saved = [(f.__globals__, f.__name__, f) for f in helpers]
     try:
         for g, name, f in saved:
-            g[name] = numba.njit(nogil=True)(f)
+            if f not in _HELPER_DISPATCHERS:
+                _HELPER_DISPATCHERS[f] = numba.njit(nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)(f)
+            g[name] = _HELPER_DISPATCHERS[f]
         yield
     finally:
         for g, name, f in saved:
@@ -479,14 +521,20 @@ def _probe() -> None:
             print(name)
 
 
-#: groups whose getters call another group's (built first, so that it is not built twice at once)
-_AFTER = {"reduced_1d": "band_lu", "full_1d": "band_lu"}
+#: groups built in one process by :func:`build_all`, in this order: each set shares helpers (the band
+#: solver's and the closure laws' in the first, the shear laws' in the second), which that process
+#: then compiles once (:data:`_HELPER_DISPATCHERS`); a group not listed is a set of its own
+FAMILIES = (
+    ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
+    ("hysteretic", "shear_substeps", "spectra_peaks", "column_record"),
+)
 
 
 def build_all(workers: int | None = None) -> list[str]:
-    """Build every group of :data:`GROUPS` not yet in the cache folder, each in a process of its own,
-    ``workers`` at a time (default: the CPU count); returns the groups that could not be built ahead
-    of time (empty where all were). With nothing to build it costs one process's imports.
+    """Build every group of :data:`GROUPS` not yet in the cache folder, a set of :data:`FAMILIES` per
+    process, ``workers`` processes at a time (default: the CPU count); returns the groups that could
+    not be built ahead of time (empty where all were). With nothing to build it costs one process's
+    imports.
 
     >>> callable(build_all)
     True
@@ -503,28 +551,26 @@ def build_all(workers: int | None = None) -> list[str]:
     probe = subprocess.run([sys.executable, "-c", "from twofluid import compiled; compiled._probe()"],
                            env=dict(env, TWOFLUID_KERNELS_PROBE="1"), capture_output=True, text=True)
     missing = probe.stdout.split() if probe.returncode == 0 else [name for name, _ in GROUPS]
-    code = ("import sys; from twofluid import compiled; compiled._build_group(sys.argv[1]); "
-            "out = compiled._LOADED.get(sys.argv[2]) or {None: None}; "
-            "print('aot' if all(type(f).__name__ == 'builtin_function_or_method' for f in out.values()) else 'jit')")
-    # the longest builds first (so that two workers end together), a group after the one it calls
-    pending = sorted(((n, s) for n, s in GROUPS if n in missing), key=lambda g: g[0] not in ("reduced_1d",))
-    running, failed, done = [], [], {n for n, _ in GROUPS if n not in missing}
+    code = ("import sys; from twofluid import compiled\n"
+            "for spec, name in zip(sys.argv[1::2], sys.argv[2::2]):\n"
+            "    compiled._build_group(spec); out = compiled._LOADED.get(name) or {None: None}\n"
+            "    print(name, 'aot' if all(type(f).__name__ == 'builtin_function_or_method' for f in out.values())"
+            " else 'jit', flush=True)")
+    specs = dict(GROUPS)
+    listed = [n for family in FAMILIES for n in family]
+    sets = [[n for n in family if n in missing] for family in FAMILIES]
+    sets += [[n] for n, _ in GROUPS if n in missing and n not in listed]
+    pending = [s for s in sets if s]
+    running, failed = [], []
     while pending or running:
-        ready = [g for g in pending if _AFTER.get(g[0], g[0]) in done | {g[0]}
-                 and _AFTER.get(g[0]) not in {r[0] for r in running}]
-        while ready and len(running) < workers:
-            g = ready.pop(0)
-            pending.remove(g)
-            running.append((g[0], subprocess.Popen([sys.executable, "-c", code, g[1], g[0]], env=env,
-                                                   stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)))
-        if not running:  # a dependency that is neither built nor pending: build the group anyway
-            _AFTER.clear()
-            continue
+        while pending and len(running) < workers:
+            names = pending.pop(0)
+            argv = [a for n in names for a in (specs[n], n)]
+            running.append((names, subprocess.Popen([sys.executable, "-c", code, *argv], env=env,
+                                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)))
         time.sleep(0.05)
         for r in [r for r in running if r[1].poll() is not None]:
             running.remove(r)
-            out = r[1].communicate()[0]
-            done.add(r[0])
-            if r[1].returncode != 0 or out.strip() != "aot":
-                failed.append(r[0])
-    return failed
+            report = dict(line.split()[:2] for line in r[1].communicate()[0].splitlines() if len(line.split()) >= 2)
+            failed += [n for n in r[0] if report.get(n) != "aot"]
+    return [n for n, _ in GROUPS if n in failed]
