@@ -6,6 +6,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import threading
 
 import pytest
 
@@ -239,7 +240,9 @@ def test_a_signal_while_the_cluster_starts_interrupts_and_closes_it(monkeypatch,
 
     class Starting:
         def __init__(self, *a, **k):
-            os.kill(os.getpid(), sig)  # the signal in the middle of the start
+            # the signal in the middle of the start, to the driver's (main) thread: sent to the process,
+            # a thread another test left running (dask's) may take it instead and make the test flaky
+            signal.pthread_kill(threading.main_thread().ident, sig)
 
         def __enter__(self):
             return self
