@@ -154,3 +154,14 @@ def test_outputs_other_than_the_figures_are_the_same_without_them(tmp_path):
     assert {n for n in with_plots if not n.endswith(".png")} == without
     for name in sorted(without):
         assert _comparable(a, name) == _comparable(b, name), name
+
+
+def test_the_figures_call_a_settlement_final_by_the_summarys_rule():
+    """A figure's "final" is the summary's: its settlement_final where given, else the same fraction."""
+    from twofluid.plots.liquefaction import FINAL_FRACTION, settlement_state
+    from twofluid.runners import liquefaction_report as report
+
+    assert FINAL_FRACTION == report.FINAL_FRACTION
+    s = {"settlement_end_m": 0.0993, "settlement_final": False,
+         "dissipation": {"dissipated": False, "final_settlement_m": 0.1, "fraction_of_final_settlement": 0.993}}
+    assert settlement_state(s)["final"] is False

@@ -117,8 +117,10 @@ def _time_axis(ax, t, col) -> str:
     return f"time [s] (linear to {thresh:g} s, logarithmic after)"
 
 
-#: a settlement at least this fraction of the predicted final one is called final
-FINAL_FRACTION = 0.995
+#: a settlement at least this fraction of the predicted final one is called final: the summary's own
+#: rule (``settlement_final``, runners.liquefaction_report.FINAL_FRACTION), used here only for a
+#: summary written without that field
+FINAL_FRACTION = 0.99
 
 
 def settlement_state(summary: dict) -> dict:
@@ -145,7 +147,9 @@ def settlement_state(summary: dict) -> dict:
     if fraction is None and final is not None:
         fraction = reached / final if final > 0.0 else 1.0  # nothing left to settle
     dissipated = bool(d.get("dissipated"))
-    done = dissipated or (fraction is not None and fraction >= FINAL_FRACTION)
+    done = summary.get("settlement_final")  # the run's own statement, where it made one
+    if done is None:
+        done = dissipated or (fraction is not None and fraction >= FINAL_FRACTION)
     if final is None:
         words = f"{100.0 * reached:.3g} cm reached (no final settlement predicted)"
     elif dissipated:
