@@ -82,6 +82,23 @@ def cpu_of(cmd: list[str], cwd: Path, env: dict | None = None) -> float:
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
+def _with_wheel_blas(cmd: list[str]) -> list[str]:
+    """``cmd`` with openseespy's bundled BLAS/LAPACK folder on the library path, where the system has
+    no ``libblas.so.3`` (openseespy's Linux wheel links it but does not ship it on the path: its import
+    fails with "Failed to import openseespy on Linux"); ``cmd`` unchanged otherwise."""
+    import ctypes.util
+    import importlib.util
+
+    spec = importlib.util.find_spec("openseespylinux")
+    if ctypes.util.find_library("blas") or spec is None or spec.origin is None:
+        return cmd
+    lib = Path(spec.origin).parent / "lib"
+    if not (lib / "libblas.so.3").exists():
+        return cmd
+    path = os.pathsep.join(p for p in (str(lib), os.environ.get("LD_LIBRARY_PATH", "")) if p)
+    return ["env", f"LD_LIBRARY_PATH={path}", *cmd]
+
+
 def _case_file(text: str, path: Path, edits: dict) -> Path:
     """Write the TOML ``text`` with ``edits`` {(section, key): value} applied (sections may be dotted)."""
     import tomli_w
@@ -168,6 +185,7 @@ def works(tmp: Path, coarse: bool = True, as_installed: bool = False) -> dict:
         shutil.copy(PEERS / "opensees" / "column.py", peer_dir / "column.py")
         path = column_case(peer_dir / "column-20.toml", elements=20, shaking=30.0, end=180.0)
         peer = [sys.executable, "column.py", "--perm", "1e-4", "--quiet", "--out", "out", "--motion", str(MOTION)]
+        peer = _with_wheel_blas(peer)
         label = "twofluid liquefaction_1d, 20 elements, 30 s shaking, to 180 s"
         cfg = {label: twofluid_cmd(path, peer_dir / "out-tf")}
         if as_installed:  # the console script with the default plots, as a user runs it, and without them
