@@ -17,7 +17,11 @@ CASE = "immersed-avalanche"
 
 def _edit(section: str, key: str, value: str) -> str:
     """The bundled case with ``key = value`` in ``[section]`` (replaced, or added under the header)."""
-    text = case_text(CASE)
+    return _edit_text(case_text(CASE), section, key, value)
+
+
+def _edit_text(text: str, section: str, key: str, value: str) -> str:
+    """``text`` with ``key = value`` in ``[section]`` (replaced, or added under the header)."""
     head = f"[{section}]\n"
     start = text.index(head) + len(head)
     end = text.find("\n[", start)
@@ -77,6 +81,18 @@ def test_short_run_writes_histories_profiles_and_a_summary_with_balances(tmp_pat
     assert hist["time_s"][-1] == pytest.approx(30.0) and np.all(hist["base_excess_pressure_Pa"][1:] < 0)
     prof = np.genfromtxt(tmp_path / "out" / "profiles_562.csv", delimiter=",", names=True)
     assert sorted(set(prof["time_s"])) == [0.0, 10.0, 30.0] and prof.size == 30
+
+
+def test_the_command_runs_the_case_and_reports_the_time_reached_and_its_steps(tmp_path, capsys):
+    text = _edit("layer", "solid_fractions", "[0.562, 0.584]")
+    text = _edit_text(_edit_text(_edit_text(text, "layer", "elements", "6"), "time", "end", "3.0"),
+                      "output", "plots", "false")
+    path = tmp_path / "case.toml"
+    path.write_text(text)
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["stopped_at_s"] == pytest.approx(3.0) and s["steps"] == sum(m["steps"] for m in s["members"]) > 0
+    assert "at t = 3 s after" in capsys.readouterr().out
 
 
 def _onset_and_min(case, phi0, elements=None, rtol=1e-7):

@@ -38,8 +38,8 @@ from .registry import register
 __all__ = ["RHEOLOGY_DEFAULTS", "boyer_pailha", "mu_iv", "phi_eq", "viscous_number", "carman_kozeny"]
 
 #: the sedFoam 1DWetAvalanche tutorial's set (μ_s, μ_2, I_0, φ_c) and K = 4.09, the value quoted for
-#: Pailha & Pouliquen (2009) (not checked against the paper here; the start of the K fit only);
-#: the bundled case states its own calibrated values
+#: Pailha & Pouliquen (2009) (its text was not available to check it; sedFoam's own K_dila is a
+#: different, pressure-based dilatancy); the bundled case states its own calibrated values
 RHEOLOGY_DEFAULTS = {"mu_s": 0.425, "mu_2": 0.765, "i_0": 0.004, "phi_c": 0.585, "k_dil": 4.09}
 
 

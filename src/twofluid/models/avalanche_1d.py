@@ -157,10 +157,13 @@ class AvalancheLayer:
             yield solver.t, solver.y.copy(), solver.dense_output()
 
     def run(self, times, rtol: float = 1e-7, max_step: float = math.inf) -> list[LayerState]:
-        """States at ``times`` [s] (increasing, ≥ 0), interpolated in the BDF steps."""
+        """States at ``times`` [s] (increasing, ≥ 0), interpolated in the BDF steps; the number of
+        accepted steps is left in ``steps_taken``."""
         times = np.asarray(times, dtype=float)
         out, i = [], 0
+        self.steps_taken = 0  # accepted BDF steps of the last run
         for t, y, dense in self.steps(float(times[-1]), rtol=rtol, max_step=max_step):
+            self.steps_taken += dense is not None
             while i < times.size and times[i] <= t + 1e-12 * max(1.0, t):
                 yi = y if dense is None or times[i] >= t else dense(times[i])
                 out.append(self.state(times[i], yi))

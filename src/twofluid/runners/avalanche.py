@@ -10,7 +10,9 @@ Files (``<k>`` is φ0 × 1000, e.g. ``568``):
   ``skeleton_pressure_Pa``, ``shear_rate_1_s``, ``tan_psi``;
 - ``summary.json`` — per φ0 the onset time (surface velocity first above 0.2 mm/s), the base
   pressure at 20 s, its extremum, the solids and liquid balances and, with ``[output] compare``,
-  the measured values beside them (:mod:`twofluid.verification.pailha2008`); the parameters.
+  the measured values beside them (:mod:`twofluid.verification.pailha2008`); the parameters; the
+  time every member reached (``stopped_at_s``) and the accepted BDF steps (``steps``, per member and
+  in all).
 """
 from __future__ import annotations
 
@@ -89,7 +91,7 @@ def _member(case, phi0, out, run, offset):
            "base_pressure_min_Pa": float(hd["p"].min()), "base_pressure_max_Pa": float(hd["p"].max()),
            "surface_velocity_end_m_s": float(hd["v"][-1]), "thickness_end_m": float(last.z[-1]),
            "liquid_volume_change_m": float(np.sum(np.diff(last.z)) - lay.m.sum() - liquid0),
-           "solids_volume_m": float(lay.m.sum())}
+           "solids_volume_m": float(lay.m.sum()), "steps": int(lay.steps_taken)}
     if case["output"]["compare"]:
         res["data"] = data.metrics(phi0, hd)
     return res, hd, profiles
@@ -111,6 +113,8 @@ def run_avalanche(case: dict, out_dir=None, progress: bool = False) -> RunResult
     rh = case["closures"]["granular_rheology"]
     summary = {"case": case["case"]["name"], "status": run.status, "reason": run.reason,
                "wall_time_s": time.perf_counter() - wall0, "elements": case["layer"]["elements"],
+               "stopped_at_s": float(min(h["t"][-1] for h in hists.values())) if hists else 0.0,
+               "steps": int(sum(m["steps"] for m in members)),
                "members": members,
                "onset_definition": "surface velocity first above 0.2 mm/s after the first 0.1 s (the "
                                    "undrained adjustment to the sudden inclination)",

@@ -14,20 +14,24 @@ Metrics of one model curve against its data (docs/avalanche.md):
 - the root mean square of log10(model/measured) surface velocity at the data's times, both
   floored at 0.02 mm/s.
 
-Calibration, declared: μ_s on the late plateau (t ≥ 100 s) of φ0 = 0.568, then K on the whole
-velocity history of φ0 = 0.584; every other parameter is fixed beforehand.
+Calibration, declared: μ_s on the late plateau (t ≥ 100 s) of φ0 = 0.568, read as the steady
+uniform flow that plateau is (:func:`calibrate_mu_s`: the closed-form steady state, so the fit does
+not depend on how far the model's own transient has got by 100 s); then K on the whole velocity
+history of φ0 = 0.584 (:func:`calibrate_k`); every other parameter is fixed beforehand.
 """
 from __future__ import annotations
 
+import math
 from importlib import resources
 
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from ..closures.granular_rheology import mu_iv, phi_eq
 from ..models.avalanche_1d import AvalancheLayer
 
 __all__ = ["PHI0", "MEASURED_ONSET_S", "CALIBRATED", "ONSET_M_S", "FLOOR_M_S", "load", "member", "metrics",
-           "calibrate_mu_s", "calibrate_k"]
+           "steady_surface_velocity", "plateau_velocity", "calibrate_mu_s", "calibrate_k"]
 
 PHI0 = (0.562, 0.568, 0.571, 0.578, 0.584, 0.588, 0.592)
 #: onset times [s] read from the data (0.592 never reaches 0.2 mm/s: at most 0.18 mm/s by 365 s)
@@ -105,20 +109,33 @@ def metrics(phi0: float, hist: dict) -> dict:
             "velocity_points": int(inside.sum()), "velocity_end_m_s": float(v[-1])}
 
 
-def _late_misfit(make, mu_s: float) -> float:
-    d = load(0.568)
-    lay = make(0.568, {"mu_s": mu_s})
-    late = d["v_t"] >= PLATEAU_S
-    _, h = member(lay, history_times(0.568, float(d["v_t"].max()), 50))
-    return float(np.mean(np.log10(np.interp(d["v_t"][late], h["t"], h["v"]) / d["v"][late])))
+def steady_surface_velocity(case: dict, phi0: float, **rheology) -> tuple[float, float, float]:
+    """Steady uniform flow of the layer of ``case`` started at ``phi0``: (surface velocity [m/s],
+    I* [-], φ* [-]) with μ(I*) = tan θ, φ* = φ_eq(I*) and the thickness h* = φ0 h/φ* that conserves
+    the solids; u_s = I* Δρ g cos θ φ* h*²/(2 η_f). ``rheology`` overrides the case's parameters."""
+    rh = {**{k: v for k, v in case["closures"]["granular_rheology"].items() if k != "law"}, **rheology}
+    ma, la = case["materials"], case["layer"]
+    th = math.radians(la["slope_deg"])
+    args = (rh["mu_s"], rh["mu_2"], rh["i_0"], rh["phi_c"])
+    iv = brentq(lambda x: float(mu_iv(x, *args)) - math.tan(th), 1e-16, 10.0, xtol=1e-18, rtol=1e-14)
+    ph = float(phi_eq(iv, rh["phi_c"]))
+    h = phi0 * la["thickness"] / ph
+    buoy = (ma["particle_density"] - ma["liquid_density"]) * ma["gravity"] * math.cos(th)
+    return iv * buoy * ph * h * h / (2.0 * ma["liquid_viscosity"]), iv, ph
 
 
-def calibrate_mu_s(make, bracket=(0.35, 0.45)) -> float:
-    """μ_s at which the model's late plateau of φ0 = 0.568 has the measured mean log velocity.
+def plateau_velocity(phi0: float = 0.568) -> float:
+    """Geometric mean [m/s] of the measured surface velocity of ``phi0`` at t ≥ 100 s."""
+    d = load(phi0)
+    return float(10.0 ** np.mean(np.log10(d["v"][d["v_t"] >= PLATEAU_S])))
 
-    ``make(phi0, overrides)`` builds the layer with the rheology parameters ``overrides``.
-    """
-    return float(brentq(lambda m: _late_misfit(make, m), *bracket, xtol=1e-4))
+
+def calibrate_mu_s(case: dict, bracket=(0.30, 0.46)) -> float:
+    """μ_s at which the steady uniform flow of φ0 = 0.568 runs at the measured late plateau
+    (:func:`plateau_velocity`), the case's other parameters fixed (brentq on ``bracket``)."""
+    target = plateau_velocity(0.568)
+    return float(brentq(lambda m: math.log(steady_surface_velocity(case, 0.568, mu_s=m)[0] / target),
+                        *bracket, xtol=1e-6))
 
 
 def calibrate_k(make, bounds=(1.0, 10.0)) -> float:
