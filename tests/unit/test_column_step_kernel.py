@@ -10,6 +10,7 @@ form agree to round-off.
 from __future__ import annotations
 
 import copy
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -29,13 +30,14 @@ def _column(name: str, duration: float = 1.5):
     return build_column(c)
 
 
-def _run(name: str, fast: bool, t_end: float = 6.0, monkeypatch=None):
+def _run(name: str, fast: bool, t_end: float = 6.0, monkeypatch=None, newton_test: bool = True):
     """Every step of a short run (shaking, ring-down, reconsolidation with growing steps):
     (t, iterations, V, W, n, P, n̄, surface settlement) per step, and how many steps the compiled
     call made and handed back."""
     b = _column(name)
     col = b.column
     col.v.fast_steps = fast
+    col.settings = replace(col.settings, newton_test=newton_test)
     made = {"fast": 0, "back": 0}
     real = _FAST_STEP
 
@@ -52,12 +54,14 @@ def _run(name: str, fast: bool, t_end: float = 6.0, monkeypatch=None):
     return rows, made
 
 
-@pytest.mark.parametrize("name", ["elcentro", "gravel", "layered-site"])
-def test_the_compiled_step_makes_the_steppers_steps_bit_for_bit(name, monkeypatch):
+@pytest.mark.parametrize("name, newton_test", [("elcentro", True), ("gravel", True), ("layered-site", True),
+                                               ("elcentro", False)])
+def test_the_compiled_step_makes_the_steppers_steps_bit_for_bit(name, newton_test, monkeypatch):
+    """With the Newton test (accepting on a predicted change) and with the plain test alone."""
     if column_step_kernel.compiled() is None:
         pytest.skip("no compiled kernels here")
-    ref, off = _run(name, False, monkeypatch=monkeypatch)
-    got, on = _run(name, True, monkeypatch=monkeypatch)
+    ref, off = _run(name, False, monkeypatch=monkeypatch, newton_test=newton_test)
+    got, on = _run(name, True, monkeypatch=monkeypatch, newton_test=newton_test)
     assert off["fast"] == 0
     assert on["fast"] > 0.9 * len(got)  # (the rest handed back: steps the stepper halves, say)
     assert len(got) == len(ref) > 100

@@ -141,10 +141,14 @@ class ReducedVerticalColumn(Reduced1D):
             order, ex_t, ex_h = 0, 0.0, -1.0
         else:
             (DW, Dn), order, ex_t, ex_h = ex.D, ex.order, ex.t, (-1.0 if ex.h is None else ex.h)
+            if not (DW.flags.c_contiguous and Dn.flags.c_contiguous):
+                self._fast_release()
+                return None
         idx, c, meta, last, _ = self._fast_run()
         if idx.size < meta[0] + 2:  # room for this step's sample
             idx.resize(idx.size + 64, refcheck=False)
             c.resize(c.size + 64, refcheck=False)
+        newton = bool(settings.newton_test and self.newton_iterates)  # (the stepper's NewtonTest or none)
         a, P, info = np.empty(3 * nv - 1), np.empty(ne), np.zeros(3, dtype=np.int64)
         DWo, Dno = np.empty((6, nv)), np.empty((6, ne))
         t_new = old.t + dt
@@ -155,9 +159,11 @@ class ReducedVerticalColumn(Reduced1D):
         try:
             code = ker(float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:],
                        DW, Dn, order, float(ex_t or 0.0), float(ex_h), cont, float(settings.tol),
-                       int(settings.max_iter), bool(settings.newton_test), lt.V, lt.W, lt.n, float(lt.t), has_last,
+                       int(settings.max_iter), newton, lt.V, lt.W, lt.n, float(lt.t), has_last,
                        idx, c, meta, a, P, DWo, Dno, info)
         except ZeroDivisionError:  # a diverging iterate: the stepper's Python path meets it and says so
+            code = -1
+        except TypeError:  # an array not as the compiled call takes it (not C-contiguous float64)
             code = -1
         if code != column_step_kernel.OK:
             self._fast_release()
@@ -169,6 +175,6 @@ class ReducedVerticalColumn(Reduced1D):
         else:
             ex.D, ex.order = [DWo[:rows], Dno[:rows]], rows
         ex.t, ex.state = t_new, new
-        if settings.newton_test:
+        if newton:
             self._fast_samples[3] = new
         return new, int(info[0])
