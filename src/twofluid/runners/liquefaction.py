@@ -345,7 +345,7 @@ class _Recorder:
         base, surface = col.accelerations(s)
         head = [base, surface, self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
                 col.surface_displacement(s), self.flux_top[-1]]
-        return np.concatenate([head, ru[self.elem], self.ps[self.elem]])
+        return np.concatenate([head, ru[self._elem], self.ps[self._elem]])
 
 
 def _at_mark(marks: list, t: float) -> bool:
