@@ -68,6 +68,7 @@ GROUPS = (
     ("hysteretic", "twofluid.models.hysteretic_kernel:compiled"),
     ("spectra_peaks", "twofluid.geotech.spectra:_compiled_peaks"),
     ("column_record", "twofluid.models.record_kernel:compiled"),
+    ("column_step", "twofluid.models.column_step_kernel:compiled"),
 )
 
 
@@ -88,7 +89,7 @@ MODEL_GROUPS = {
     "two_fluid_1d": ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
     "reduced_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept"),
     "liquefaction_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept",
-                        "spectra_peaks", "column_record"),
+                        "spectra_peaks", "column_record", "column_step"),
     "two_fluid_2d": (),
 }
 _PLANNED: list[str] = []

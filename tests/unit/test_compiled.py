@@ -156,7 +156,7 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
     from twofluid.closures import kernels as closure_kernels
     from twofluid.fem import banded
     from twofluid.geotech import spectra
-    from twofluid.models import extrapolation, full_kernel, reduced_kernel, shear_kernel
+    from twofluid.models import column_step_kernel, extrapolation, full_kernel, reduced_kernel, shear_kernel
     from twofluid.timestepping import newton
 
     getters = {
@@ -168,6 +168,7 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
         "shear_substeps": (shear_kernel, lambda: [shear_kernel.compiled()]),
         "newton_accept": (newton, lambda: [newton._kernels()]),
         "spectra_peaks": (spectra, lambda: [spectra._compiled_peaks()]),
+        "column_step": (column_step_kernel, lambda: [column_step_kernel.compiled()]),
     }
     saved = {m: {k: v for k, v in vars(m).items() if k in ("_KERNELS", "_KERNEL", "_TRIED", "_COMPILED",
                                                              "_LU", "_LU22", "_BT22", "_WHOLE")} for m, _ in getters.values()}

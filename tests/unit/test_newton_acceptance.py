@@ -18,6 +18,7 @@ import pytest
 import twofluid.timestepping.backward_euler as be
 from twofluid.casefile.builder import build
 from twofluid.casefile.loader import load_case
+from twofluid.models.reduced_column import ReducedVerticalColumn
 from twofluid.runners.liquefaction import build_column
 from twofluid.timestepping.newton import NewtonTest
 
@@ -41,6 +42,9 @@ def audit(monkeypatch):
         return new, its, predicted
 
     monkeypatch.setattr(be, "_step", spy)
+    # the liquefaction column's vertical steps by the stepper, not in one compiled call (which makes the
+    # same steps: tests/unit/test_column_step_kernel.py)
+    monkeypatch.setattr(ReducedVerticalColumn, "fast_steps", False)
     return rows
 
 

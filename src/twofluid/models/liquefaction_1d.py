@@ -816,13 +816,25 @@ class LiquefactionColumn:
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
             return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface))
-        vert = s.vertical.copy(n_bar=n_bar)
+        v0 = s.vertical
+        # the stepper and the compiled step read the old arrays and write new ones: no copy needed
+        vert = State(v0.t, v0.V, v0.W, v0.P, v0.n, n_bar) if type(v0) is State else v0.copy(n_bar=n_bar)
         if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
-            self.v.continue_from(s.vertical, vert)
-        its, inflow = 0, 0.0
-        for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
-            vert, its = st.state, st.iterations
-            inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
+            self.v.continue_from(v0, vert)
+        its, inflow, made = 0, 0.0, None
+        eps = 1e-9 * max(dt, 1e-12)  # (integrate's)
+        fast = getattr(self.v, "fast_step", None)
+        if fast is not None and vert.t < t_new - eps:  # the stepper's first try in one compiled call
+            h = min(dt, t_new - s.t)  # (integrate's first step to t_new)
+            h = t_new - s.t if t_new - s.t - h < 0.01 * dt else h
+            made = fast(vert, h, self.settings)
+            if made is not None:
+                vert, its = made
+                inflow -= h * self.v.solids_outflow(vert)
+        if made is None or vert.t < t_new - eps:  # the stepper (all of the step, or the rest)
+            for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
+                vert, its = st.state, st.iterations
+                inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
         if self.hysteretic is not None and dt > 0.0:
             self._ndot = (vert.n - s.vertical.n) / dt
         return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface))

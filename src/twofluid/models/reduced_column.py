@@ -14,10 +14,19 @@ agree to the Picard tolerance (``tests/unit/test_liquefaction_fast.py``).
 What the column adds to the reduced model is the velocity floor of the Picard test (see
 :class:`~twofluid.models.liquefaction_1d.VerticalColumn`) and the carrying of the
 extrapolation table across the column's split steps, whose vertical state is a fresh copy
-with the new reference porosity.
+with the new reference porosity, and :meth:`ReducedVerticalColumn.fast_step`: the column's vertical
+step in one compiled call (:mod:`~twofluid.models.column_step_kernel`), the same numbers as the
+stepper's Python path, which takes any step the call cannot make at its first try.
 """
 from __future__ import annotations
 
+from collections import deque
+
+import numpy as np
+
+from ..closures import kernels as closure_kernels
+from ..timestepping import newton as _newton
+from . import column_step_kernel
 from .reduced_1d import Reduced1D
 from .two_fluid_1d import State
 
@@ -34,6 +43,9 @@ class ReducedVerticalColumn(Reduced1D):
 
     # the iterates are Newton's: the stepper may accept one on its predicted error (timestepping.newton)
     newton_iterates = True
+    #: the column's vertical steps in one compiled call where it covers them (:meth:`fast_step`); False:
+    #: always the stepper's Python path (the same numbers; the tests of the stepper itself use it)
+    fast_steps = True
 
     def __init__(self, mesh, materials, closures, *args, surcharge: float = 0.0,
                  velocity_floor: float = 1e-2, **kw):
@@ -47,3 +59,122 @@ class ReducedVerticalColumn(Reduced1D):
         ex = self._extrap
         if ex.state is previous:
             ex.state = start
+
+    # --------------------------------------------- the vertical step in one compiled call
+    _FAST_METHODS = ("begin_iteration", "check", "end_step", "iterate", "assemble", "solve", "unpack",
+                     "iterate_change", "_first_iterate", "bed_force_shift", "_force_shift_at", "_prepare_step",
+                     "velocity_scale", "solids_pressure", "compiled_laws", "_remember")
+
+    def _fast_static(self, old: State):
+        """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` for this
+        model, or None where the call does not cover it (an upwind solids flux, a Wen–Yu drag law,
+        a method replaced, no compiled kernels): the stepper's Python path then."""
+        hit = self.__dict__.get("_fast")
+        laws = self.compiled_laws()
+        if hit is not None and hit[0] is laws and hit[1] is self.clo:
+            return hit[2]
+        static = None
+        ker = column_step_kernel.compiled()
+        args = self._whole_args(old) if ker is not None and laws is not None else None
+        cls = type(self)
+        if (args is not None and self.solids_flux != "upwind" and getattr(self, "linearisation", "newton") == "newton"
+                and self._whole_iterate_ok() and not set(self._FAST_METHODS) & self.__dict__.keys()
+                and all(getattr(cls, m) is getattr(ReducedVerticalColumn, m) for m in self._FAST_METHODS)
+                and self.BN is not None):
+            (_, _, _, _, _), (law, dpar, d, A, p_ref, modulus, fluidized, vpar), consts, _ = args
+            if law != closure_kernels.WEN_YU:
+                mat, top = self.mat, self.top.kind == "outlet"
+                rho = np.array([mat.rho_s + mat.rho_f, mat.rho_s - mat.rho_f, mat.rho_f, mat.mu_f,
+                                (mat.rho_s - mat.rho_f) * self.g_y], dtype=float)
+                g3 = np.array([mat.rho_s - mat.rho_f, self.g_y, mat.g], dtype=float)
+                c = np.ascontiguousarray
+                static = (ker, rho, self._mc, c(self._inv2vol, dtype=float), c(self._srcT, dtype=float),
+                          c(self._mR0, dtype=float), c(self.vert_area, dtype=float), c(self._tb, dtype=float),
+                          self._w0, self._w1, law, dpar, d, A, p_ref, modulus, fluidized, vpar,
+                          c(self.volumes, dtype=float), c(self._h, dtype=float), g3, bool(self.clo.viscous),
+                          self.bed_forces != "galerkin", *consts, float(self.velocity_floor),
+                          c(self._liq_src, dtype=float), top,
+                          float(self.top.pressure if top else self.bottom.pressure))
+        self._fast = (laws, self.clo, static)
+        return static
+
+    def _fast_run(self):
+        """The Newton test's samples as the kernel keeps them (count, steps; index and constant of each),
+        taken from the stepper's record of this model's run where the Python path made the last step."""
+        run = self.__dict__.get("_fast_samples")
+        rec = _newton._RUNS.get(self)
+        if run is None or rec is not run[4]:  # (the stepper made steps of this model since)
+            samples = list(rec.samples) if rec is not None else []
+            cap = len(samples) + _newton.WINDOW + 8
+            idx, c = np.zeros(cap, dtype=np.int64), np.zeros(cap)
+            for j, (i, x) in enumerate(samples):
+                idx[j], c[j] = i, x
+            meta = np.array([len(samples), rec.steps if rec is not None else 0], dtype=np.int64)
+            run = self._fast_samples = [idx, c, meta, rec.last if rec is not None else None, rec]
+        return run
+
+    def _fast_release(self) -> None:
+        """Hand the Newton test's samples back to the stepper's record (before its Python path runs)."""
+        run = self.__dict__.get("_fast_samples")
+        if run is not None:
+            idx, c, meta, last, _ = run
+            rec = _newton._Run()
+            rec.samples = deque((int(idx[j]), float(c[j])) for j in range(int(meta[0])))
+            rec.steps, rec.last = int(meta[1]), last
+            _newton._RUNS[self] = rec
+            self._fast_samples = None
+
+    def fast_step(self, old: State, dt: float, settings) -> tuple | None:
+        """One step of ``dt`` [s] from ``old`` as the stepper's first try at it makes it
+        (:func:`~twofluid.timestepping.backward_euler.integrate` to ``old.t + dt``), in one compiled call
+        (:mod:`~twofluid.models.column_step_kernel`): (the new state, its iterations), or None where the
+        call cannot make it (the caller then takes the stepper, which starts the step again)."""
+        static = self._fast_static(old) if type(old) is State and self.fast_steps else None
+        if static is None or not (old.n_bar.flags.c_contiguous and old.n.flags.c_contiguous):
+            self._fast_release()
+            return None
+        ker = static[0]
+        ex = self._extrap
+        ne, nv = old.n.size, old.V.size
+        if ex.D is None:
+            DW = Dn = np.zeros((1, 1))
+            order, ex_t, ex_h = 0, 0.0, -1.0
+        else:
+            (DW, Dn), order, ex_t, ex_h = ex.D, ex.order, ex.t, (-1.0 if ex.h is None else ex.h)
+            if not (DW.flags.c_contiguous and Dn.flags.c_contiguous):
+                self._fast_release()
+                return None
+        idx, c, meta, last, _ = self._fast_run()
+        if idx.size < meta[0] + 2:  # room for this step's sample
+            idx.resize(idx.size + 64, refcheck=False)
+            c.resize(c.size + 64, refcheck=False)
+        newton = bool(settings.newton_test and self.newton_iterates)  # (the stepper's NewtonTest or none)
+        a, P, info = np.empty(3 * nv - 1), np.empty(ne), np.zeros(3, dtype=np.int64)
+        DWo, Dno = np.empty((6, nv)), np.empty((6, ne))
+        t_new = old.t + dt
+        V = self._mixture_velocity(t_new)
+        cont = ex.state is old and ex.t == old.t
+        has_last = last is not None
+        lt = last if has_last else old
+        try:
+            code = ker(float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:],
+                       DW, Dn, order, float(ex_t or 0.0), float(ex_h), cont, float(settings.tol),
+                       int(settings.max_iter), newton, lt.V, lt.W, lt.n, float(lt.t), has_last,
+                       idx, c, meta, a, P, DWo, Dno, info)
+        except ZeroDivisionError:  # a diverging iterate: the stepper's Python path meets it and says so
+            code = -1
+        except TypeError:  # an array not as the compiled call takes it (not C-contiguous float64)
+            code = -1
+        if code != column_step_kernel.OK:
+            self._fast_release()
+            return None
+        new = State(t_new, a[:nv], a[nv:2 * nv], P, a[2 * nv:], old.n_bar.copy())
+        rows = int(info[2])
+        if rows == 2:
+            ex.D, ex.order, ex.h = [DWo[:2], Dno[:2]], 2, t_new - (ex.t if cont else old.t)
+        else:
+            ex.D, ex.order = [DWo[:rows], Dno[:rows]], rows
+        ex.t, ex.state = t_new, new
+        if newton:
+            self._fast_samples[3] = new
+        return new, int(info[0])

@@ -34,6 +34,7 @@ so Ctrl-C or a failed step (including a non-finite shear step) leaves readable f
 """
 from __future__ import annotations
 
+import bisect
 import math
 import time
 from dataclasses import dataclass
@@ -344,7 +345,15 @@ class _Recorder:
         base, surface = col.accelerations(s)
         head = [base, surface, self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
                 col.surface_displacement(s), self.flux_top[-1]]
-        return np.concatenate([head, ru[self.elem], self.ps[self.elem]])
+        return np.concatenate([head, ru[self._elem], self.ps[self._elem]])
+
+
+def _at_mark(marks: list, t: float) -> bool:
+    """Whether ``t`` [s] is one of the sorted ``marks`` to 1e-9 relative (1e-9 s below 1 s): the two
+    nearest marks either side only (one farther away is farther from ``t``: it could match only
+    where marks lie within 1e-9 of each other)."""
+    i = bisect.bisect_left(marks, t)
+    return any(abs(t - m) < 1e-9 * max(1.0, m) for m in marks[max(i - 2, 0):i + 2])
 
 
 def _c(a) -> np.ndarray:
@@ -434,7 +443,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             n_steps += 1
             n_sub += step.substeps
             inflow += step.solids_inflow
-            at_mark = any(abs(s.t - t) < 1e-9 * max(1.0, t) for t in out_times)
+            at_mark = _at_mark(out_times, s.t)
             field = s.t >= next_field - 1e-12 or at_mark
             ru = rec.record(s, field, step.surface)
             if srec is not None:

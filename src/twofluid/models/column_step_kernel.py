@@ -1,0 +1,302 @@
+"""The liquefaction column's vertical step in one compiled call: one backward-Euler step of the
+reduced (W, n) model with its Newton iterates, their acceptance test, the pressure recovery and
+the extrapolation table, written once in numba-compatible Python (:mod:`twofluid.compiled`).
+
+:meth:`ReducedVerticalColumn.fast_step <twofluid.models.reduced_column.ReducedVerticalColumn.fast_step>`
+calls :func:`vertical_step` for each of the column's vertical steps. It makes the same calls, with
+the same arithmetic in the same order, as the stepper's Python path
+(:func:`twofluid.timestepping.backward_euler._step` with
+:meth:`Reduced1D.iterate <twofluid.models.reduced_1d.Reduced1D.iterate>`), so the two give the same
+numbers bit for bit (``tests/unit/test_column_step_kernel.py``):
+
+- the bed-force shift at the old state and the step's constants
+  (:func:`~twofluid.models.reduced_kernel._shift_law_points`,
+  :func:`~twofluid.models.reduced_kernel._shift_with_laws`,
+  :func:`~twofluid.models.reduced_kernel._step_constants`);
+- the first iterate extrapolated from the table (:func:`~twofluid.models.reduced_kernel._first_iterate`,
+  or linearly after a change of step);
+- the whole Newton iterates (:func:`~twofluid.models.reduced_kernel._iterate_points`,
+  :func:`~twofluid.models.reduced_kernel._whole_iterate`), accepted by the plain test or on the predicted
+  change of the next iterate (:class:`twofluid.timestepping.newton.NewtonTest`: the carried contraction
+  constants are the arrays ``s_idx``, ``s_c`` and ``meta``, its compiled test
+  :func:`twofluid.timestepping.newton._accept`);
+- the admissibility test (:func:`~twofluid.models.reduced_kernel._state_check`), the pressure
+  recovery (:func:`~twofluid.models.reduced_kernel._step_pressure`) and the new rows of the
+  extrapolation table (:func:`twofluid.models.extrapolation._push_entries`).
+
+A step it cannot make as the Python path would at its first try (a rejected iterate, a state
+outside (0, 1], no convergence) returns a code, changes nothing the caller keeps, and the caller
+takes the Python path for that step (which halves the step, says why, and so on).
+
+>>> callable(compiled()) or compiled() is None
+True
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..closures import kernels as laws
+from ..fem import banded
+from ..timestepping import newton as _nt
+from . import extrapolation as _ex
+from . import reduced_kernel as _rk
+
+__all__ = ["vertical_step", "compiled", "SIGNATURE", "OK", "NOT_CONVERGED", "NOT_FINITE", "NOT_ADMISSIBLE"]
+
+OK, NOT_CONVERGED, NOT_FINITE, NOT_ADMISSIBLE = 0, 1, 2, 3
+_CLEAR = 1e-6  # the models' floor of 1 − n (two_fluid_1d._CLEAR)
+
+
+def _scale(V, W, floor):
+    """TwoFluid1D.velocity_scale: max(max |V|, max |W|, floor), as Python's max of the three."""
+    a = 0.0
+    for x in V:
+        y = abs(x)
+        if y > a or y != y:
+            a = y
+    b = 0.0
+    for x in W:
+        y = abs(x)
+        if y > b or y != y:
+            b = y
+    out = a
+    if b > out:
+        out = b
+    if floor > out:
+        out = floor
+    return out
+
+
+def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
+                  A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
+                  fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
+                  newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
+    """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
+    n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
+    (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
+    arrays as :class:`~twofluid.models.reduced_1d.Reduced1D` keeps them; ``shifted``: the upwind bed
+    forces (else Galerkin, α = 0). The table: ``DW``, ``Dn`` of ``order`` rows at ``ex_t``, step
+    ``ex_h`` (≤ 0: none), ``ex_cont`` whether the old state is its last row. The Newton test's run:
+    the last accepted state (``lV``, ``lW``, ``ln``, ``last_t``, ``has_last``), its samples (``s_idx``,
+    ``s_c``, ``meta`` = (count, steps)). Written on success: ``a_out`` = [V, W, n], ``P_out``, the new
+    table ``DWo``, ``Dno`` (``info[2]`` rows), the samples, and ``info`` = (iterations, accepted on a
+    prediction, rows); returns :data:`OK` or why not (nothing the caller keeps written)."""
+    ne = on.size
+    nv = ne + 1
+    t_new = t_old + dt
+    # the bed-force shift at the old state (Reduced1D._force_shift_at) and the step's constants
+    alpha = np.zeros(ne)
+    empty = np.empty(0)
+    if shifted:
+        x = np.empty(2 * ne)
+        s_abs = np.empty(2 * ne)
+        _rk._shift_law_points(on, oV, oW, w0, w1, dpar[3], d, rho[2], rho[3], False, x, s_abs, empty)
+        _rk._shift_with_laws(on, onb, oV, oW, x, s_abs, empty, empty, empty, law, dpar, d, A, p_ref, modulus,
+                             fluidized, rho[3], mc, vol, h, g3[0], g3[1], g3[2], alpha)
+    sc = np.empty((16, ne))
+    vc = np.empty((4, nv))
+    _rk._step_constants(V, oV, oW, on, alpha, dt, inv2vol, 0.5 * rho[0] / dt, -0.5 * rho[1] / dt, rho[4], mc, srcT,
+                        mR0, area, tb, sc, vc)
+    hc = 0.5 * rho[2] / dt
+    cw0 = -0.5 * rho[1] / dt
+    # the iterate k: a copy of the old state, from the extrapolation (Reduced1D._first_iterate)
+    kV = oV.copy()
+    kW = oW.copy()
+    kn = on.copy()
+    if order >= 3 and t_new > ex_t and abs((t_new - ex_t) - ex_h) <= 1e-9 * ex_h:
+        if _rk._first_iterate(DW, Dn, order, kW, kn):
+            for i in range(nv):
+                kV[i] = V[i]
+    elif order >= 2 and t_new > ex_t:
+        same = True
+        for i in range(ne):
+            if kn[i] != Dn[0, i]:
+                same = False
+        for i in range(nv):
+            if kW[i] != DW[0, i]:
+                same = False
+        if same:
+            f = (t_new - ex_t) / ex_h
+            if 2.0 < f:
+                f = 2.0
+            for i in range(nv):
+                kV[i] = V[i]
+                kW[i] = DW[0, i] + f * DW[1, i]
+            for i in range(ne):
+                y = Dn[0, i] + f * Dn[1, i]
+                y = y if not y > 1.0 else 1.0
+                kn[i] = y if not y < _CLEAR else _CLEAR
+    # the Newton test's run: carried on where the old state is the last one it accepted
+    steps = meta[1]
+    count = meta[0]
+    if has_last:
+        cont = last_t == t_old
+        if cont:
+            for i in range(ne):
+                if ln[i] != on[i]:
+                    cont = False
+            for i in range(nv):
+                if lW[i] != oW[i] or lV[i] != oV[i]:
+                    cont = False
+    else:
+        cont = False
+    if not cont:
+        steps = 0
+        count = 0
+    C = 0.0
+    have_C = count > 0
+    for j in range(count):
+        if j == 0 or s_c[j] > C:
+            C = s_c[j]
+    fresh = count > 0 and s_idx[count - 1] >= steps - _nt.FRESH
+    n3 = np.empty((3, ne))
+    s3 = np.empty((3, ne))
+    aux = np.empty((3, ne))
+    last = np.empty((len(_rk.LAST_ROWS), ne))
+    nk = kn
+    prevV = kV  # the iterate before the last (NewtonTest.before)
+    prevW = kW
+    prevn = kn
+    have_before = False
+    e_prev = 0.0
+    have_e = False
+    step_C = 0.0
+    have_step_C = False
+    done = False
+    plain = False
+    it = 0
+    a = np.empty(3 * nv - 1)
+    for it in range(1, max_iter + 1):
+        _rk._iterate_points(kn, kW, mc, sc, dpar[3], d, rho[2], rho[3], False, n3, s3, aux, empty)
+        a = np.empty(3 * nv - 1)
+        change = np.empty(3)
+        _rk._whole_iterate(kn, kW, onb, kV, V, sc, vc, mc, n3, s3, aux, empty, empty, empty, law, dpar, d, A, p_ref,
+                           modulus, fluidized, vpar, viscous, rho[3], hc, cw0, False, tb, False, dir_row, dir_col,
+                           dir_val, fixed, floor, last, a, change)
+        if change[0] == 0.0:
+            return NOT_FINITE
+        dn = change[1]
+        dv = change[2]
+        nV = a[:nv]
+        nW = a[nv:2 * nv]
+        nn = a[2 * nv:]
+        plain = dv < tol and dn < tol
+        e = dn
+        if dv > e:
+            e = dv
+        if not newton:
+            done = plain
+        else:  # NewtonTest.converged
+            if have_e and e_prev != 0.0:
+                c = e / (e_prev * e_prev)
+                if not have_step_C:
+                    step_C = c
+                    have_step_C = True
+                elif c > step_C:
+                    step_C = c
+            bV, bW, bn = prevV, prevW, prevn
+            use_before = have_before and it > 1
+            prevV, prevW, prevn = kV, kW, kn
+            have_before = True
+            e_prev = e
+            have_e = True
+            if e < tol:
+                done = True
+            else:
+                have = False
+                Cm = 0.0
+                if have_C:
+                    Cm = C
+                    have = True
+                if have_step_C and (not have or step_C > Cm):
+                    Cm = step_C
+                    have = True
+                if not have or _nt.SAFETY * Cm * e * e > tol:
+                    done = False
+                else:
+                    if not use_before:
+                        bV, bW, bn = kV, kW, kn
+                    done = _nt._accept(nV, nW, nn, kV, kW, kn, bV, bW, bn, _scale(nV, nW, floor),
+                                       _scale(kV, kW, floor), tol, _nt._SIDE_NOISE, _nt._ENTRY_FLOOR, it == 1,
+                                       fresh) != 0
+        nk = kn
+        kV, kW, kn = nV, nW, nn
+        if done:
+            if _rk._state_check(nn, nV) != 0:
+                if not plain:  # accepted on a prediction but not admissible: iterate on
+                    done = False
+                    continue
+                return NOT_ADMISSIBLE
+            break
+    if not done:
+        return NOT_CONVERGED
+    # the step's pressure (Reduced1D.end_step) and the new rows of the extrapolation table
+    _rk._step_pressure(kW, kn, nk, last, mc, sc, liq_src, viscous, area, top_outlet, p_end, P_out)
+    rows = 2
+    if ex_cont and ex_h > 0.0 and abs((t_new - ex_t) - ex_h) <= 1e-9 * ex_h:
+        rows = order + 1 if order + 1 < 6 else 6
+        _ex._push_entries(kW, DW, DWo[:rows])
+        _ex._push_entries(kn, Dn, Dno[:rows])
+    else:  # a restart from the old state, or a new step size: two rows
+        for i in range(nv):
+            DWo[0, i] = kW[i]
+            DWo[1, i] = kW[i] - (DW[0, i] if ex_cont else oW[i])
+        for i in range(ne):
+            Dno[0, i] = kn[i]
+            Dno[1, i] = kn[i] - (Dn[0, i] if ex_cont else on[i])
+    for i in range(3 * nv - 1):
+        a_out[i] = a[i]
+    # NewtonTest.close: this step's constant joins the samples, the accepted step counts
+    if newton:
+        if have_step_C:
+            s_idx[count] = steps
+            s_c[count] = step_C
+            count += 1
+        steps += 1
+        first = steps - _nt.WINDOW
+        drop = 0
+        while drop < count and s_idx[drop] < first:
+            drop += 1
+        for j in range(count - drop):
+            s_idx[j] = s_idx[j + drop]
+            s_c[j] = s_c[j + drop]
+        meta[0] = count - drop
+        meta[1] = steps
+    info[0] = it
+    info[1] = 0 if plain else 1
+    info[2] = rows
+    return OK
+
+
+C1, C2, I1 = "f8[::1]", "f8[:,::1]", "i8[::1]"
+SIGNATURE = ("i8(" + ",".join(
+    ["f8", C1, C1, C1, C1, "f8", C1, C1, C2, C1, C2, C1, C1, C1, C1, C1, "i8", C1, C1,
+     C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
+     I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
+     "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1]) + ")")
+
+_HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
+            _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
+            _rk._whole_iterate, _rk._shift_law_points, _rk._shift_with_laws, _rk._first_iterate,
+            banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, _nt._accept,
+            laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
+            laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
+
+_COMPILED = None
+_TRIED = False
+
+
+def compiled():
+    """:func:`vertical_step` compiled (:mod:`twofluid.compiled`, group ``column_step``; the plain function
+    where the JIT is disabled), or None where it cannot be (no numba and nothing built)."""
+    global _COMPILED, _TRIED
+    if not _TRIED:
+        _TRIED = True
+        from ..compiled import group
+
+        try:
+            out = group("column_step", {"vertical_step": (vertical_step, SIGNATURE)}, helpers=_HELPERS)
+        except ImportError:
+            out = None
+        _COMPILED = None if out is None else out["vertical_step"]
+    return _COMPILED
