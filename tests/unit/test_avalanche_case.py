@@ -32,7 +32,7 @@ def _edit_text(text: str, section: str, key: str, value: str) -> str:
     return text[:start] + body + text[end:]
 
 
-BAD = [("layer", "thickness", "0.0"), ("layer", "thickness", "nan"), ("layer", "elements", "1"),
+BAD = [("layer", "thickness", "0.0"), ("layer", "thickness", "nan"), ("layer", "elements", "1"), ("layer", "grading", "0.5"),
        ("layer", "slope_deg", "60.0"), ("layer", "slope_deg", "-1.0"), ("layer", "solid_fractions", "[0.2]"),
        ("layer", "solid_fractions", "[]"), ("layer", "skeleton_modulus", "0.0"), ("layer", "top", '"open"'),
        ("closures.granular_rheology", "law", '"mu_i"'), ("closures.granular_rheology", "mu_s", "0.0"),
@@ -81,6 +81,15 @@ def test_short_run_writes_histories_profiles_and_a_summary_with_balances(tmp_pat
     assert hist["time_s"][-1] == pytest.approx(30.0) and np.all(hist["base_excess_pressure_Pa"][1:] < 0)
     prof = np.genfromtxt(tmp_path / "out" / "profiles_562.csv", delimiter=",", names=True)
     assert sorted(set(prof["time_s"])) == [0.0, 10.0, 30.0] and prof.size == 30
+    # the bundled K ends the declared search at its bound: the summary says it is not determined
+    assert "not determined" in s["calibration"]["k_dil"] and "4.09" in s["calibration"]["k_dil"]
+
+
+def test_calibration_status_tells_a_k_at_the_search_bound_from_one_inside_it():
+    rh = dict(load_case(CASE)["closures"]["granular_rheology"])
+    assert "at the bound" in data.calibration_status(rh)["k_dil"]
+    inside = data.calibration_status({**rh, "k_dil": 4.09})["k_dil"]
+    assert "at the bound" not in inside and "not the declared fit" in inside
 
 
 def test_the_command_runs_the_case_and_reports_the_time_reached_and_its_steps(tmp_path, capsys):
