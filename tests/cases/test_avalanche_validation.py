@@ -51,7 +51,7 @@ _MIN_092 = ("φ0 = 0.592: minimum -1.57 Pa against -5.41 Pa; its static friction
             "until a shear band ~0.06 mm thick forms at the base at ~150 s")
 
 
-_MIN_088 = ("φ0 = 0.588: minimum -3.52 Pa against -5.04 Pa, 1.517 Pa off where 1.512 is allowed (-3.53 at 40 "
+_MIN_088 = ("φ0 = 0.588: minimum -3.52 Pa against -5.04 Pa, 1.517 Pa off where 1.512 is allowed (-3.52 at 40 graded "
             "elements; -3.54 with 20 uniform elements passed by a hair)")
 
 
