@@ -47,7 +47,7 @@ PLATEAU_S = 100.0
 #: the declared search interval of K and its resolution
 K_SEARCH = (1.0, 10.0)
 K_XATOL = 0.05
-#: rms log10 velocity misfit of φ0 = 0.584 against K (μ_s = 0.392, 20 elements; docs/avalanche.md)
+#: rms log10 velocity misfit of φ0 = 0.584 against K (μ_s = 0.392, 20 uniform elements; docs/avalanche.md)
 K_MISFIT = {6.0: 0.135, 8.0: 0.120, 10.0: 0.111, 12.0: 0.107}
 
 
