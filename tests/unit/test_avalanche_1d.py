@@ -94,6 +94,23 @@ def test_steady_uniform_flow_matches_the_closed_form_with_second_order():
     assert max(phis) <= 1e-9  # uniform φ* is exact: only tan ψ's round-off times the strain (above)
 
 
+@pytest.mark.parametrize("n", [10, 20])
+def test_a_graded_layer_keeps_the_solids_and_the_steady_flows_nodal_velocities(n):
+    """Elements refined towards the base (top 30 times the base): the solids sum to φ* h, the
+    thicknesses are a geometric progression of ratio 30^(1/(N−1)), and the nodal velocities of the
+    steady flow are still the closed form's (γ̇ is linear in z and taken at element centres)."""
+    i_star, phi_s = _steady(25.0)
+    lay = layer(n, phi_s, 25.0, grading=30.0)
+    assert lay.m.sum() == pytest.approx(phi_s * H, rel=1e-14)
+    np.testing.assert_allclose(lay.m[1:] / lay.m[:-1], 30.0 ** (1.0 / (n - 1)), rtol=1e-13)
+    assert lay.m[-1] / lay.m[0] == pytest.approx(30.0, rel=1e-13)
+    s = lay.run([0.0, 20.0])[-1]
+    c = i_star * (RHO_S - RHO_F) * 9.81 * math.cos(math.radians(25.0)) * phi_s / ETA
+    h = s.z[-1]
+    np.testing.assert_allclose(s.u, c * (h * s.z - 0.5 * s.z**2), rtol=1e-8, atol=1e-12 * s.u[-1])
+    assert np.abs(s.p).max() <= 1e-6
+
+
 def test_submerged_slope_at_rest_carries_the_buoyant_weight_with_tau_over_ps_tan_theta():
     lay = layer(40, 0.59, 20.0)
     s = lay.state(0.0, lay.y0)

@@ -32,7 +32,7 @@ def _edit_text(text: str, section: str, key: str, value: str) -> str:
     return text[:start] + body + text[end:]
 
 
-BAD = [("layer", "thickness", "0.0"), ("layer", "thickness", "nan"), ("layer", "elements", "1"),
+BAD = [("layer", "thickness", "0.0"), ("layer", "thickness", "nan"), ("layer", "elements", "1"), ("layer", "grading", "0.5"),
        ("layer", "slope_deg", "60.0"), ("layer", "slope_deg", "-1.0"), ("layer", "solid_fractions", "[0.2]"),
        ("layer", "solid_fractions", "[]"), ("layer", "skeleton_modulus", "0.0"), ("layer", "top", '"open"'),
        ("closures.granular_rheology", "law", '"mu_i"'), ("closures.granular_rheology", "mu_s", "0.0"),
@@ -81,6 +81,15 @@ def test_short_run_writes_histories_profiles_and_a_summary_with_balances(tmp_pat
     assert hist["time_s"][-1] == pytest.approx(30.0) and np.all(hist["base_excess_pressure_Pa"][1:] < 0)
     prof = np.genfromtxt(tmp_path / "out" / "profiles_562.csv", delimiter=",", names=True)
     assert sorted(set(prof["time_s"])) == [0.0, 10.0, 30.0] and prof.size == 30
+    # the bundled K ends the declared search at its bound: the summary says it is not determined
+    assert "not determined" in s["calibration"]["k_dil"] and "4.09" in s["calibration"]["k_dil"]
+
+
+def test_calibration_status_tells_a_k_at_the_search_bound_from_one_inside_it():
+    rh = dict(load_case(CASE)["closures"]["granular_rheology"])
+    assert "at the bound" in data.calibration_status(rh)["k_dil"]
+    inside = data.calibration_status({**rh, "k_dil": 4.09})["k_dil"]
+    assert "at the bound" not in inside and "not the declared fit" in inside
 
 
 def test_the_command_runs_the_case_and_reports_the_time_reached_and_its_steps(tmp_path, capsys):
@@ -95,22 +104,25 @@ def test_the_command_runs_the_case_and_reports_the_time_reached_and_its_steps(tm
     assert "at t = 3 s after" in capsys.readouterr().out
 
 
-def _onset_and_min(case, phi0, elements=None, rtol=1e-7):
+def _onset_and_min(case, phi0, elements=None, rtol=1e-7, max_step=None):
     lay = layer_of(case, phi0, elements)
     times = np.linspace(0.0, 120.0, 1201)
-    st = lay.run(times, rtol=rtol, max_step=case["time"]["step"])
+    st = lay.run(times, rtol=rtol, max_step=max_step or case["time"]["step"])
     v = np.array([s.surface_velocity for s in st])
     p = np.array([s.base_pressure for s in st])
-    return data.onset(times, v), p.min()
+    return data.onset(times, v), p.min(), lay.steps_taken
 
 
 def test_onset_and_pressure_minimum_are_determinate_under_halved_steps_and_elements():
-    """φ0 = 0.578 (onset ~1 min): elements 20 → 40, and the BDF tolerance 1e-7 → 1e-9 (its steps,
-    ∝ rtol^(1/(q+1)) at order q ≤ 5, at least halve), move the onset and the base pressure minimum
-    by ≤ 5 % or ≤ 0.5 s (0.5 Pa)."""
+    """φ0 = 0.578 (onset ~1 min): elements 20 → 40, the BDF's largest step ``[time] step`` halved,
+    and its tolerance 1e-7 → 1e-9 move the onset and the base pressure minimum by ≤ 5 % or ≤ 0.5 s
+    (0.5 Pa). Past the first seconds the steps are capped by ``[time] step``, not by the tolerance
+    (about as many steps at 1e-9): halving the cap is what adds steps."""
     case = load_case(CASE)
     ref = _onset_and_min(case, 0.578, 20)
-    for other in (_onset_and_min(case, 0.578, 40), _onset_and_min(case, 0.578, 20, rtol=1e-9)):
+    halved = _onset_and_min(case, 0.578, 20, max_step=0.5 * case["time"]["step"])
+    assert halved[2] >= 1.2 * ref[2]
+    for other in (_onset_and_min(case, 0.578, 40), halved, _onset_and_min(case, 0.578, 20, rtol=1e-9)):
         assert abs(other[0] - ref[0]) <= max(0.05 * ref[0], 0.5)
         assert abs(other[1] - ref[1]) <= max(0.05 * abs(ref[1]), 0.5)
 

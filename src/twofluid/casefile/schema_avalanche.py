@@ -18,6 +18,8 @@ _LAYER = [
     K("thickness", float, REQUIRED, "m", "layer thickness normal to the plane at the start (the same for "
       "every φ0)", lo=0.0, hi=1.0, lo_open=True),
     K("elements", int, 40, "-", "elements across the layer", lo=2, hi=2000),
+    K("grading", float, 1.0, "-", "thickness of the top element over the base element's at the start "
+      "(geometric progression; 1: uniform, above 1: refined at the base)", lo=1.0, hi=1000.0),
     K("slope_deg", float, REQUIRED, "deg", "inclination θ of the plane, applied in one step at t = 0",
       lo=0.0, hi=60.0, hi_open=True),
     K("solid_fractions", FLOATS, REQUIRED, "-", "initial solid fractions φ0, uniform in the layer; one run "

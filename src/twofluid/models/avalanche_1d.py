@@ -78,20 +78,25 @@ class AvalancheLayer:
     ``thickness`` h [m] at solid fraction ``phi0`` (uniform), ``elements`` N, ``slope_deg`` θ,
     densities ρ_s, ρ_f [kg/m³], dynamic viscosity ``eta_f`` [Pa·s], bead diameter ``d`` [m],
     ``gravity`` [m/s²]; ``rheology`` the parameters of ``boyer_pailha``; ``permeability_constant``
-    C of Carman–Kozeny; ``modulus`` M [Pa]; ``top`` "drained" (p = 0) or "closed" (q = 0).
+    C of Carman–Kozeny; ``modulus`` M [Pa]; ``top`` "drained" (p = 0) or "closed" (q = 0);
+    ``grading`` the ratio of the top element's thickness at the start to the base element's, the
+    thicknesses in geometric progression between (1: uniform; above 1 the elements are thinnest at
+    the base, where a dense layer's shear band forms). The ratio is fixed as N changes, so doubling
+    N about halves every element.
     """
 
     def __init__(self, thickness: float, elements: int, phi0, slope_deg: float, rho_s: float, rho_f: float,
                  eta_f: float, d: float, gravity: float = 9.81, rheology: dict | None = None,
                  permeability_constant: float = 180.0, modulus: float = SKELETON_MODULUS_PA,
-                 top: str = "drained"):
+                 top: str = "drained", grading: float = 1.0):
         n = int(elements)
         phi0 = np.broadcast_to(np.asarray(phi0, dtype=float), (n,)).copy()
         self.n, self.eta, self.d = n, float(eta_f), float(d)
         self.rh = {**RHEOLOGY_DEFAULTS, **(rheology or {})}
         self.c_k, self.modulus, self.closed = float(permeability_constant), float(modulus), top == "closed"
         th = math.radians(slope_deg)
-        self.m = phi0 * float(thickness) / n  # solid volume per unit area of each element [m]
+        widths = float(grading) ** (np.arange(n) / (n - 1))
+        self.m = phi0 * float(thickness) * widths / widths.sum()  # solid volume per unit area of each element [m]
         above = np.concatenate([np.cumsum(self.m[::-1])[::-1][1:], [0.0]]) + 0.5 * self.m
         buoyant = (rho_s - rho_f) * gravity
         self.load = buoyant * math.cos(th) * above  # P_s + p at the centres [Pa]

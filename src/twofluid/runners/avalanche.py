@@ -10,7 +10,9 @@ Files (``<k>`` is φ0 × 1000, e.g. ``568``):
   ``skeleton_pressure_Pa``, ``shear_rate_1_s``, ``tan_psi``;
 - ``summary.json`` — per φ0 the onset time (surface velocity first above 0.2 mm/s), the base
   pressure at 20 s, its extremum, the solids and liquid balances and, with ``[output] compare``,
-  the measured values beside them (:mod:`twofluid.verification.pailha2008`); the parameters; the
+  the measured values beside them (:mod:`twofluid.verification.pailha2008`); the parameters and,
+  comparing, what the declared calibration says of μ_s and K (``calibration``: K at the bound of
+  its search is stated as not determined); the
   time every member reached (``stopped_at_s``) and the accepted BDF steps (``steps``, per member and
   in all).
 """
@@ -42,7 +44,7 @@ def layer_of(case: dict, phi0: float, elements: int | None = None) -> AvalancheL
                           ma["particle_density"], ma["liquid_density"], ma["liquid_viscosity"],
                           ma["particle_diameter"], ma["gravity"], rheology=rh,
                           permeability_constant=case["closures"]["permeability"]["constant"],
-                          modulus=la["skeleton_modulus"], top=la["top"])
+                          modulus=la["skeleton_modulus"], top=la["top"], grading=la["grading"])
 
 
 def member_times(case: dict, phi0: float) -> np.ndarray:
@@ -121,6 +123,8 @@ def run_avalanche(case: dict, out_dir=None, progress: bool = False) -> RunResult
                "parameters": {**{k: v for k, v in rh.items()},
                               "permeability": f"Carman-Kozeny, C = {case['closures']['permeability']['constant']:g}",
                               "skeleton_modulus_Pa": case["layer"]["skeleton_modulus"]}}
+    if case["output"]["compare"]:
+        summary["calibration"] = data.calibration_status(rh)
     write_json(out / "summary.json", summary)
     if case["output"]["plots"] and hists:
         from ..plots.avalanche import avalanche_figures

@@ -17,7 +17,9 @@ Metrics of one model curve against its data (docs/avalanche.md):
 Calibration, declared: μ_s on the late plateau (t ≥ 100 s) of φ0 = 0.568, read as the steady
 uniform flow that plateau is (:func:`calibrate_mu_s`: the closed-form steady state, so the fit does
 not depend on how far the model's own transient has got by 100 s); then K on the whole velocity
-history of φ0 = 0.584 (:func:`calibrate_k`); every other parameter is fixed beforehand.
+history of φ0 = 0.584 (:func:`calibrate_k`); every other parameter is fixed beforehand. The search
+for K ends at its upper bound: the misfit of 0.584 still falls there, so the data do not determine
+K (:func:`calibration_status` says so for a case, and the avalanche runner's summary carries it).
 """
 from __future__ import annotations
 
@@ -31,7 +33,7 @@ from ..closures.granular_rheology import mu_iv, phi_eq
 from ..models.avalanche_1d import AvalancheLayer
 
 __all__ = ["PHI0", "MEASURED_ONSET_S", "CALIBRATED", "ONSET_M_S", "FLOOR_M_S", "load", "member", "metrics",
-           "steady_surface_velocity", "plateau_velocity", "calibrate_mu_s", "calibrate_k"]
+           "steady_surface_velocity", "plateau_velocity", "calibrate_mu_s", "calibrate_k", "calibration_status", "K_SEARCH"]
 
 PHI0 = (0.562, 0.568, 0.571, 0.578, 0.584, 0.588, 0.592)
 #: onset times [s] read from the data (0.592 never reaches 0.2 mm/s: at most 0.18 mm/s by 365 s)
@@ -42,6 +44,11 @@ ONSET_M_S = 2e-4
 ONSET_AFTER_S = 0.1
 FLOOR_M_S = 2e-5
 PLATEAU_S = 100.0
+#: the declared search interval of K and its resolution
+K_SEARCH = (1.0, 10.0)
+K_XATOL = 0.05
+#: rms log10 velocity misfit of φ0 = 0.584 against K (μ_s = 0.392, 20 uniform elements; docs/avalanche.md)
+K_MISFIT = {6.0: 0.135, 8.0: 0.120, 10.0: 0.111, 12.0: 0.107}
 
 
 def load(phi0: float) -> dict:
@@ -138,8 +145,12 @@ def calibrate_mu_s(case: dict, bracket=(0.30, 0.46)) -> float:
                         *bracket, xtol=1e-6))
 
 
-def calibrate_k(make, bounds=(1.0, 10.0)) -> float:
-    """K minimising the rms log10 velocity misfit of φ0 = 0.584 (bounded scalar search)."""
+def calibrate_k(make, bounds=K_SEARCH) -> dict:
+    """K minimising the rms log10 velocity misfit of φ0 = 0.584 (bounded scalar search on ``bounds``).
+
+    Returns {"k_dil", "rms_log10_velocity", "bounds", "at_bound", "note"}: ``at_bound`` is True
+    where the minimum lies within the search's resolution of a bound, and the note then says that
+    the search did not determine K."""
     d = load(0.584)
     times = history_times(0.584, float(max(d["v_t"].max(), d["p_t"].max())), 100)
 
@@ -147,4 +158,31 @@ def calibrate_k(make, bounds=(1.0, 10.0)) -> float:
         _, h = member(make(0.584, {"k_dil": k}), times)
         return metrics(0.584, h)["rms_log10_velocity"]
 
-    return float(minimize_scalar(f, bounds=bounds, method="bounded", options={"xatol": 0.05}).x)
+    res = minimize_scalar(f, bounds=bounds, method="bounded", options={"xatol": K_XATOL})
+    k = float(res.x)
+    at = _at_bound(k, bounds)
+    return {"k_dil": k, "rms_log10_velocity": float(res.fun), "bounds": tuple(bounds), "at_bound": at,
+            "note": (f"K = {k:.3g} is at the bound of the search [{bounds[0]:g}, {bounds[1]:g}]: the misfit "
+                     "still falls there, so φ0 = 0.584 does not determine K" if at else
+                     f"K = {k:.3g}, inside the search [{bounds[0]:g}, {bounds[1]:g}]")}
+
+
+def _at_bound(k: float, bounds) -> bool:
+    return min(abs(k - bounds[0]), abs(k - bounds[1])) <= 2.0 * K_XATOL
+
+
+def calibration_status(rheology: dict) -> dict:
+    """What the declared calibration says of a case's μ_s and K (``rheology``: the case's
+    ``[closures.granular_rheology]``), for the run's summary: K at the bound of the declared search
+    is stated as not determined by the data (its misfits in :data:`K_MISFIT`)."""
+    k = float(rheology["k_dil"])
+    misfit = ", ".join(f"{v:g} at K = {kk:g}" for kk, v in K_MISFIT.items())
+    if _at_bound(k, K_SEARCH):
+        kn = (f"K = {k:g} is at the bound of the declared search [{K_SEARCH[0]:g}, {K_SEARCH[1]:g}] on the velocity "
+              f"history of phi0 = 0.584, whose rms log10 misfit still falls there ({misfit}): K is not "
+              "determined by the data above about 8; Pailha & Pouliquen (2009) used 4.09")
+    else:
+        kn = f"K = {k:g}, not the declared fit (its search ends on its upper limit, {K_SEARCH[1]:g})"
+    return {"mu_s": f"mu_s = {float(rheology['mu_s']):g}; the declared fit is the steady uniform flow of phi0 = "
+                    "0.568 at its measured late plateau (t >= 100 s): 0.392",
+            "k_dil": kn, "fixed_beforehand": "mu_2, i_0, phi_c, Carman-Kozeny C = 180"}
