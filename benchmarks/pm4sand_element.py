@@ -70,6 +70,10 @@ SECONDARY = dict(P_atm=P_ATM, h_o=-1.0, e_max=0.8, e_min=0.5, n_b=0.5, n_d=0.1, 
 CASES = [(35, 0.05, 0.09), (35, 0.10, 0.06), (35, 0.10, 0.09), (55, 0.10, 0.147),
          (35, 0.0, "crr"), (55, 0.0, "crr")]
 DRS = (35, 55)
+# The small-bias cases: the drift per cycle after N_3% against alpha, at CSR = f CRR15 of the Dr.
+DRIFT_ALPHAS = (0.0, 0.01, 0.02, 0.05)
+DRIFT_CSR_FACTORS = (1.0, 1.3)
+DRIFT_CYCLES = 30
 HERE = Path(__file__).resolve().parent
 
 
@@ -188,8 +192,9 @@ def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_
     # segments: (target, N at its start, N at its end, direction); the first a quarter cycle
     seg_from, target, n0, n1, sign = tau_s, hi, 0.0, 0.25, 1.0
     dg, k_prev = DGAMMA_MIN, None
-    g_end, g_peak, ru_end, ru_max = [], [], [], []
+    g_end, g_peak, ru_end, ru_max, g_hi, g_lo = [], [], [], [], [], []
     peak = rmax = 0.0
+    hi_c, lo_c = -math.inf, math.inf
     n3 = None
     n_now = 0.0
     tau_prev, g_prev = tau_s, 0.0
@@ -204,6 +209,7 @@ def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_
         g = ops.nodeDisp(3, 1) - gam_s
         n_now = n0 + (n1 - n0) * min(1.0, max(0.0, (tau - seg_from) / (target - seg_from)))
         peak, rmax = max(peak, abs(g)), max(rmax, ru)
+        hi_c, lo_c = max(hi_c, g), min(lo_c, g)
         if n3 is None and abs(g) >= GAMMA_LIQ:
             n3 = n_now
         # end of a cycle: tau crosses tau_s upward on an up segment past the first quarter
@@ -211,6 +217,9 @@ def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_
             f = (tau_s - tau_prev) / (tau - tau_prev)
             g_end.append(g_prev + f * (g - g_prev))
             g_peak.append(peak)
+            g_hi.append(hi_c)
+            g_lo.append(lo_c)
+            hi_c, lo_c = -math.inf, math.inf
             ru_end.append(ru)
             ru_max.append(rmax)
             peak = rmax = 0.0
@@ -231,7 +240,8 @@ def run(dr, hpo, alpha, csr, n_cycles=30.0, stop_gamma=None, after_n3=None, min_
             dg = DGAMMA_MIN
     ops.wipe()
     return dict(n3=n3, gamma_s=gam_s, tau_s_kPa=tau_s, K0=k0, sigma_v_start_kPa=sv0, cycles_run=n_now,
-                steps=steps, gamma_end=g_end, gamma_peak=g_peak, ru_end=ru_end, ru_max=ru_max)
+                steps=steps, gamma_end=g_end, gamma_peak=g_peak, ru_end=ru_end, ru_max=ru_max,
+                gamma_max=g_hi, gamma_min=g_lo)
 
 
 def cycles_to_3pct(dr, hpo, csr, alpha=0.0, n_max=40.0, ops=None):
@@ -287,9 +297,11 @@ def twofluid_case(dr, alpha, csr, n_cycles, steps=200):
     n = hk.element_cycles(st, par, 0, float(csr), steps, int(n_cycles), 10.0, 10.0, g, tau, ru, bias=float(alpha))
     last = size if n < 0 else int(round(n * steps)) + 1
     ends = [float(g[i * steps]) for i in range(1, int(n_cycles) + 1) if i * steps < last]
+    g_hi = [float(g[(i - 1) * steps:i * steps + 1].max()) for i in range(1, len(ends) + 1)]
+    g_lo = [float(g[(i - 1) * steps:i * steps + 1].min()) for i in range(1, len(ends) + 1)]
     g3 = np.nonzero(np.abs(g[:last]) >= GAMMA_LIQ)[0]
     return dict(n_liq_cli=None if first.cycles != first.cycles else first.cycles,
-                n3=float(g3[0]) / steps if g3.size else None, gamma_end=ends,
+                n3=float(g3[0]) / steps if g3.size else None, gamma_end=ends, gamma_max=g_hi, gamma_min=g_lo,
                 ru_end=[float(ru[i * steps]) for i in range(1, len(ends) + 1)], crr15=first.crr, b=first.b)
 
 
@@ -311,6 +323,49 @@ def element_table(hpo, ops=None, twofluid=True):
         if twofluid:
             row["twofluid"] = twofluid_case(dr, alpha, c, n_keep)
         rows.append(row)
+    return rows
+
+
+def drift_per_cycle(gamma_end, n3, first=1, last=5):
+    """Mean increment a cycle of the end-of-cycle strain (cycle k at index k - 1) from N_3% + ``first``
+    to N_3% + ``last`` cycles, linear between cycle ends; None where N_3% is not reached or the
+    cycles ran out before N_3% + ``last``. Given the mean strain of each cycle (gamma_max + gamma_min)/2
+    instead, the drift of the cycles' centre, which a loop that only widens does not move."""
+    if n3 is None or n3 + last > len(gamma_end):
+        return None
+    k = np.arange(1, len(gamma_end) + 1)
+    a, b = (float(np.interp(n3 + x, k, gamma_end)) for x in (first, last))
+    return (b - a) / (last - first)
+
+
+def drift_table(hpo, drs=DRS, ops=None, twofluid=True, cycles=DRIFT_CYCLES):
+    """The small-bias cases (DRIFT_ALPHAS x DRIFT_CSR_FACTORS per Dr), each run for ``cycles`` cycles
+    or to |gamma| 50 %: the end-of-cycle strains, N_3%, and over N_3% + 1..5 the drift a cycle of the
+    end-of-cycle strain and of the cycles' mean strain (gamma_max + gamma_min)/2."""
+    rows = []
+    for dr in drs:
+        for f in DRIFT_CSR_FACTORS:
+            for alpha in DRIFT_ALPHAS:
+                c = f * crr15(dr)
+                r = run(dr, hpo[dr], alpha, c, n_cycles=float(cycles), stop_gamma=0.5, ops=ops)
+                for key in ("gamma_end", "gamma_peak", "ru_end", "ru_max", "gamma_max", "gamma_min"):
+                    r[key] = [float(v) for v in r[key]]
+                r["drift_per_cycle"] = drift_per_cycle(r["gamma_end"], r["n3"])
+                r["mean_drift_per_cycle"] = drift_per_cycle(
+                    [0.5 * (a + b) for a, b in zip(r["gamma_max"], r["gamma_min"])], r["n3"])
+                row = dict(dr_percent=dr, n160=n160(dr), alpha=alpha, csr_over_crr15=f, csr=c, pm4sand=r)
+                if twofluid:
+                    tf = twofluid_case(dr, alpha, c, cycles)
+                    tf["drift_per_cycle"] = drift_per_cycle(tf["gamma_end"], tf["n3"])
+                    tf["mean_drift_per_cycle"] = drift_per_cycle(
+                        [0.5 * (a + b) for a, b in zip(tf["gamma_max"], tf["gamma_min"])], tf["n3"])
+                    row["twofluid"] = tf
+                print(f"Dr {dr} % alpha {alpha:.2f} CSR {c:.4f} ({f} CRR15): PM4Sand N_3% {r['n3']}, drift "
+                      f"{r['drift_per_cycle']}, mean {r['mean_drift_per_cycle']}" + ("" if not twofluid else
+                      f"; twofluid N_3% {row['twofluid']['n3']}, drift {row['twofluid']['drift_per_cycle']}, "
+                      f"mean {row['twofluid']['mean_drift_per_cycle']}"),
+                      flush=True)
+                rows.append(row)
     return rows
 
 
@@ -357,6 +412,8 @@ def main(argv=None):
     p.add_argument("--static", choices=("drained", "undrained"), default="drained",
                    help="--case: how the static shear is applied (undrained: a sensitivity)")
     p.add_argument("--no-twofluid", action="store_true")
+    p.add_argument("--drift", default=None, metavar="DR[,DR]", help="run the small-bias cases of these Dr and "
+                   "add them to --json's small_bias (the other entries kept)")
     p.add_argument("--table", action="store_true", help="print --json's results as markdown tables and stop")
     a = p.parse_args(argv)
     if a.table:
@@ -368,6 +425,19 @@ def main(argv=None):
               file=sys.stderr)
     ops = load_ops()
     old = json.loads(Path(a.json).read_text()) if a.json and Path(a.json).exists() else None
+    if a.drift:
+        drs = tuple(int(v) for v in a.drift.split(","))
+        rows = drift_table({int(k): v for k, v in old["h_po"].items()}, drs=drs, ops=ops,
+                           twofluid=not a.no_twofluid, cycles=int(a.cycles))
+        keep = [r for r in old.get("small_bias", {}).get("cases", []) if r["dr_percent"] not in drs]
+        old["small_bias"] = dict(
+            description="drift per cycle after N_3% at small static bias: alpha x CSR = f CRR15, "
+                        f"{int(a.cycles)} cycles or |gamma| 50 %; drift_per_cycle over N_3% + 1..5",
+            openseespy=ver, script_sha256_16=script_hash(),
+            cases=sorted(keep + rows, key=lambda r: (r["dr_percent"], r["csr_over_crr15"], r["alpha"])))
+        Path(a.json).write_text(json.dumps(old, indent=1) + "\n")
+        print(f"written {a.json}")
+        return rows
     if a.case:
         dr, alpha, csr = (float(v) for v in a.case.split(","))
         hpo = a.hpo if a.hpo is not None else old["h_po"][str(int(dr))]

@@ -117,3 +117,46 @@ def test_frozen_columns_hold_the_reported_quantities():
         assert set(run["surface_sa_g"]) >= {"0.2", "0.5", "1"} and run["settlement_m"] > -0.01
     for key in ("sloping-site +1", "sloping-site -1"):
         assert res[key]["slope"] == pytest.approx(0.03)
+
+
+def test_frozen_small_bias_cases_are_the_drift_grid_and_their_drifts_follow(frozen, script):
+    """The small-bias cases (drift a cycle after N_3% against alpha): every Dr x CSR factor x alpha of
+    the script's grid, each with its per-cycle strains; the drifts stored are the ones the script's
+    own definition gives from them, and on level ground the cycles' mean strain does not drift
+    (the end-of-cycle strain moves only as the loops widen)."""
+    sb = frozen["small_bias"]
+    assert sb["openseespy"] == script.OPENSEESPY_VERSION
+    grid = {(dr, f, a) for dr in script.DRS for f in script.DRIFT_CSR_FACTORS for a in script.DRIFT_ALPHAS}
+    assert {(c["dr_percent"], c["csr_over_crr15"], c["alpha"]) for c in sb["cases"]} == grid
+    for c in sb["cases"]:
+        pm = c["pm4sand"]
+        assert c["csr"] == pytest.approx(c["csr_over_crr15"] * script.crr15(c["dr_percent"]), rel=1e-12)
+        n = len(pm["gamma_end"])
+        assert len(pm["gamma_max"]) == len(pm["gamma_min"]) == n >= 5
+        assert all(lo <= g <= hi for g, hi, lo in zip(pm["gamma_end"], pm["gamma_max"], pm["gamma_min"]))
+        assert pm["drift_per_cycle"] == script.drift_per_cycle(pm["gamma_end"], pm["n3"])
+        mean = [0.5 * (a + b) for a, b in zip(pm["gamma_max"], pm["gamma_min"])]
+        assert pm["mean_drift_per_cycle"] == script.drift_per_cycle(mean, pm["n3"])
+        if c["alpha"] == 0.0 and pm["mean_drift_per_cycle"] is not None:
+            assert abs(pm["mean_drift_per_cycle"]) < 1e-3
+        elif pm["mean_drift_per_cycle"] is not None:
+            assert pm["mean_drift_per_cycle"] > 0.0          # downslope
+
+
+def test_drift_per_cycle_reads_between_cycle_ends(script):
+    ends = [0.0, 0.01, 0.03, 0.06, 0.10, 0.15, 0.21]
+    assert script.drift_per_cycle(ends, 1.0) == pytest.approx((0.15 - 0.01) / 4)
+    assert script.drift_per_cycle(ends, 1.5) == pytest.approx((0.18 - 0.02) / 4)
+    assert script.drift_per_cycle(ends, 3.0) is None and script.drift_per_cycle(ends, None) is None
+
+
+@pytest.mark.parametrize("dr,factor,alpha", [(35, 1.3, 0.02), (55, 1.3, 0.05)])
+def test_twofluid_beside_the_small_bias_cases_is_the_current_law(frozen, script, dr, factor, alpha):
+    """The twofluid element stored beside each small-bias case (the script's ``twofluid_case``) is
+    the hysteretic law as it is: rerun, it gives the frozen end-of-cycle strains, so the comparison
+    of drifts in docs/liquefaction.md ("Strain after triggering") describes the current law."""
+    row = next(c for c in frozen["small_bias"]["cases"]
+               if c["dr_percent"] == dr and c["csr_over_crr15"] == factor and c["alpha"] == alpha)
+    tf = script.twofluid_case(dr, alpha, row["csr"], script.DRIFT_CYCLES)
+    assert tf["n3"] == row["twofluid"]["n3"]
+    assert tf["gamma_end"] == pytest.approx(row["twofluid"]["gamma_end"], rel=1e-6, abs=1e-9)
