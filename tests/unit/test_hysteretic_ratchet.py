@@ -1,5 +1,5 @@
 """Strain after triggering of the hysteretic law (closures/hysteretic_ratchet.py) against OpenSees
-PM4Sand's undrained cyclic DSS elements (tests/data/pm4sand_element_results.json, frozen numbers).
+PM4Sand's undrained cyclic DSS elements (benchmarks/pm4sand_element_results.json, frozen numbers).
 
 The element test is stress-controlled: σ′_v0 = 101.3 kPa, the static shear α σ′_v0 applied before
 the cycles (as PM4Sand's), uniform cycles of CSR about it. N_3% is the first time the single-amplitude
@@ -19,7 +19,7 @@ from twofluid.closures import hysteretic as law
 from twofluid.models import hysteretic_kernel as hk
 from twofluid.models import hysteretic_sand as hs
 
-DATA = json.loads((Path(__file__).parents[1] / "data" / "pm4sand_element_results.json").read_text())
+DATA = json.loads((Path(__file__).resolve().parents[2] / "benchmarks" / "pm4sand_element_results.json").read_text())
 SIG = DATA["sigma_v0_kPa"] * 1e3
 SPC = 100
 
