@@ -247,9 +247,15 @@ def total_stress_node_motion(case: dict, polarity: int):
     return np.array(t), np.array(a)
 
 
+TWO_WAY_METHOD = ("two-way rigid block, a diagnostic beside newmark: the same depth, S_r, drive and polarities, "
+                  "sliding downslope on k_y = (S_r - tau_static)/(sigma_v cos^2 a) and upslope on "
+                  "k_y_up = (S_r + tau_static)/(sigma_v cos^2 a); displacements signed, positive downslope")
+
+
 def _newmark(case, col, rec, s_r) -> dict:
     """The Newmark block on S_r at the liquefied element of least k_y, driven by the total-stress
-    companion's absolute acceleration at that element's base, for both polarities of the record."""
+    companion's absolute acceleration at that element's base, for both polarities of the record;
+    beside it (a diagnostic, under the key ``_two_way``) the two-way block on the same depth and drive."""
     slope = case["site"]["slope"]
     out = {"method": "one-way rigid block on the residual strength S_r of the liquefied element (r_u >= 0.95 in "
                      "this run) with the least yield coefficient k_y (sigma_v: the column's weight above the "
@@ -260,7 +266,9 @@ def _newmark(case, col, rec, s_r) -> dict:
     ns = col.n_sat
     liq = np.flatnonzero(np.asarray(rec.ever[:ns], dtype=bool))
     if not liq.size:
-        return dict(out, displacement_m=None, note="not evaluated: nothing liquefied while the shear wave ran")
+        note = "not evaluated: nothing liquefied while the shear wave ran"
+        return dict(out, displacement_m=None, note=note, _two_way={"method": TWO_WAY_METHOD, "displacement_m": None,
+                                                                     "note": note})
     w = col.wave.rho * col.wave.h * col.v.mat.g
     sigma_v = np.cumsum(w[::-1])[::-1]  # weight above each element's base [Pa]
     sigma_d = sigma_v  # the weight that drives: the total (slope-parallel seepage) ...
@@ -277,25 +285,38 @@ def _newmark(case, col, rec, s_r) -> dict:
     depth = float(col.ground_surface - col.y_all[e])
     out.update(sliding_depth_m=depth, triggering_time_s=t0, k_y_g=float(k_y.min()),
                fs_post=float(ls.post_liquefaction_fs(s_r[e], ls.static_shear_stress(sigma_d[e], slope))))
+    two = {"method": TWO_WAY_METHOD, "sliding_depth_m": depth}
     if k_y.min() <= 0.0:
-        return dict(out, displacement_m=None, flow_failure=True,
-                    message=f"flow failure: k_y = {k_y.min():.4f} g <= 0 at {depth:g} m (FS_post <= 1)")
+        msg = f"flow failure: k_y = {k_y.min():.4f} g <= 0 at {depth:g} m (FS_post <= 1)"
+        return dict(out, displacement_m=None, flow_failure=True, message=msg,
+                    _two_way=dict(two, displacement_m=None, flow_failure=True, message=msg))
     pol = int(case["ground_motion"]["polarity"])
-    by = {}
+    by, by2, k_up = {}, {}, None
     for p in (pol, -pol):
         try:
             t, a = total_stress_node_motion(case, p)
         except (ArithmeticError, ValueError, RuntimeError) as exc:  # StepFailure is a RuntimeError
-            return dict(out, displacement_m=None, note=f"not evaluated: the total-stress companion failed ({exc})")
+            note = f"not evaluated: the total-stress companion failed ({exc})"
+            return dict(out, displacement_m=None, note=note, _two_way=dict(two, displacement_m=None, note=note))
         dt = float(np.median(np.diff(t)))
         grid = np.arange(0.0, t[-1] + 0.5 * dt, dt)
-        r = ls.newmark_infinite_slope(np.interp(grid, t, a[:, e]), dt, float(s_r[e]), float(sigma_v[e]), slope,
-                                      sigma_drive_Pa=float(sigma_d[e]), t_start_s=t0)
+        acc = np.interp(grid, t, a[:, e])
+        args = (acc, dt, float(s_r[e]), float(sigma_v[e]), slope)
+        r = ls.newmark_infinite_slope(*args, sigma_drive_Pa=float(sigma_d[e]), t_start_s=t0)
+        r2 = ls.newmark_infinite_slope(*args, sigma_drive_Pa=float(sigma_d[e]), t_start_s=t0, two_way=True)
         by[str(p)] = r.displacement_m
+        by2[str(p)] = r2.displacement_m
+        k_up = r2.k_y_up
     mean = 0.5 * (by["1"] + by["-1"])
+    mean2 = 0.5 * (by2["1"] + by2["-1"])
+    two.update(displacement_m=mean2, displacement_by_polarity_m=by2, flow_failure=False, k_y_g=float(k_y.min()),
+               k_y_up_g=k_up, message=f"two-way Newmark sliding block on S_r at {depth:g} m, k_y = {k_y.min():.4f} g "
+                                      f"downslope, {k_up:.4f} g upslope: {by2['1']:.3g} m (polarity 1), "
+                                      f"{by2['-1']:.3g} m (polarity -1), mean {mean2:.3g} m along the slope")
     return dict(out, displacement_m=mean, displacement_by_polarity_m=by, flow_failure=False,
                 message=f"Newmark sliding block on S_r at {depth:g} m, k_y = {k_y.min():.4f} g: {by['1']:.3g} m "
-                        f"(polarity 1), {by['-1']:.3g} m (polarity -1), mean {mean:.3g} m along the slope")
+                        f"(polarity 1), {by['-1']:.3g} m (polarity -1), mean {mean:.3g} m along the slope",
+                _two_way=two)
 
 
 def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
@@ -311,7 +332,9 @@ def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
              "method": "a second estimate: Zhang et al.'s (2004) LD = (S + 0.2) LDI, LDI = sum gamma_max(FS, Dr) h "
                        "over the simplified procedure's rows (FS of the 'run' table: level-ground CRR, no K_alpha), "
                        "with gamma_max(FS, Dr) of Idriss & Boulanger (2008), not Zhang et al.'s own curves"}
-    return {ZHANG_KEY: zhang, "newmark": _newmark(case, col, rec, s_r), "youd_2002": _youd(case, site, simp_run)}
+    one_way = _newmark(case, col, rec, s_r)
+    two_way = one_way.pop("_two_way")
+    return {ZHANG_KEY: zhang, "newmark": one_way, "newmark_two_way": two_way, "youd_2002": _youd(case, site, simp_run)}
 
 
 def _beyond_field(d_end: float, layers: list, zhang_m: float) -> dict:
