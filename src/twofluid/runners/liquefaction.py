@@ -28,9 +28,10 @@ prints. The run folder holds (depths below the ground surface; columns in docs/o
 Inputs are checked before the folder is created: the case (again, if it is a dictionary
 that may have been edited since loading) with the record, the ANN weights and the G/G_max
 tables it names, read and validated (:mod:`twofluid.casefile.schema_liquefaction`); a bad one
-is a CaseError and nothing is written. Once running, CSV rows are flushed as they are written,
-so Ctrl-C or a failed step (including a non-finite shear step) leaves readable files, and
-``summary.json`` is written whatever the outcome.
+is a CaseError and nothing is written. Once running, the per-step CSV rows are written in blocks
+(at most a second old) and flushed on every way out of the time loop, so Ctrl-C, SIGTERM or a
+failed step (including a non-finite shear step) leaves readable files with every row computed,
+and ``summary.json`` is written whatever the outcome.
 """
 from __future__ import annotations
 
@@ -408,8 +409,9 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     depths = sorted(set(schema_liquefaction.report_depths(case)) | {H - y for y in case["output"]["probes"]})  # y above the base
     rec = _Recorder(col, depths, rep["ru_liquefied"])
     ru0 = rec.record(state, True)
-    writer = ResultWriter(out, PROFILE_COLUMNS, rec.probe_names())
-    ffile = CsvStream(out / "ru_field.csv", ["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth])
+    # rows every step: written in blocks (io.results), flushed at the loop's end and on every way out of it
+    writer = ResultWriter(out, PROFILE_COLUMNS, rec.probe_names(), block=True)
+    ffile = CsvStream(out / "ru_field.csv", ["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth], block=True)
     field_formats = ["%.10g"] + ["%.6g"] * col.n_sat
 
     def write_field(s, ru):  # whole rows, finite values only (io.results)
@@ -469,6 +471,8 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             writer.profile(last.t, profiles[round(last.t, 9)])
             if not probed:
                 writer.probe_row(last.t, rec.probe_row(last, col.excess_ratio(last)))
+        writer.flush()  # in the guard: a full disk here is a failed run, said in its summary
+        ffile.flush()
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if round(last.t, 9) not in profiles:
