@@ -345,7 +345,7 @@ class ResultWriter:
 
     def probe_row(self, t: float, values) -> None:
         """:meth:`probe` with the values (numbers) as a sequence in the order of ``probe_columns``."""
-        row = [float(t), *(values.tolist() if type(values) is np.ndarray else map(float, values))]
+        row = [float(t), *(values.tolist() if type(values) is np.ndarray else map(float, values))]  # floats
         text = self._fmt % tuple(row)
         if "n" in text:  # "nan" or "inf" (a finite number has no n): finite or NaN where it may be undefined
             for x, must in zip(row[1:], self._strict):

@@ -622,7 +622,7 @@ class LiquefactionColumn:
         if code != 0:
             raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: "
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
-        out = WaveState(t_new, u, vel, acc, np.diff(u) / wave.h, tau)
+        out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / wave.h, tau)  # (np.diff's arithmetic)
         return out, nb, st, m, list(zip(times.tolist(), surface.tolist()))
 
     def _skeleton_arrays(self) -> tuple[np.ndarray, np.ndarray]:

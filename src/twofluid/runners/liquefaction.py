@@ -297,9 +297,9 @@ class _Recorder:
         """(P_hydrostatic, σ′_v0, n0, element lengths) as contiguous float64, converted again only if
         the column holds other arrays (a new initial state)."""
         col = self.col
-        of = (col.p_hydro, col.sigma_v0, col.n0)
-        if self._fixed_of is None or any(a is not b for a, b in zip(of, self._fixed_of)):
-            self._fixed_of = of
+        was = self._fixed_of
+        if was is None or col.p_hydro is not was[0] or col.sigma_v0 is not was[1] or col.n0 is not was[2]:
+            of = self._fixed_of = (col.p_hydro, col.sigma_v0, col.n0)
             self._fixed = (*map(_c, of), _c(col.v.mesh.lengths))
         return self._fixed
 
@@ -340,13 +340,14 @@ class _Recorder:
                  "water_table_seepage_m_s"] + [f"r_u@{z:g}m" for z in self.depths]
                 + [f"sigma_v_eff_Pa@{z:g}m" for z in self.depths])
 
-    def probe_row(self, s: ColumnState, ru) -> np.ndarray:
-        """The probes of the state last recorded (:meth:`record`), in the order of :meth:`probe_names`."""
+    def probe_row(self, s: ColumnState, ru) -> list:
+        """The probes of the state last recorded (:meth:`record`), in the order of :meth:`probe_names`,
+        as a list of floats (what :meth:`ResultWriter.probe_row <twofluid.io.results.ResultWriter.probe_row>` takes fastest)."""
         col = self.col
         base, surface = col.accelerations(s)
-        head = [base, surface, self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
-                col.surface_displacement(s), self.flux_top[-1]]
-        return np.concatenate([head, ru[self._elem], self.ps[self._elem]])
+        return [float(base), float(surface), self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
+                col.surface_displacement(s), self.flux_top[-1], *ru[self._elem].tolist(),
+                *self.ps[self._elem].tolist()]
 
 
 def _at_mark(marks: list, t: float) -> bool:
@@ -434,7 +435,8 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     solids0 = col.v.solids_volume(state.vertical)
     inflow = 0.0
     settle_shaking = 0.0 if col.shaking_end == 0.0 else None
-    next_probe, next_field = case["output"]["probe_interval"], rep["field_interval"]
+    probe_interval, field_interval = case["output"]["probe_interval"], rep["field_interval"]
+    next_probe, next_field = probe_interval, field_interval
     n_steps, n_sub, last, probed = 0, 0, state, True
     ru_done = case["reconsolidation"]["dissipated_r_u"]
     stop = None if ru_done == 0.0 else (lambda s: float(np.max(col.excess_ratio(s))) < ru_done)
@@ -454,11 +456,11 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
                     srec.profile(s)
             if field:
                 write_field(s, ru)
-                next_field = s.t + rep["field_interval"]
+                next_field = s.t + field_interval
             probed = False
             if s.t >= next_probe - 1e-12 or at_mark:
                 writer.probe_row(s.t, rec.probe_row(s, ru))
-                next_probe = s.t + case["output"]["probe_interval"]
+                next_probe = s.t + probe_interval
                 probed = True
             if settle_shaking is None and s.t >= col.shaking_end - 1e-9:
                 settle_shaking = rec.settle[-1]
