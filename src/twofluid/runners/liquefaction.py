@@ -444,30 +444,31 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     with run_guard(b.t_end, progress, writer, ffile, *(() if srec is None else (srec,))) as run:
         for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times, stop=stop):
             s = last = step.state
+            t = s.t
             n_steps += 1
             n_sub += step.substeps
             inflow += step.solids_inflow
-            at_mark = _at_mark(out_times, s.t)
-            field = s.t >= next_field - 1e-12 or at_mark
+            at_mark = _at_mark(out_times, t)
+            field = t >= next_field - 1e-12 or at_mark
             ru = rec.record(s, field, step.surface)
             if srec is not None:
                 srec.record(s)
-                if at_mark or abs(s.t - col.shear_end) < 1e-9 * max(1.0, s.t):
+                if at_mark or abs(t - col.shear_end) < 1e-9 * max(1.0, t):
                     srec.profile(s)
             if field:
                 write_field(s, ru)
-                next_field = s.t + field_interval
+                next_field = t + field_interval
             probed = False
-            if s.t >= next_probe - 1e-12 or at_mark:
-                writer.probe_row(s.t, rec.probe_row(s, ru))
-                next_probe = s.t + probe_interval
+            if t >= next_probe - 1e-12 or at_mark:
+                writer.probe_row(t, rec.probe_row(s, ru))
+                next_probe = t + probe_interval
                 probed = True
-            if settle_shaking is None and s.t >= col.shaking_end - 1e-9:
+            if settle_shaking is None and t >= col.shaking_end - 1e-9:
                 settle_shaking = rec.settle[-1]
             if at_mark:
-                profiles[round(s.t, 9)] = _profile(col, s, rec.peak)
-                writer.profile(s.t, profiles[round(s.t, 9)])
-            run.bar.update(s.t - run.bar.n)
+                profiles[round(t, 9)] = _profile(col, s, rec.peak)
+                writer.profile(t, profiles[round(t, 9)])
+            run.bar.update(t - run.bar.n)
         if run.status == "completed" and round(last.t, 9) not in profiles:  # ended by dissipation
             profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
             writer.profile(last.t, profiles[round(last.t, 9)])
