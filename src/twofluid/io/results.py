@@ -199,8 +199,7 @@ class CsvStream:
         """Write the rows kept in memory (block mode). If the disk fills, as many whole rows as fit
         are written (the file cut back to its last complete row) and the error is raised."""
         if self._pending:
-            pending, self._pending, self._chars = self._pending, [], 0
-            self._put(pending)
+            self._put(self._pending)
 
     def _put(self, pieces) -> None:
         """Write ``pieces`` (text: whole rows each) with one call; if that fails (disk full), the file
@@ -213,6 +212,8 @@ class CsvStream:
             self._end = os.fstat(self._fd).st_size
         data = (pieces if type(pieces) is str else "".join(pieces)).encode("utf-8")
         good = self._end
+        if pieces is self._pending:  # off the queue only now, text made: the window in which a signal's
+            self._pending, self._chars = [], 0  # exception (Ctrl-C, SIGTERM) would lose them is a few instructions
         try:
             write_all(self._fd, data, self.path)
         except OSError as exc:  # disk full: cut back to the last complete row, then report it
