@@ -291,6 +291,7 @@ class _Recorder:
         self._ru_liq = float(ru_liq)
         self._liq = np.zeros(ne, dtype=bool)
         self._scalars = np.zeros(4)
+        self._sizes = (ne, self._elem.size)
         self._fixed, self._fixed_of = (), None  # the column's constant arrays as the kernel takes them
 
     def _constants(self) -> tuple:
@@ -305,7 +306,7 @@ class _Recorder:
 
     def record(self, s: ColumnState, field: bool, surface=()):
         col, v = self.col, s.vertical
-        ne, k = self.peak.size, self._elem.size
+        ne, k = self._sizes
         ru, contribution = np.empty(ne), np.empty(ne)
         ru_elem, sig_elem = np.empty(k), np.empty(k)
         self.ps = col.granular_pressure(s)  # the probes' σ′_v too
@@ -314,16 +315,16 @@ class _Recorder:
             float(s.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
             self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
             self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
-            ru_elem, sig_elem, self._scalars)
+            ru_elem, sig_elem, self._scalars).tolist()
         self.damage.record(s, self._liq)
         self.last_contribution = contribution
         self.t.append(s.t)
         self.ru.append(ru_elem)
         self.sig.append(sig_elem)
-        self.settle.append(float(settle))  # = col.settlement(s)
-        self.pbase.append(float(pbase))
-        self.ru_top.append(float(ru_top))
-        self.flux_top.append(float(flux_top))  # = col.surface_seepage(s)
+        self.settle.append(settle)  # = col.settlement(s)
+        self.pbase.append(pbase)
+        self.ru_top.append(ru_top)
+        self.flux_top.append(flux_top)  # = col.surface_seepage(s)
         if surface:
             times, acc = zip(*surface)
             self.surface_t.extend(times)
