@@ -286,6 +286,57 @@ def test_interrupted_run_keeps_its_results(tmp_path, monkeypatch):
     assert json.loads((tmp_path / "int" / "summary.json").read_text())["status"] == "interrupted"
 
 
+def test_rows_kept_for_a_block_reach_the_files_on_sigterm_and_a_full_disk_at_the_end_fails_the_run(
+        tmp_path, monkeypatch):
+    """The run writes its per-step rows in blocks: a SIGTERM between two blocks leaves every row
+    computed in probes.csv and ru_field.csv; a disk that fills when the last block is written makes
+    the run "failed", said in its summary, not "completed" with rows missing."""
+    import errno
+    import os
+    import signal
+
+    from twofluid import run_case
+    from twofluid.io import folders
+
+    c = load_case("liquefaction-fine")
+    c["layers"][0]["elements"] = 10
+    c["output"].update(plots=False, times=[])
+    c["time"]["end"] = 0.4
+    c["report"]["field_interval"] = 0.0
+    calls = {"n": 0}
+    original = LiquefactionColumn.step
+
+    def term_after_ten(self, s, dt):
+        calls["n"] += 1
+        if calls["n"] == 11:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return original(self, s, dt)
+
+    monkeypatch.setattr(LiquefactionColumn, "step", term_after_ten)
+    r = run_case(c, tmp_path / "term")
+    assert r.status == "interrupted" and "SIGTERM" in r.summary["reason"]
+    n = r.summary["steps"]
+    assert 10 <= n < 20
+    for name in ("probes.csv", "ru_field.csv"):  # the start, every step, the state it stopped at at most once more
+        rows = list(csv.DictReader(open(tmp_path / "term" / name)))
+        assert n + 1 <= len(rows) <= n + 2, (name, len(rows), n)
+        assert float(rows[n]["time_s"]) == pytest.approx(n * 0.02)
+    monkeypatch.undo()
+
+    real = folders.write_all
+
+    def full(fd, data, path):  # probes.csv: the header only
+        if str(path).endswith("probes.csv") and os.fstat(fd).st_size > 0:
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        return real(fd, data, path)
+
+    monkeypatch.setattr(folders, "write_all", full)
+    r = run_case(c, tmp_path / "full")
+    s = json.loads((tmp_path / "full" / "summary.json").read_text())
+    assert r.status == s["status"] == "failed" and "No space left" in s["reason"] and "probes.csv" in s["reason"]
+    assert (tmp_path / "full" / "probes.csv").read_text().count("\n") == 1  # the header, whole
+
+
 def test_run_case_validates_a_liquefaction_case_once(tmp_path, monkeypatch):
     """run_case validates the case and calls the inner runner, which does not validate it again;
     the API's run_liquefaction still validates what it is given."""

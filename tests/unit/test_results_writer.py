@@ -91,3 +91,90 @@ def test_probe_row_writes_as_probe_and_refuses_the_same_rows(tmp_path):
     b.close()
     assert (tmp_path / "a" / "probes.csv").read_bytes() == (tmp_path / "b" / "probes.csv").read_bytes()
     reset_nonfinite()
+
+
+# ---------------------------------------------------------------- rows written in blocks
+def _rows(n):
+    rng = np.random.default_rng(3)
+    return [[float(i), *(rng.standard_normal(5) * 10.0 ** rng.integers(-30, 30, 5))] for i in range(n)]
+
+
+def test_a_block_stream_writes_the_same_bytes_once_flushed_or_closed(tmp_path):
+    rows = _rows(50)
+    one = CsvStream(tmp_path / "one.csv", ["t", "a", "b", "c", "d", "e"])
+    blk = CsvStream(tmp_path / "blk.csv", ["t", "a", "b", "c", "d", "e"], block=True)
+    header = (tmp_path / "blk.csv").read_bytes()
+    assert header == b"t,a,b,c,d,e\r\n"  # the header at once
+    for r in rows[:20]:
+        one.rows([r])
+        blk.line(r)
+    assert (tmp_path / "blk.csv").read_bytes() == header  # kept in memory: well under a block, under a second
+    blk.flush()
+    assert (tmp_path / "blk.csv").read_bytes() == (tmp_path / "one.csv").read_bytes()
+    for r in rows[20:]:
+        one.rows([r])
+        blk.rows([r]) if r[0] % 2 else blk.table(np.array([r]), ["%.10g"] * 6)
+    blk.close()
+    one.close()
+    assert (tmp_path / "blk.csv").read_bytes() == (tmp_path / "one.csv").read_bytes()
+    blk.line([99.0, 1.0, 2.0, 3.0, 4.0, 5.0])  # after close: re-opened, written at once
+    assert (tmp_path / "blk.csv").read_bytes().endswith(b"99,1,2,3,4,5\r\n")
+
+
+def test_a_block_stream_writes_a_full_block_and_rows_a_second_old(tmp_path, monkeypatch):
+    blk = CsvStream(tmp_path / "blk.csv", ["t", "a", "b", "c", "d", "e"], block=True)
+    monkeypatch.setattr(CsvStream, "BLOCK_CHARS", 200)
+    rows = _rows(10)
+    for r in rows:
+        blk.line(r)
+    written = (tmp_path / "blk.csv").read_bytes().count(b"\n") - 1
+    assert 0 < written < 10  # the blocks that reached 200 characters, not the rest
+    monkeypatch.setattr(CsvStream, "BLOCK_CHARS", 1 << 30)
+    monkeypatch.setattr(CsvStream, "BLOCK_AGE", 0.0)
+    blk.line(rows[0])
+    assert (tmp_path / "blk.csv").read_bytes().count(b"\n") == 12  # a row as old as BLOCK_AGE: all written
+    blk.close()
+
+
+def test_a_block_that_does_not_fit_on_the_disk_leaves_the_rows_that_fit_whole(tmp_path, monkeypatch):
+    import errno
+    import os
+
+    from twofluid.io import folders
+
+    real = folders.write_all
+    left = {"n": 14 + 3 * 9}  # the header and three rows of "1,2,3,4\r\n"
+
+    def write_all(fd, data, path):
+        grow = max(os.lseek(fd, 0, os.SEEK_CUR) + len(data) - os.fstat(fd).st_size, 0)
+        if grow > left["n"]:
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        left["n"] -= grow
+        real(fd, data, path)
+
+    monkeypatch.setattr(folders, "write_all", write_all)
+    blk = CsvStream(tmp_path / "blk.csv", ["time_s", "a,b"], block=True)
+    for i in range(5):
+        blk.line([1.0, 2.0, 3.0, 4.0])
+    with pytest.raises(OSError, match="No space left"):
+        blk.flush()
+    assert (tmp_path / "blk.csv").read_bytes() == b'time_s,"a,b"\r\n' + b"1,2,3,4\r\n" * 3
+    blk.close()  # nothing left to write
+
+
+def test_probe_rows_in_blocks_are_the_rows_written_one_by_one(tmp_path):
+    reset_nonfinite()
+    cols = ["p", "Us_q", "r"]
+    a = ResultWriter(tmp_path / "a", ["x"], cols)
+    b = ResultWriter(tmp_path / "b", ["x"], cols, block=True)
+    rows = [[1.5, 2.0, -3e-9], [0.0, np.nan, 1e300], [7, np.float64(0.1), np.float32(0.1)]]
+    for t, row in enumerate(rows):
+        a.probe_row(float(t), row)
+        b.probe_row(float(t), np.array(row, dtype=float) if t == 0 else row)
+    with pytest.raises(NonFiniteOutput, match="column r"):
+        b.probe_row(9.0, np.array([1.0, 1.0, np.inf]))
+    a.close()
+    b.close()
+    assert (tmp_path / "a" / "probes.csv").read_bytes() == (tmp_path / "b" / "probes.csv").read_bytes()
+    assert (tmp_path / "b" / "probes.csv").read_bytes().count(b"\n") == 4
+    reset_nonfinite()

@@ -2,7 +2,12 @@
 
 Every row is flushed as it is written, so an interrupted or failed run leaves
 readable CSV files; ``summary.json`` is written at the end whatever the outcome
-(with ``status`` "completed", "interrupted" or "failed" and where it stopped).
+(with ``status`` "completed", "interrupted" or "failed" and where it stopped). A stream
+opened with ``block=True`` (a run that writes a row every step) keeps its rows in memory and
+writes them in blocks: at 64 KiB, after a second, on :meth:`CsvStream.flush` and on
+:meth:`CsvStream.close` (which the run's guard calls on every way out of the time loop:
+completed, failed, Ctrl-C, SIGTERM), so the file is the same, byte for byte, and what a stopped
+run had computed is still written.
 
 Two guards sit here, at the one place every output passes through:
 
@@ -24,6 +29,7 @@ import io
 import json
 import math
 import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -125,17 +131,31 @@ class CsvStream:
     written after :meth:`close` (the runner's last state after an interruption).
 
     The file is written unbuffered through its descriptor (:func:`~twofluid.io.folders.create`: never
-    through a symbolic link): every row is flushed anyway, and with no buffer of its own a write
-    that fails (disk full, file-size limit) leaves nothing pending that a later close or flush could
-    add after the file has been cut back to its last complete row."""
+    through a symbolic link): every row is flushed anyway (``block=True``: every block, see the
+    module doc), and with no buffer of its own a write that fails (disk full, file-size limit)
+    leaves nothing pending that a later close or flush could add after the file has been cut back
+    to its last complete row."""
 
-    def __init__(self, path: Path, header: list[str]):
+    #: a block stream writes its rows once they reach this many characters, or are this old [s]
+    BLOCK_CHARS, BLOCK_AGE = 65536, 1.0
+
+    def __init__(self, path: Path, header: list[str], block: bool = False):
         from .folders import create
 
         self.path = Path(path)
         self._fd = create(self.path)
         self._end = 0  # bytes in the file: the end of its last complete row
-        self.rows([[str(h) for h in header]])
+        self._block = False
+        self._pending, self._chars, self._since = [], 0, 0.0  # rows not yet written (block mode)
+        self.rows([[str(h) for h in header]])  # the header at once
+        self._block = block
+
+    def line(self, row) -> None:
+        """Write one row of numbers (a list of floats; NaN as an empty cell): :meth:`rows` of one row."""
+        text = _line(row)
+        if text is None:
+            return self.rows([row])
+        self._write(text)
 
     def rows(self, rows) -> None:
         """Write ``rows`` (sequences of numbers, text or None; NaN and None as empty cells)."""
@@ -165,28 +185,68 @@ class CsvStream:
         self._write("".join(out))
 
     def _write(self, text: str) -> None:
+        if self._block and self._fd is not None:  # kept, written in blocks (after close: at once)
+            if not self._pending:
+                self._since = time.monotonic()
+            self._pending.append(text)
+            self._chars += len(text)
+            if self._chars >= self.BLOCK_CHARS or time.monotonic() - self._since >= self.BLOCK_AGE:
+                self.flush()
+            return
+        self._put(text)
+
+    def flush(self) -> None:
+        """Write the rows kept in memory (block mode). If the disk fills, as many whole rows as fit
+        are written (the file cut back to its last complete row) and the error is raised."""
+        if self._pending:
+            self._put(self._pending)
+
+    def _put(self, pieces) -> None:
+        """Write ``pieces`` (text: whole rows each) with one call; if that fails (disk full), the file
+        is cut back to its last complete row, as many pieces as fit are written one by one, and the
+        file is closed and the error raised."""
         from .folders import create, write_all
 
         if self._fd is None:
             self._fd = create(self.path, append=True)
             self._end = os.fstat(self._fd).st_size
-        data = text.encode("utf-8")
+        data = (pieces if type(pieces) is str else "".join(pieces)).encode("utf-8")
         good = self._end
+        if pieces is self._pending:  # off the queue only now, text made: the window in which a signal's
+            self._pending, self._chars = [], 0  # exception (Ctrl-C, SIGTERM) would lose them is a few instructions
         try:
             write_all(self._fd, data, self.path)
-        except OSError:  # disk full: cut back to the last complete row, then report it
+        except OSError as exc:  # disk full: cut back to the last complete row, then report it
+            error = exc
             try:
                 os.ftruncate(self._fd, good)
+                if type(pieces) is not str and len(pieces) > 1:  # a block: the rows that fit
+                    os.lseek(self._fd, good, os.SEEK_SET)
+                    for text in pieces:
+                        one = text.encode("utf-8")
+                        try:
+                            write_all(self._fd, one, self.path)
+                        except OSError as exc2:
+                            error = exc2
+                            os.ftruncate(self._fd, good)
+                            break
+                        good += len(one)
+                    self._end = good
             except OSError:
                 pass
             self.close()
-            raise
+            raise error from None
         self._end = good + len(data)
 
     def close(self) -> None:
-        if self._fd is not None:
-            fd, self._fd = self._fd, None
-            os.close(fd)
+        """Write what is kept (:meth:`flush`) and close the file; a later row re-opens it."""
+        try:
+            if self._fd is not None:
+                self.flush()
+        finally:
+            if self._fd is not None:
+                fd, self._fd = self._fd, None
+                os.close(fd)
 
 
 def write_resolved_case(path: Path, case: dict) -> None:
@@ -261,14 +321,15 @@ class ResultWriter:
     """
 
     def __init__(self, out_dir: Path, profile_columns: list[str], probe_columns: list[str],
-                 undefined=("Us_",)):
+                 undefined=("Us_",), block: bool = False):
         self.out = Path(out_dir)
         self.out.mkdir(parents=True, exist_ok=True)
-        self._p = CsvStream(self.out / "profiles.csv", ["time_s"] + profile_columns)
-        self._q = CsvStream(self.out / "probes.csv", ["time_s"] + probe_columns)
+        self._p = CsvStream(self.out / "profiles.csv", ["time_s"] + profile_columns, block=block)
+        self._q = CsvStream(self.out / "probes.csv", ["time_s"] + probe_columns, block=block)
         self.profile_columns, self.probe_columns = profile_columns, probe_columns
         self.undefined = tuple(undefined)
-        self._strict = None  # probe columns that must be finite (probe_row)
+        self._strict = [not c.startswith(self.undefined) for c in probe_columns]  # must be finite (probe_row)
+        self._fmt = ",".join(["%.10g"] * (len(probe_columns) + 1)) + "\r\n"  # csv.writer's line end
 
     def profile(self, t: float, fields: dict[str, np.ndarray]) -> None:
         cols = {c: np.asarray(fields[c], dtype=float) for c in self.profile_columns}
@@ -285,15 +346,22 @@ class ResultWriter:
 
     def probe_row(self, t: float, values) -> None:
         """:meth:`probe` with the values (numbers) as a sequence in the order of ``probe_columns``."""
-        row = [float(t), *map(float, values)]
-        strict = self._strict
-        if strict is None:
-            strict = self._strict = [not c.startswith(self.undefined) for c in self.probe_columns]
-        for x, must in zip(row[1:], strict):  # finite, or NaN (an empty cell) where a column may be undefined
-            if not (math.isfinite(x) or (x != x and not must)):
-                return self.probe(t, dict(zip(self.probe_columns, row[1:])))  # names the bad value, or drops the row
-        self._q.rows([row])
+        row = [float(t), *(values.tolist() if type(values) is np.ndarray else map(float, values))]  # floats
+        text = self._fmt % tuple(row)
+        if "n" in text:  # "nan" or "inf" (a finite number has no n): finite or NaN where it may be undefined
+            for x, must in zip(row[1:], self._strict):
+                if not (math.isfinite(x) or (x != x and not must)):
+                    return self.probe(t, dict(zip(self.probe_columns, row[1:])))  # names the bad value, or drops the row
+            return self._q.line(row)
+        self._q._write(text)
+
+    def flush(self) -> None:
+        """Write the rows kept in memory (``block=True``): :meth:`CsvStream.flush`."""
+        self._p.flush()
+        self._q.flush()
 
     def close(self) -> None:
-        self._p.close()
-        self._q.close()
+        try:
+            self._p.close()
+        finally:
+            self._q.close()

@@ -622,7 +622,7 @@ class LiquefactionColumn:
         if code != 0:
             raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: "
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
-        out = WaveState(t_new, u, vel, acc, np.diff(u) / wave.h, tau)
+        out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / wave.h, tau)  # (np.diff's arithmetic)
         return out, nb, st, m, list(zip(times.tolist(), surface.tolist()))
 
     def _skeleton_arrays(self) -> tuple[np.ndarray, np.ndarray]:
@@ -797,21 +797,22 @@ class LiquefactionColumn:
 
     def step(self, s: ColumnState, dt: float) -> ColumnStep:
         """One split step of length ``dt`` [s] (module docstring); raises StepFailure."""
-        t_new = s.t + dt
+        t0 = s.t
+        t_new = t0 + dt
         wave, n_bar, hist, m, surface = s.wave, s.vertical.n_bar, s.shear, 0, ()
-        if s.t < self.shear_end - 1e-12:
+        if t0 < self.shear_end - 1e-12:
             try:
                 wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
-                raise StepFailure(s.t, dt, str(exc), s) from None
+                raise StepFailure(t0, dt, str(exc), s) from None
             if not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
-                raise StepFailure(s.t, dt, "shear sub-steps gave a non-finite reference porosity or "
+                raise StepFailure(t0, dt, "shear sub-steps gave a non-finite reference porosity or "
                                   "displacement", s)
             if self.flow is not None and not self.shear_only:
-                if self._flowing_phase(s.t):
+                if self._flowing_phase(t0):
                     surface = ()  # the surface motion (spectra, a_max) covers the shaking and free_vibration
                 self._flow_decide(t_new, wave)
-        if self.hysteretic is not None and s.t < self.shear_end - 1e-12 <= t_new:
+        if self.hysteretic is not None and t0 < self.shear_end - 1e-12 <= t_new:
             n_bar = self._apply_floor(s, n_bar, hist)  # the shear wave stops: the reconsolidation floor
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
@@ -825,8 +826,8 @@ class LiquefactionColumn:
         eps = 1e-9 * max(dt, 1e-12)  # (integrate's)
         fast = getattr(self.v, "fast_step", None)
         if fast is not None and vert.t < t_new - eps:  # the stepper's first try in one compiled call
-            h = min(dt, t_new - s.t)  # (integrate's first step to t_new)
-            h = t_new - s.t if t_new - s.t - h < 0.01 * dt else h
+            h = min(dt, t_new - t0)  # (integrate's first step to t_new)
+            h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
             made = fast(vert, h, self.settings)
             if made is not None:
                 vert, its = made
@@ -851,23 +852,25 @@ class LiquefactionColumn:
         h = dt
         eps = 1e-9 * max(dt, 1e-12)
         flow_h = dt if self.flow is None else max(dt, self.flow.step)
-        while s.t < t_end - eps:
+        t = s.t
+        while t < t_end - eps:
             # the next time to land on: the fixed marks and the shear wave's end, which a sloping column
             # that still flows moves on (:meth:`_flow_decide`)
             end = self.shear_end
-            mark = min([x for x in fixed if x > s.t + eps] + ([end] if s.t + eps < end <= t_end else []))
-            if s.t < end - eps:  # the shear wave runs: the shaking step, growing while the column flows
-                target = min(flow_h, 1.5 * h) if self._flowing_phase(s.t) else dt
+            mark = min([x for x in fixed if x > t + eps] + ([end] if t + eps < end <= t_end else []))
+            if t < end - eps:  # the shear wave runs: the shaking step, growing while the column flows
+                target = min(flow_h, 1.5 * h) if self._flowing_phase(t) else dt
             else:
                 target = min(dt_after, 1.5 * h)
             h = target
-            h_try = min(h, mark - s.t)
-            if mark - s.t - h_try < 0.01 * dt:
-                h_try = mark - s.t
+            h_try = min(h, mark - t)
+            if mark - t - h_try < 0.01 * dt:
+                h_try = mark - t
             step = self.step(s, h_try)
             s = step.state
             yield step
-            if stop is not None and s.t >= self.shear_end - eps and stop(s):
+            t = s.t
+            if stop is not None and t >= self.shear_end - eps and stop(s):
                 return
         if self.flow is not None and self.flow_stopped is None and self.shear_end > s.t + eps:
             self.shear_end = s.t  # a sloping column still shearing at t_end: its shear wave ends with the run

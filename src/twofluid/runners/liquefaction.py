@@ -28,9 +28,10 @@ prints. The run folder holds (depths below the ground surface; columns in docs/o
 Inputs are checked before the folder is created: the case (again, if it is a dictionary
 that may have been edited since loading) with the record, the ANN weights and the G/G_max
 tables it names, read and validated (:mod:`twofluid.casefile.schema_liquefaction`); a bad one
-is a CaseError and nothing is written. Once running, CSV rows are flushed as they are written,
-so Ctrl-C or a failed step (including a non-finite shear step) leaves readable files, and
-``summary.json`` is written whatever the outcome.
+is a CaseError and nothing is written. Once running, the per-step CSV rows are written in blocks
+(at most a second old) and flushed on every way out of the time loop, so Ctrl-C, SIGTERM or a
+failed step (including a non-finite shear step) leaves readable files with every row computed,
+and ``summary.json`` is written whatever the outcome.
 """
 from __future__ import annotations
 
@@ -290,21 +291,22 @@ class _Recorder:
         self._ru_liq = float(ru_liq)
         self._liq = np.zeros(ne, dtype=bool)
         self._scalars = np.zeros(4)
+        self._sizes = (ne, self._elem.size)
         self._fixed, self._fixed_of = (), None  # the column's constant arrays as the kernel takes them
 
     def _constants(self) -> tuple:
         """(P_hydrostatic, σ′_v0, n0, element lengths) as contiguous float64, converted again only if
         the column holds other arrays (a new initial state)."""
         col = self.col
-        of = (col.p_hydro, col.sigma_v0, col.n0)
-        if self._fixed_of is None or any(a is not b for a, b in zip(of, self._fixed_of)):
-            self._fixed_of = of
+        was = self._fixed_of
+        if was is None or col.p_hydro is not was[0] or col.sigma_v0 is not was[1] or col.n0 is not was[2]:
+            of = self._fixed_of = (col.p_hydro, col.sigma_v0, col.n0)
             self._fixed = (*map(_c, of), _c(col.v.mesh.lengths))
         return self._fixed
 
     def record(self, s: ColumnState, field: bool, surface=()):
         col, v = self.col, s.vertical
-        ne, k = self.peak.size, self._elem.size
+        ne, k = self._sizes
         ru, contribution = np.empty(ne), np.empty(ne)
         ru_elem, sig_elem = np.empty(k), np.empty(k)
         self.ps = col.granular_pressure(s)  # the probes' σ′_v too
@@ -313,16 +315,16 @@ class _Recorder:
             float(s.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
             self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
             self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
-            ru_elem, sig_elem, self._scalars)
+            ru_elem, sig_elem, self._scalars).tolist()
         self.damage.record(s, self._liq)
         self.last_contribution = contribution
         self.t.append(s.t)
         self.ru.append(ru_elem)
         self.sig.append(sig_elem)
-        self.settle.append(float(settle))  # = col.settlement(s)
-        self.pbase.append(float(pbase))
-        self.ru_top.append(float(ru_top))
-        self.flux_top.append(float(flux_top))  # = col.surface_seepage(s)
+        self.settle.append(settle)  # = col.settlement(s)
+        self.pbase.append(pbase)
+        self.ru_top.append(ru_top)
+        self.flux_top.append(flux_top)  # = col.surface_seepage(s)
         if surface:
             times, acc = zip(*surface)
             self.surface_t.extend(times)
@@ -339,13 +341,14 @@ class _Recorder:
                  "water_table_seepage_m_s"] + [f"r_u@{z:g}m" for z in self.depths]
                 + [f"sigma_v_eff_Pa@{z:g}m" for z in self.depths])
 
-    def probe_row(self, s: ColumnState, ru) -> np.ndarray:
-        """The probes of the state last recorded (:meth:`record`), in the order of :meth:`probe_names`."""
+    def probe_row(self, s: ColumnState, ru) -> list:
+        """The probes of the state last recorded (:meth:`record`), in the order of :meth:`probe_names`,
+        as a list of floats (what :meth:`ResultWriter.probe_row <twofluid.io.results.ResultWriter.probe_row>` takes fastest)."""
         col = self.col
         base, surface = col.accelerations(s)
-        head = [base, surface, self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
-                col.surface_displacement(s), self.flux_top[-1]]
-        return np.concatenate([head, ru[self._elem], self.ps[self._elem]])
+        return [float(base), float(surface), self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
+                col.surface_displacement(s), self.flux_top[-1], *ru[self._elem].tolist(),
+                *self.ps[self._elem].tolist()]
 
 
 def _at_mark(marks: list, t: float) -> bool:
@@ -408,8 +411,9 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     depths = sorted(set(schema_liquefaction.report_depths(case)) | {H - y for y in case["output"]["probes"]})  # y above the base
     rec = _Recorder(col, depths, rep["ru_liquefied"])
     ru0 = rec.record(state, True)
-    writer = ResultWriter(out, PROFILE_COLUMNS, rec.probe_names())
-    ffile = CsvStream(out / "ru_field.csv", ["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth])
+    # rows every step: written in blocks (io.results), flushed at the loop's end and on every way out of it
+    writer = ResultWriter(out, PROFILE_COLUMNS, rec.probe_names(), block=True)
+    ffile = CsvStream(out / "ru_field.csv", ["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth], block=True)
     field_formats = ["%.10g"] + ["%.6g"] * col.n_sat
 
     def write_field(s, ru):  # whole rows, finite values only (io.results)
@@ -432,7 +436,8 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     solids0 = col.v.solids_volume(state.vertical)
     inflow = 0.0
     settle_shaking = 0.0 if col.shaking_end == 0.0 else None
-    next_probe, next_field = case["output"]["probe_interval"], rep["field_interval"]
+    probe_interval, field_interval = case["output"]["probe_interval"], rep["field_interval"]
+    next_probe, next_field = probe_interval, field_interval
     n_steps, n_sub, last, probed = 0, 0, state, True
     ru_done = case["reconsolidation"]["dissipated_r_u"]
     stop = None if ru_done == 0.0 else (lambda s: float(np.max(col.excess_ratio(s))) < ru_done)
@@ -440,35 +445,38 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     with run_guard(b.t_end, progress, writer, ffile, *(() if srec is None else (srec,))) as run:
         for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times, stop=stop):
             s = last = step.state
+            t = s.t
             n_steps += 1
             n_sub += step.substeps
             inflow += step.solids_inflow
-            at_mark = _at_mark(out_times, s.t)
-            field = s.t >= next_field - 1e-12 or at_mark
+            at_mark = _at_mark(out_times, t)
+            field = t >= next_field - 1e-12 or at_mark
             ru = rec.record(s, field, step.surface)
             if srec is not None:
                 srec.record(s)
-                if at_mark or abs(s.t - col.shear_end) < 1e-9 * max(1.0, s.t):
+                if at_mark or abs(t - col.shear_end) < 1e-9 * max(1.0, t):
                     srec.profile(s)
             if field:
                 write_field(s, ru)
-                next_field = s.t + rep["field_interval"]
+                next_field = t + field_interval
             probed = False
-            if s.t >= next_probe - 1e-12 or at_mark:
-                writer.probe_row(s.t, rec.probe_row(s, ru))
-                next_probe = s.t + case["output"]["probe_interval"]
+            if t >= next_probe - 1e-12 or at_mark:
+                writer.probe_row(t, rec.probe_row(s, ru))
+                next_probe = t + probe_interval
                 probed = True
-            if settle_shaking is None and s.t >= col.shaking_end - 1e-9:
+            if settle_shaking is None and t >= col.shaking_end - 1e-9:
                 settle_shaking = rec.settle[-1]
             if at_mark:
-                profiles[round(s.t, 9)] = _profile(col, s, rec.peak)
-                writer.profile(s.t, profiles[round(s.t, 9)])
-            run.bar.update(s.t - run.bar.n)
+                profiles[round(t, 9)] = _profile(col, s, rec.peak)
+                writer.profile(t, profiles[round(t, 9)])
+            run.bar.update(t - run.bar.n)
         if run.status == "completed" and round(last.t, 9) not in profiles:  # ended by dissipation
             profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
             writer.profile(last.t, profiles[round(last.t, 9)])
             if not probed:
                 writer.probe_row(last.t, rec.probe_row(last, col.excess_ratio(last)))
+        writer.flush()  # in the guard: a full disk here is a failed run, said in its summary
+        ffile.flush()
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if round(last.t, 9) not in profiles:
