@@ -20,14 +20,24 @@ the material differs:
   the switch to the plastic stage, drained, as nodal forces (the column's weight times sin theta,
   solid and water: slope-parallel seepage), as the element protocol applies its static shear;
   ``--polarity -1`` reverses the record;
-* the case's record scaled to its PGA, its ``duration``; then ``--free`` seconds of free vibration.
+* the case (a bundled name or any case file, e.g. an idealised column written by
+  ``scripts/idealised_spreads.py --write-cases``) is read and validated by twofluid, and its record
+  is the one twofluid's run takes: the project's reader (``twofluid.io.ground_motion``, through
+  the schema's ``load_motion``), cut to ``duration``, baseline-corrected (``baseline_order``),
+  scaled to ``pga_g`` with the sign ``polarity``, and on a slope its component along the slope
+  (cos theta of it); the bedrock's density and V_s are the case's;
+* after the shaking, ``--free`` seconds of free vibration (default: the case's ``free_vibration``),
+  then on a slope, while twofluid's flow criterion holds (the window-mean surface velocity
+  relative to the base over ``flow_window`` at least ``flow_velocity``), at most ``--flow-max``
+  seconds more (default 0: the run ends after the free vibration; the summary says which stop).
 
 Outputs (``--out``: summary.json): surface displacement relative to the base against time (every
 0.05 s), the residual (end of run) and peak shear-strain profiles, peak r_u per element, the
 liquefied range (r_u >= 0.95 during the run), surface 5 %-damped Sa at 0.1-2 s, the settlement.
 
-    python benchmarks/pm4sand_column.py sloping-site [--polarity 1|-1] [--dt 0.005] [--out DIR]
+    python benchmarks/pm4sand_column.py sloping-site [--polarity 1|-1] [--flow-max 16] [--out DIR]
     python benchmarks/pm4sand_column.py liquefaction-layered-site --free 0 [--out DIR]
+    python benchmarks/pm4sand_column.py runs/cases/c03-IMPVALL.I-p.toml --flow-max 16 --out DIR
 """
 from __future__ import annotations
 
@@ -39,7 +49,6 @@ import os
 import sys
 import tempfile
 import time
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -49,10 +58,19 @@ sys.path.insert(0, str(HERE))
 import pm4sand_element as pe  # noqa: E402
 from bench_peers import PEERS  # noqa: E402
 
-ops = pe.load_ops()
-_spec = importlib.util.spec_from_file_location("peer_column", PEERS / "opensees" / "column.py")
-peer = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(peer)
+ops = peer = None           # openseespy and the project's OpenSees peer column, loaded by load() at run time
+
+
+def load():
+    """openseespy and the peer column's helpers (recover, run_until, Stats); nothing else needs OpenSees."""
+    global ops, peer
+    if ops is None:
+        ops = pe.load_ops()
+        spec = importlib.util.spec_from_file_location("peer_column", PEERS / "opensees" / "column.py")
+        peer = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(peer)
+    return ops
+
 
 G_ACC = 9.80665
 RHO_W = 1.0                 # Mg/m3
@@ -60,18 +78,8 @@ GAMMA_W = RHO_W * G_ACC     # kN/m3
 K_FLUID = 2.2e6             # kPa
 WIDTH = 0.5                 # m
 CRUST_DR = 55.0             # %
-BEDROCK_RHO, BEDROCK_VS = 2.4, 760.0
 HPO_CACHE = HERE / "pm4sand_column_hpo.json"
 PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0)
-
-
-DATA = HERE.parent / "src" / "twofluid" / "data"
-
-
-def case_file(name):
-    """The bundled case's case.toml, or a path."""
-    p = DATA / "cases" / name / "case.toml"
-    return p if p.exists() else Path(name)
 
 
 def hpo_for(dr):
@@ -84,7 +92,7 @@ def hpo_for(dr):
         if f"{dr:g}" in fr:
             cache[key] = fr[f"{dr:g}"]
         else:
-            cache[key] = pe.calibrate(dr, ops=ops)[0]
+            cache[key] = pe.calibrate(dr, ops=load())[0]
             ops.wipe()
         HPO_CACHE.write_text(json.dumps(cache, indent=1, sort_keys=True) + "\n")
     return cache[key]
@@ -111,12 +119,59 @@ def sa(acc, dt, periods, zeta=0.05):
     return out
 
 
+def case_and_motion(name, polarity=None, pga=None, duration=None):
+    """The validated case (a bundled name or a case file, as ``twofluid run`` takes it) and its base
+    record in m/s² as twofluid's run reads it: the project's own reader (``twofluid.io.ground_motion``
+    through the case schema's ``load_motion``), cut to ``duration``, baseline-corrected, scaled to
+    ``pga_g`` with the sign ``polarity``. ``polarity``, ``pga`` [g] and ``duration`` [s] override the
+    case's keys (None: the case's)."""
+    from twofluid.casefile.loader import load_case
+    from twofluid.casefile.schema_liquefaction import load_motion
+
+    case = load_case(str(name))
+    g = case["ground_motion"]
+    for key, value in (("polarity", polarity), ("pga_g", pga), ("duration", duration)):
+        if value is not None:
+            g[key] = value
+    return case, load_motion(case, case["_source"])
+
+
+def layer_materials(case, rho_s):
+    """Per layer: mass density [Mg/m³], void ratio, Dr [%], k [m/s]; the crust (unit_weight > 0) takes
+    Dr = CRUST_DR and its unit weight / g."""
+    out = []
+    for L in case["layers"]:
+        if L.get("unit_weight", 0.0) > 0.0:
+            out.append((L["unit_weight"] / 1000.0 / G_ACC, 0.6, CRUST_DR, 1e-4))
+            continue
+        n = L["porosity"] if L.get("porosity", 0.0) > 0.0 else L["void_ratio"] / (1.0 + L["void_ratio"])
+        out.append(((1 - n) * rho_s + n * RHO_W, n / (1 - n), L["relative_density"], L["hydraulic_conductivity"]))
+    return out
+
+
+def flowing(t, u, window, v_min):
+    """twofluid's flow criterion after the free vibration: v = (D(t - T, t) - D(t - 2T, t - T))/T, D the
+    time mean of the surface displacement over the window T; True while v >= v_min [m/s] (or while
+    fewer than 2T of samples are there)."""
+    t, u = np.asarray(t), np.asarray(u)
+    if t.size < 2 or t[-1] - t[0] < 2.0 * window - 1e-9:
+        return True
+    last = u[t > t[-1] - window].mean()
+    before = u[(t > t[-1] - 2.0 * window) & (t <= t[-1] - window)].mean()
+    return (last - before) / window >= v_min
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("case")
-    p.add_argument("--polarity", type=int, choices=(1, -1), default=1)
+    p.add_argument("case", help="a bundled case's name or a case file (e.g. one written by "
+                   "scripts/idealised_spreads.py --write-cases)")
+    p.add_argument("--polarity", type=int, choices=(1, -1), default=None, help="default: the case's")
     p.add_argument("--dt", type=float, default=0.005)
-    p.add_argument("--free", type=float, default=4.0, help="free vibration after the shaking [s]")
+    p.add_argument("--free", type=float, default=None,
+                   help="free vibration after the shaking [s] (default: the case's [shear_wave] free_vibration)")
+    p.add_argument("--flow-max", type=float, default=0.0,
+                   help="on a slope, after the free vibration, run on while twofluid's flow criterion (the case's "
+                        "flow_velocity over flow_window) says the surface still moves, at most this long [s]")
     p.add_argument("--duration", type=float, default=None, help="shaking [s] (default: the case's)")
     p.add_argument("--pga", type=float, default=None, help="outcrop PGA [g] (default: the case's)")
     p.add_argument("--out", default=None)
@@ -126,22 +181,24 @@ def main(argv=None):
     if a.beside:
         print(beside(a.beside[0], a.beside[1:]))
         return None
-    t_start = time.perf_counter()
-    case = tomllib.loads(case_file(a.case).read_text())
-    site = case.get("site", {})
-    wt = float(site.get("water_table_depth", 0.0))
-    slope = float(site.get("slope", 0.0)) / 100.0
+    t_start, cpu_start = time.perf_counter(), time.process_time()
+    load()
+    case, motion = case_and_motion(a.case, a.polarity, a.pga, a.duration)
+    gm_case = case["ground_motion"]
+    sw = case["shear_wave"]
+    if sw["base"] != "compliant":
+        sys.exit(f"{a.case}: [shear_wave] base = {sw['base']!r}; this column has a compliant base only")
+    polarity = gm_case["polarity"]
+    free = sw["free_vibration"] if a.free is None else a.free
+    site = case["site"]
+    wt = float(site["water_table_depth"])
+    slope = float(site["slope"]) / 100.0
     theta = math.atan(slope)
     rho_s = case["materials"]["particle_density"] / 1000.0
-    gm_case = case["ground_motion"]
+    bedrock_rho, bedrock_vs = sw["bedrock_density"] / 1000.0, sw["bedrock_shear_velocity"]
     # ---------------------------------------------------------------- layers
     mats, h, lay = [], [], []
-    for i, L in enumerate(case["layers"]):
-        if "unit_weight" in L:
-            rho, e, dr, k = L["unit_weight"] / 1000.0 / G_ACC, 0.6, CRUST_DR, 1e-4
-        else:
-            n = L["porosity"]
-            rho, e, dr, k = (1 - n) * rho_s + n * RHO_W, n / (1 - n), L["relative_density"], L["hydraulic_conductivity"]
+    for i, (L, (rho, e, dr, k)) in enumerate(zip(case["layers"], layer_materials(case, rho_s))):
         mats.append(dict(name=L["name"], rho=rho, e=e, dr=dr, k=k, hpo=hpo_for(dr), G_o=pe.g0(dr)))
         ne = int(round(L["thickness"] / L["element_size"]))
         h += [L["thickness"] / ne] * ne
@@ -154,13 +211,14 @@ def main(argv=None):
     ydepth = depth - y
     sat = zc > wt
     # ---------------------------------------------------------------- motion
-    dt_gm, gm = peer.read_at2(str(DATA / "ground_motions" / gm_case["file"]))
-    dur = float(gm_case.get("duration", 10.0)) if a.duration is None else a.duration
-    full = gm[:int(round(float(gm_case.get("duration", 10.0)) / dt_gm)) + 1]     # scaled as the case scales it
-    rec = gm[:int(round(dur / dt_gm)) + 1]
-    acc = a.polarity * rec * ((gm_case["pga_g"] if a.pga is None else a.pga) / np.max(np.abs(full))) * G_ACC
+    # twofluid's record (case_and_motion); on a slope its component along the slope, cos(theta) of it, as
+    # twofluid's column takes it
+    dt_gm = float(motion.dt)
+    dur = float(motion.duration)
+    acc = np.asarray(motion.acceleration) * math.cos(theta)
     vel = np.concatenate([[0.0], np.cumsum(0.5 * (acc[1:] + acc[:-1]) * dt_gm)])
-    vel = np.concatenate([vel, np.full(int(a.free / dt_gm) + 2, vel[-1])])
+    t_max = dur + free + (a.flow_max if slope > 0.0 else 0.0)
+    vel = np.concatenate([vel, np.full(int(math.ceil((t_max - dur) / dt_gm)) + 2, vel[-1])])
     # ---------------------------------------------------------------- model
     ops.wipe()
     ops.model("basic", "-ndm", 2, "-ndf", 3)
@@ -176,7 +234,7 @@ def main(argv=None):
         if ydepth[j] <= wt + 1e-9:
             ops.fix(2 * j + 1, 0, 0, 1)
             ops.fix(2 * j + 2, 0, 0, 1)
-    c_dash = BEDROCK_RHO * BEDROCK_VS * WIDTH
+    c_dash = bedrock_rho * bedrock_vs * WIDTH
     dash = 2 * nele + 101
     ops.node(dash, 0.0, 0.0)
     ops.fix(dash, 1, 1, 1)
@@ -257,7 +315,17 @@ def main(argv=None):
     ops.record()
     d_stats = peer.Stats()
     t_d0 = time.perf_counter()
-    peer.run_until(dur + a.free, a.dt, d_stats)
+    peer.run_until(dur + free, a.dt, d_stats)
+    t_flow, u_flow = [], []
+    still = slope > 0.0 and a.flow_max > 0.0
+    top, bottom = nodes_l[-1], nodes_l[0]
+    while still and ops.getTime() < t_max - 1e-9:          # on while the slope flows (twofluid's criterion)
+        t_next = min(ops.getTime() + 0.05, t_max)
+        peer.run_until(t_next, a.dt, d_stats)
+        t_flow.append(ops.getTime())
+        u_flow.append(ops.nodeDisp(top, 1) - ops.nodeDisp(bottom, 1))
+        still = flowing(t_flow, u_flow, sw["flow_window"], sw["flow_velocity"])
+    t_end = ops.getTime()
     wall = time.perf_counter() - t_d0
     ops.remove("recorders")
     ops.wipe()
@@ -282,7 +350,14 @@ def main(argv=None):
     rng = [float(min(zc[j] - 0.5 * h[j] for j in liq)), float(max(zc[j] + 0.5 * h[j] for j in liq))] if liq else None
     every = max(1, int(round(0.05 / float(np.median(np.diff(t))))))
     summary = dict(
-        case=a.case, polarity=a.polarity, slope=slope, dt_s=a.dt, free_s=a.free, openseespy=pe.openseespy_version(),
+        case=a.case, polarity=polarity, slope=slope, dt_s=a.dt, free_s=free, openseespy=pe.openseespy_version(),
+        record=gm_case["file"], pga_g=gm_case["pga_g"], shaking_s=dur, baseline_order=gm_case["baseline_order"],
+        end_s=float(t_end), flow_max_s=a.flow_max if slope > 0.0 else None,
+        stopped=("flow criterion" if t_flow and t_end < t_max - 1e-9 else
+                 "flow_max, still moving" if t_flow else "free vibration"),
+        flow_criterion=dict(velocity_m_s=sw["flow_velocity"], window_s=sw["flow_window"]),
+        bedrock=dict(rho_Mg_m3=bedrock_rho, vs_m_s=bedrock_vs), rayleigh=dict(ratio=0.01, frequencies_hz=[1.0, 10.0]),
+        newmark=dict(gamma=0.6, beta=0.25 * 1.1 ** 2), secondary=pe.SECONDARY, nu_plastic=pe.NU_PLASTIC,
         materials=[{k: v for k, v in m.items()} for m in mats], crust_dr_percent=CRUST_DR,
         surface_displacement_end_m=float(surf[-1]),
         surface_displacement_end_of_shaking_m=float(np.interp(dur, t, surf)),
@@ -292,13 +367,13 @@ def main(argv=None):
         surface_pga_g=float(np.max(np.abs(a_abs)) / G_ACC),
         surface_sa_g={f"{T:g}": v / G_ACC for T, v in zip(PERIODS, sa(a_abs, dt_rec, PERIODS))},
         steps=d_stats.steps, failed_solves=d_stats.failures, wall_dynamic_s=wall,
-        wall_total_s=time.perf_counter() - t_start,
+        wall_total_s=time.perf_counter() - t_start, cpu_total_s=time.process_time() - cpu_start,
         profile=[dict(depth_m=float(zc[j]), layer=mats[lay[j]]["name"], sigma_v0_kPa=float(sv0[j]),
                       tau0_kPa=float(tau0[j]), ru_max=float(ru_max[j]) if sat[j] else None,
                       gamma_residual=float(gam[-1, j]), gamma_peak=float(np.max(np.abs(gam[:, j]))))
                  for j in range(nele - 1, -1, -1)],
         surface_displacement_history=dict(t_s=t[::every].round(4).tolist(), u_m=surf[::every].round(6).tolist()))
-    print(f"=== PM4Sand column {a.case}, polarity {a.polarity:+d}: surface displacement {100 * surf[-1]:.1f} cm "
+    print(f"=== PM4Sand column {a.case}, polarity {polarity:+d}: surface displacement {100 * surf[-1]:.1f} cm "
           f"(end of shaking {100 * summary['surface_displacement_end_of_shaking_m']:.1f} cm), settlement "
           f"{100 * summary['settlement_m']:.1f} cm, liquefied {rng}, PGA {summary['surface_pga_g']:.3f} g, "
           f"{d_stats.steps} steps, {d_stats.failures} failed, {wall:.0f} s")
@@ -341,7 +416,7 @@ def beside(tf_dir, pm_files, depths=(2.5, 3.5, 4.5, 5.5, 6.5, 7.5, 9.0)):
     lines.append(f"| liquefied (r_u >= 0.95) while shaking [m] | {rng} | " + " | ".join(
         str(p["liquefied_range_m"]) for p in pms) + " |")
     lines.append(f"| settlement, end of shaking [m] | {tf['settlement_end_of_shaking_m']:.4f} | " + " | ".join(
-        f"{p['settlement_m']:.4f} (t = {p['free_s'] + 10:g} s)" for p in pms) + " |")
+        f"{p['settlement_m']:.4f} (t = {p.get('end_s', p['free_s'] + 10):g} s)" for p in pms) + " |")
     lines.append(f"| surface PGA [g] | {tf['shaking']['peak_surface_acceleration_g']:.3f} | " + " | ".join(
         f"{p['surface_pga_g']:.3f}" for p in pms) + " |")
     for T in (0.2, 0.5, 1.0):
