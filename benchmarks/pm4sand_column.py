@@ -349,6 +349,7 @@ def main(argv=None):
     liq = [j for j in range(nele) if sat[j] and ru_max[j] >= 0.95]
     rng = [float(min(zc[j] - 0.5 * h[j] for j in liq)), float(max(zc[j] + 0.5 * h[j] for j in liq))] if liq else None
     every = max(1, int(round(0.05 / float(np.median(np.diff(t))))))
+    keep = np.unique(np.append(np.arange(0, t.size, every), t.size - 1))      # every 0.05 s and the last
     summary = dict(
         case=a.case, polarity=polarity, slope=slope, dt_s=a.dt, free_s=free, openseespy=pe.openseespy_version(),
         record=gm_case["file"], pga_g=gm_case["pga_g"], shaking_s=dur, baseline_order=gm_case["baseline_order"],
@@ -372,7 +373,7 @@ def main(argv=None):
                       tau0_kPa=float(tau0[j]), ru_max=float(ru_max[j]) if sat[j] else None,
                       gamma_residual=float(gam[-1, j]), gamma_peak=float(np.max(np.abs(gam[:, j]))))
                  for j in range(nele - 1, -1, -1)],
-        surface_displacement_history=dict(t_s=t[::every].round(4).tolist(), u_m=surf[::every].round(6).tolist()))
+        surface_displacement_history=dict(t_s=t[keep].round(4).tolist(), u_m=surf[keep].round(6).tolist()))
     print(f"=== PM4Sand column {a.case}, polarity {polarity:+d}: surface displacement {100 * surf[-1]:.1f} cm "
           f"(end of shaking {100 * summary['surface_displacement_end_of_shaking_m']:.1f} cm), settlement "
           f"{100 * summary['settlement_m']:.1f} cm, liquefied {rng}, PGA {summary['surface_pga_g']:.3f} g, "
