@@ -163,7 +163,7 @@ def flowing(t, u, window, v_min):
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("case", help="a bundled case's name or a case file (e.g. one written by "
+    p.add_argument("case", nargs="?", help="a bundled case's name or a case file (e.g. one written by "
                    "scripts/idealised_spreads.py --write-cases)")
     p.add_argument("--polarity", type=int, choices=(1, -1), default=None, help="default: the case's")
     p.add_argument("--dt", type=float, default=0.005)
@@ -177,10 +177,17 @@ def main(argv=None):
     p.add_argument("--out", default=None)
     p.add_argument("--beside", nargs="+", metavar=("TWOFLUID_DIR", "PM4SAND_SUMMARY"),
                    help="print twofluid's run folder beside PM4Sand summary.json files and stop")
+    p.add_argument("--compare", nargs="+", metavar="LABEL:POLARITY:TWOFLUID_DIR:PM4SAND_SUMMARY",
+                   help="print the comparison tables of these runs and stop")
     a = p.parse_args(argv)
     if a.beside:
         print(beside(a.beside[0], a.beside[1:]))
         return None
+    if a.compare:
+        print(compare([(lab, int(pol), tf, pm) for lab, pol, tf, pm in (x.split(":") for x in a.compare)]))
+        return None
+    if a.case is None:
+        p.error("a case is needed (a bundled name or a case file)")
     t_start, cpu_start = time.perf_counter(), time.process_time()
     load()
     case, motion = case_and_motion(a.case, a.polarity, a.pga, a.duration)
@@ -433,6 +440,67 @@ def beside(tf_dir, pm_files, depths=(2.5, 3.5, 4.5, 5.5, 6.5, 7.5, 9.0)):
                      + ("-" if resid is None else f"{100 * g_res:.2f}") + " | " + " | ".join(
                          f"{100 * r['gamma_peak']:.2f} / {100 * r['gamma_residual']:.2f}" for r in pr) + " |")
     return "\n".join(lines)
+
+
+def twofluid_numbers(run_dir):
+    """The numbers of a ``twofluid run CASE --out DIR`` folder that the comparison takes."""
+    import csv
+    d = Path(run_dir)
+    tf = json.loads((d / "summary.json").read_text())
+    with open(d / "spectra.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    per = np.array([float(r["period_s"]) for r in rows])
+    sa_tf = np.array([float(r["Sa_surface_g"]) for r in rows])
+    sl = tf.get("slope") or {}
+    rs = tf.get("residual_strain") or {}
+    youd = ((sl.get("estimates") or {}).get("youd_2002") or {}).get("median_m")
+    return dict(u_end=sl.get("surface_displacement_end_m", 0.0), u_shaking=sl.get("surface_displacement_end_of_shaking_m"),
+                liquefied=tf["liquefied_depth_range_shaking_m"], liquefied_m=tf["liquefied_thickness_shaking_m"],
+                gamma_res=rs.get("largest_residual_strain"), gamma_res_z=rs.get("largest_residual_strain_depth_m"),
+                pga=tf["shaking"]["peak_surface_acceleration_g"],
+                sa={T: float(np.interp(T, per, sa_tf)) for T in (0.2, 0.5, 1.0)},
+                settle_shaking=tf["settlement_end_of_shaking_m"], settle_end=tf["settlement_end_m"], youd=youd,
+                wall=tf.get("wall_time_s"))
+
+
+def pm4sand_numbers(summary):
+    """The same numbers from a PM4Sand summary (a file or its dict)."""
+    p = summary if isinstance(summary, dict) else json.loads(Path(summary).read_text())
+    sat = [r for r in p["profile"] if r["ru_max"] is not None]
+    big = max(sat, key=lambda r: abs(r["gamma_residual"]))
+    return dict(u_end=p["surface_displacement_end_m"], u_shaking=p["surface_displacement_end_of_shaking_m"],
+                liquefied=p["liquefied_range_m"], liquefied_m=p["liquefied_thickness_m"],
+                gamma_res=big["gamma_residual"], gamma_res_z=big["depth_m"], pga=p["surface_pga_g"],
+                sa={T: p["surface_sa_g"][f"{T:g}"] for T in (0.2, 0.5, 1.0)}, settle_end=p["settlement_m"],
+                end_s=p.get("end_s"), stopped=p.get("stopped"), cpu=p.get("cpu_total_s"), wall=p.get("wall_total_s"))
+
+
+def compare(items):
+    """Markdown tables of twofluid beside PM4Sand for ``items``: (label, polarity, twofluid run folder,
+    PM4Sand summary); the displacements per polarity, their means and ratio, then the rest per run."""
+    runs = [(lab, pol, twofluid_numbers(t), pm4sand_numbers(p)) for lab, pol, t, p in items]
+    out = ["| column | twofluid +1 / −1 [m] | PM4Sand +1 / −1 [m] | twofluid mean [m] | PM4Sand mean [m] | "
+           "twofluid/PM4Sand | Youd median [m] |", "|---|---|---|---|---|---|---|"]
+    for lab in dict.fromkeys(r[0] for r in runs):
+        mine = {pol: (tf, pm) for lb, pol, tf, pm in runs if lb == lab}
+        tf_u = [mine[k][0]["u_end"] for k in (1, -1) if k in mine]
+        pm_u = [mine[k][1]["u_end"] for k in (1, -1) if k in mine]
+        ratio = np.mean(tf_u) / np.mean(pm_u) if np.mean(pm_u) != 0.0 else float("nan")
+        youd = next((mine[k][0]["youd"] for k in mine if mine[k][0]["youd"]), None)
+        out.append(f"| {lab} | {' / '.join(f'{u:.3f}' for u in tf_u)} | {' / '.join(f'{u:.3f}' for u in pm_u)} | "
+                   f"{np.mean(tf_u):.3f} | {np.mean(pm_u):.3f} | {ratio:.2f} | "
+                   + ("-" if youd is None else f"{youd:.2f}") + " |")
+    out += ["", "| run | model | liquefied while shaking [m] | largest residual strain [%] (depth) | surface PGA [g] | "
+            "Sa 0.2 / 0.5 / 1 s [g] | settlement [cm] |", "|---|---|---|---|---|---|---|"]
+    for lab, pol, tf, pm in runs:
+        for name, r in (("twofluid", tf), ("PM4Sand", pm)):
+            rng = "none" if not r["liquefied"] else f"{r['liquefied'][0]:g}–{r['liquefied'][1]:g}"
+            g = "-" if r["gamma_res"] is None else f"{100 * r['gamma_res']:.2f} ({r['gamma_res_z']:g} m)"
+            st = (f"{100 * r['settle_shaking']:.2f} end of shaking, {100 * r['settle_end']:.2f} reconsolidated"
+                  if name == "twofluid" else f"{100 * r['settle_end']:.2f} at {r['end_s']:.1f} s")
+            out.append(f"| {lab} {pol:+d} | {name} | {rng} | {g} | {r['pga']:.3f} | "
+                       f"{' / '.join(f'{v:.3f}' for v in r['sa'].values())} | {st} |")
+    return "\n".join(out)
 
 
 def pe_static(tol):
