@@ -4,7 +4,8 @@ An independent effective-stress model of the same site beside twofluid's hystere
 is used only through ``nDMaterial('PM4Sand', ...)`` of openseespy (pinned in pm4sand_element.py).
 The column follows the project's OpenSees peer and ``opensees_layered.py`` (SSPquadUP u-p elements
 0.5 m wide, periodic sides by equalDOF, gravity elastic then plastic with a large permeability, the
-real permeability afterwards, Newmark gamma = 0.6, failed steps redone by the peer's ``recover``,
+real permeability afterwards, Newmark gamma = 0.6, a failed step redone as half steps (``advance``)
+and then by the peer's ``recover``,
 compliant base: Lysmer-Kuhlemeyer dashpot with the outcrop velocity as a base force), changed where
 the material differs:
 
@@ -322,13 +323,13 @@ def main(argv=None):
     ops.record()
     d_stats = peer.Stats()
     t_d0 = time.perf_counter()
-    peer.run_until(dur + free, a.dt, d_stats)
+    advance(dur + free, a.dt, d_stats)
     t_flow, u_flow = [], []
     still = slope > 0.0 and a.flow_max > 0.0
     top, bottom = nodes_l[-1], nodes_l[0]
     while still and ops.getTime() < t_max - 1e-9:          # on while the slope flows (twofluid's criterion)
         t_next = min(ops.getTime() + 0.05, t_max)
-        peer.run_until(t_next, a.dt, d_stats)
+        advance(t_next, a.dt, d_stats)
         t_flow.append(ops.getTime())
         u_flow.append(ops.nodeDisp(top, 1) - ops.nodeDisp(bottom, 1))
         still = flowing(t_flow, u_flow, sw["flow_window"], sw["flow_velocity"])
@@ -374,7 +375,8 @@ def main(argv=None):
         liquefied_thickness_m=float(sum(h[j] for j in liq)),
         surface_pga_g=float(np.max(np.abs(a_abs)) / G_ACC),
         surface_sa_g={f"{T:g}": v / G_ACC for T, v in zip(PERIODS, sa(a_abs, dt_rec, PERIODS))},
-        steps=d_stats.steps, failed_solves=d_stats.failures, wall_dynamic_s=wall,
+        steps=d_stats.steps, failed_solves=d_stats.failures, halved_steps=d_stats.substeps,
+        failed_at_s=[round(x, 4) for x in d_stats.fail_times], wall_dynamic_s=wall,
         wall_total_s=time.perf_counter() - t_start, cpu_total_s=time.process_time() - cpu_start,
         profile=[dict(depth_m=float(zc[j]), layer=mats[lay[j]]["name"], sigma_v0_kPa=float(sv0[j]),
                       tau0_kPa=float(tau0[j]), ru_max=float(ru_max[j]) if sat[j] else None,
@@ -501,6 +503,43 @@ def compare(items):
             out.append(f"| {lab} {pol:+d} | {name} | {rng} | {g} | {r['pga']:.3f} | "
                        f"{' / '.join(f'{v:.3f}' for v in r['sa'].values())} | {st} |")
     return "\n".join(out)
+
+
+def advance(t_stop, dt, stats, halvings=4):
+    """The shaking's time stepping: the peer's ``run_until`` (batches of Newton steps), except that a
+    step Newton fails is first redone as two half steps with Newton, down to dt/2^halvings, and only
+    then handed to the peer's ``recover`` (other algorithms). A run without a failed step is the same
+    as the peer's; a failed step retried by the other algorithms first left PM4Sand's strain
+    sub-stepping several times slower for the rest of a run."""
+    def step(h, level):
+        if ops.analyze(1, h) == 0:
+            stats.steps += 1
+            return
+        stats.failures += 1
+        stats.fail_times.append(ops.getTime())
+        if level >= halvings:
+            peer.recover(h, stats)
+            return
+        stats.substeps += 1
+        stats.smallest_dt = 0.5 * h if stats.smallest_dt is None else min(stats.smallest_dt, 0.5 * h)
+        step(0.5 * h, level + 1)
+        step(0.5 * h, level + 1)
+
+    while True:
+        t0 = ops.getTime()
+        remaining = t_stop - t0
+        if remaining <= 1e-9:
+            return
+        n = int(math.floor(remaining / dt + 1e-6))
+        h = dt if n > 0 else remaining
+        ok = ops.analyze(max(n, 1), h)
+        stats.steps += int(round((ops.getTime() - t0) / h))
+        if ok != 0:
+            stats.failures += 1
+            stats.fail_times.append(ops.getTime())
+            stats.substeps += 1
+            step(0.5 * h, 1)
+            step(0.5 * h, 1)
 
 
 def pe_static(tol):
