@@ -88,3 +88,40 @@ def test_flow_criterion_is_the_window_mean_velocity(col):
     ring = 0.01 * np.sin(2 * math.pi * t / 0.5)                        # a ring-down, whole periods a window
     assert not col.flowing(t, 0.2 + ring, window, v_min)
     assert col.flowing(t, 0.2 + ring + 2e-5 * t, window, v_min)
+
+
+def _ideal():
+    spec = importlib.util.spec_from_file_location("idealised_spreads", BENCH.parent / "scripts" / "idealised_spreads.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_frozen_idealised_runs_are_the_scripts_columns():
+    """Each frozen PM4Sand run of an idealised column ran the column, record, scale, duration and
+    polarity that scripts/idealised_spreads.py builds (the twofluid runs beside it take the same file)."""
+    import json
+
+    ideal = _ideal()
+    runs = json.loads((BENCH / "pm4sand_column_results.json").read_text())["runs"]
+    frozen = {k: v for k, v in runs.items() if k.startswith("idealised ")}
+    assert len(frozen) >= 3
+    cols = {c[0]: c for c in ideal.COLUMNS}
+    for key, run in frozen.items():
+        name, label = key.split()[1].split("-", 1)
+        _, s, t15, m, r, f15, _ = cols[name]
+        record = next(x for x in ideal.RECORDS if x.split("_")[1] == label)
+        assert run["record"] == record and run["polarity"] == int(key.split()[-1])
+        assert run["shaking_s"] == pytest.approx(ideal.arias_t95(record), abs=1e-9)
+        assert run["slope"] == pytest.approx(s / 100.0) and run["baseline_order"] == 1
+        crust, layer, dense = run["materials"]
+        assert layer["dr"] == pytest.approx(100.0 * math.sqrt(ideal.fines_corrected(8.0, f15) / 46.0), rel=1e-12)
+        assert dense["dr"] == pytest.approx(100.0 * math.sqrt(29.0 / 46.0), rel=1e-12)
+        assert layer["k"] == (1e-4 if f15 < 15.0 else 1e-5)
+        sat = [p for p in run["profile"] if p["layer"] == "T15 layer"]
+        assert sum(1 for _ in sat) * 0.25 == pytest.approx(t15)
+        h = run["surface_displacement_history"]
+        assert h["t_s"][-1] == pytest.approx(run["end_s"], abs=0.011)
+        assert h["u_m"][-1] == pytest.approx(run["surface_displacement_end_m"], abs=1e-5)
+        if importlib.util.find_spec("pygmm") is not None:
+            assert run["pga_g"] == round(ideal.bssa14_pga(m, r), 4)
