@@ -456,7 +456,13 @@ def twofluid_numbers(run_dir):
     sl = tf.get("slope") or {}
     rs = tf.get("residual_strain") or {}
     youd = ((sl.get("estimates") or {}).get("youd_2002") or {}).get("median_m")
-    return dict(u_end=sl.get("surface_displacement_end_m", 0.0), u_shaking=sl.get("surface_displacement_end_of_shaking_m"),
+    hist = None
+    if (d / "surface_displacement.csv").exists():
+        with open(d / "surface_displacement.csv") as fh:
+            rows = list(csv.DictReader(fh))
+        hist = (np.array([float(r["time_s"]) for r in rows]), np.array([float(r["surface_displacement_m"]) for r in rows]))
+    return dict(history=hist, u_end=sl.get("surface_displacement_end_m", 0.0),
+                u_shaking=sl.get("surface_displacement_end_of_shaking_m"),
                 liquefied=tf["liquefied_depth_range_shaking_m"], liquefied_m=tf["liquefied_thickness_shaking_m"],
                 gamma_res=rs.get("largest_residual_strain"), gamma_res_z=rs.get("largest_residual_strain_depth_m"),
                 pga=tf["shaking"]["peak_surface_acceleration_g"],
@@ -470,7 +476,9 @@ def pm4sand_numbers(summary):
     p = summary if isinstance(summary, dict) else json.loads(Path(summary).read_text())
     sat = [r for r in p["profile"] if r["ru_max"] is not None]
     big = max(sat, key=lambda r: abs(r["gamma_residual"]))
-    return dict(u_end=p["surface_displacement_end_m"], u_shaking=p["surface_displacement_end_of_shaking_m"],
+    h = p["surface_displacement_history"]
+    return dict(history=(np.array(h["t_s"]), np.array(h["u_m"])),
+                u_end=p["surface_displacement_end_m"], u_shaking=p["surface_displacement_end_of_shaking_m"],
                 liquefied=p["liquefied_range_m"], liquefied_m=p["liquefied_thickness_m"],
                 gamma_res=big["gamma_residual"], gamma_res_z=big["depth_m"], pga=p["surface_pga_g"],
                 sa={T: p["surface_sa_g"][f"{T:g}"] for T in (0.2, 0.5, 1.0)}, settle_end=p["settlement_m"],
@@ -502,6 +510,17 @@ def compare(items):
                   if name == "twofluid" else f"{100 * r['settle_end']:.2f} at {r['end_s']:.1f} s")
             out.append(f"| {lab} {pol:+d} | {name} | {rng} | {g} | {r['pga']:.3f} | "
                        f"{' / '.join(f'{v:.3f}' for v in r['sa'].values())} | {st} |")
+    times = (5.0, 10.0, 15.0, 20.0)
+    out += ["", "| run | model | surface displacement [m] at " + " / ".join(f"{t:g}" for t in times)
+            + " s | end of shaking | end (t [s]) |", "|---|---|---|---|---|"]
+    for lab, pol, tf, pm in runs:
+        for name, r in (("twofluid", tf), ("PM4Sand", pm)):
+            if r["history"] is None:
+                continue
+            t, u = r["history"]
+            at = [f"{np.interp(x, t, u):.3f}" if x <= t[-1] else "-" for x in times]
+            out.append(f"| {lab} {pol:+d} | {name} | {' / '.join(at)} | {r['u_shaking']:.3f} | "
+                       f"{r['u_end']:.3f} ({t[-1]:.1f}) |")
     return "\n".join(out)
 
 
