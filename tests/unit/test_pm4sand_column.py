@@ -105,7 +105,7 @@ def test_frozen_idealised_runs_are_the_scripts_columns():
     ideal = _ideal()
     runs = json.loads((BENCH / "pm4sand_column_results.json").read_text())["runs"]
     frozen = {k: v for k, v in runs.items() if k.startswith("idealised ")}
-    assert len(frozen) >= 3
+    assert len(frozen) >= 4
     cols = {c[0]: c for c in ideal.COLUMNS}
     for key, run in frozen.items():
         name, label = key.split()[1].split("-", 1)
