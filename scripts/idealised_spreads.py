@@ -33,6 +33,12 @@ fraction inside ×/÷ 2.5 and the count below ×0.2.
 
 Needs pygmm (the ``bench`` extra). Every run's summary goes to ``<out>/<column>-<record>-<p>.json``;
 the table to ``<out>/table.md`` and ``<out>/runs.csv``.
+
+    python scripts/idealised_spreads.py --columns 3,8,11 --records 1 --write-cases runs/cases
+
+writes each picked run's resolved case file, ``<dir>/<column>-<record>-<p|m>.toml``, and runs
+nothing: ``twofluid run FILE`` runs it, and ``benchmarks/pm4sand_column.py FILE`` runs the same
+column, record, scale, duration and polarity in OpenSees PM4Sand.
 """
 from __future__ import annotations
 
@@ -163,6 +169,60 @@ def simplified_fs_min(c) -> float:
     return float(np.nanmin(np.where(np.isfinite(res.FS[inside]), res.FS[inside], np.inf)))
 
 
+def run_name(name: str, record: str, polarity: int) -> str:
+    """``<column>-<record's NGA label>-<p|m>``: the stem of a run's summary and of its case file."""
+    return f"{name}-{record.split('_')[1]}-{'p' if polarity > 0 else 'm'}"
+
+
+def _changes(doc: dict, ref: dict, new: dict) -> None:
+    """Into ``doc`` (a case file's TOML document), every key whose value in ``new`` differs from ``ref``
+    (both resolved, as ``effective`` gives them); tables and arrays of tables (layers) key by key."""
+    for k, v in new.items():
+        if isinstance(v, dict):
+            sub = doc.get(k, {})
+            _changes(sub, ref.get(k, {}), v)
+            if sub:
+                doc[k] = sub
+        elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+            old = ref.get(k, [])
+            rows = doc.setdefault(k, [])
+            for i, row in enumerate(v):
+                if i == len(rows):
+                    rows.append({})
+                _changes(rows[i], old[i] if i < len(old) else {}, row)
+        elif k not in ref or ref[k] != v:
+            doc[k] = v
+
+
+def case_document(c) -> dict:
+    """The column's case as a case file: the bundled sloping site's own file with the keys the column
+    changes, and without its ``[case] name`` (a written case runs under its file's name)."""
+    import tomllib
+
+    from twofluid.casefile.loader import case_text
+    from twofluid.casefile.schema import effective
+    from twofluid.runners.liquefaction import validated
+
+    doc = tomllib.loads(case_text("sloping-site"))
+    _changes(doc, effective(load_case("sloping-site")), effective(validated(c)))
+    doc["case"].pop("name", None)
+    g = c["ground_motion"]
+    doc["case"]["description"] = (f"idealised gentle-slope column (scripts/idealised_spreads.py): S {c['site']['slope']:g} %, "
+                                  f"T15 {c['layers'][1]['thickness']:g} m, F15 {c['layers'][1]['fines_content']:g} %, "
+                                  f"M {g['magnitude']:g}, R {g['distance_km']:g} km; {g['file']} at {g['pga_g']:g} g "
+                                  f"to t95 {g['duration']:g} s, polarity {g['polarity']:+d}")
+    return doc
+
+
+def write_case(c, path: Path) -> Path:
+    """The column's case file (:func:`case_document`); ``twofluid run`` loads it to the same case."""
+    import tomli_w
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(tomli_w.dumps(case_document(c)))
+    return path
+
+
 def run_one(c, path: Path) -> dict:
     from twofluid.runners.common import run_case
 
@@ -201,9 +261,12 @@ def main(argv=None) -> int:
     ap.add_argument("--records", type=int, default=2, choices=(1, 2), help="records per column (nearest first)")
     ap.add_argument("--plan", action="store_true", help="print the columns, motions and FS_post; run nothing")
     ap.add_argument("--table-only", action="store_true", help="the table of the runs already in --out; run nothing")
+    ap.add_argument("--write-cases", type=Path, default=None, metavar="DIR",
+                    help="write each picked run's case file to DIR (<column>-<record>-<p|m>.toml); run nothing")
     a = ap.parse_args(argv)
     pick = [int(x) - 1 for x in a.columns.split(",") if x.strip()] or list(range(len(COLUMNS)))
-    a.out.mkdir(parents=True, exist_ok=True)
+    if not a.plan and a.write_cases is None:
+        a.out.mkdir(parents=True, exist_ok=True)
     lines = ["| column | role | S [%] | T15 [m] | M | R [km] | F15 [%] | records (scale) | FS min | FS_post | "
              "liquefied [m] | column [m] (runs) | Youd [m] | column/Youd | Zhang I&B [m] | Newmark [m] |", "|" + "---|" * 16]
     ratios, rows_csv = [], []
@@ -214,12 +277,18 @@ def main(argv=None) -> int:
         fs_in = simplified_fs_min(column_case(s, t15, m, r, f15, *mot[0][:2]))
         print(f"{name} {role}: S {s} T15 {t15} M {m} R {r} F15 {f15}; FS_post {fsp:.3f}; FS(input PGA) {fs_in:.2f}; "
               + "; ".join(f"{n.split('_')[1]} {p:.3f} g (x{f:.2f}, d {d:.2f})" for n, p, f, d in mot), flush=True)
-        if a.plan:
+        if a.write_cases is not None:
+            for rec, pga, f, d in mot:
+                for pol in (1, -1):
+                    path = write_case(column_case(s, t15, m, r, f15, rec, pga, pol),
+                                      a.write_cases / f"{run_name(name, rec, pol)}.toml")
+                    print(f"  wrote {path}", flush=True)
+        if a.plan or a.write_cases is not None:
             continue
         runs = []
         for rec, pga, f, d in mot:
             for pol in (1, -1):
-                path = a.out / f"{name}-{rec.split('_')[1]}-{'p' if pol > 0 else 'm'}.json"
+                path = a.out / f"{run_name(name, rec, pol)}.json"
                 if a.table_only and not path.exists():
                     continue
                 row = json.loads(path.read_text()) if path.exists() else run_one(
@@ -249,7 +318,7 @@ def main(argv=None) -> int:
                      f"({each}) | "
                      f"{youd if youd is None else f'{youd:.3g}'} | {ratio if ratio is None else f'{ratio:.3g}'} | "
                      f"{runs[0]['zhang_m']:.3g} | {nm_s} |")
-    if a.plan:
+    if a.plan or a.write_cases is not None:
         return 0
     st = stats(ratios)
     lines += ["", "Against Youd's median (spreads and near-flow columns with FS_post > 1): " + json.dumps(st)]

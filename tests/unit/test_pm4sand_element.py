@@ -102,7 +102,7 @@ def test_frozen_columns_hold_the_reported_quantities():
     residual and peak strain profiles, peak r_u, the liquefied range, surface Sa and the settlement;
     the history ends at the reported final displacement, and the profile spans the column."""
     res = json.loads((BENCH / "pm4sand_column_results.json").read_text())["runs"]
-    assert set(res) == {"sloping-site +1", "sloping-site -1", "liquefaction-layered-site +1"}
+    assert set(res) >= {"sloping-site +1", "sloping-site -1", "liquefaction-layered-site +1"}
     for run in res.values():
         h = run["surface_displacement_history"]
         assert len(h["t_s"]) == len(h["u_m"]) > 100
