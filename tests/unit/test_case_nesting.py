@@ -79,6 +79,25 @@ def test_liquefaction_resolved_case_is_nested(tmp_path):
     assert len(doc["layers"]) == len(case["layers"])
 
 
+@pytest.mark.parametrize("name", [n for n in CASES if 'model = "liquefaction_1d"' in case_text(n)])
+def test_liquefaction_resolved_case_reloads_silently(name, tmp_path):
+    """A liquefaction run's case.resolved.toml, loaded again, gives the same case and none of the
+    warnings of keys that have no effect (a layer's gamma_ref under the hysteretic model, a crust's
+    relative_density, the flow keys on level ground): the keys it writes are those that act."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        case = load_case(name)
+    path = tmp_path / "case.resolved.toml"
+    write_resolved_case(path, case)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        again = load_case(path)
+    thesis = 'model = "thesis"' in case_text(name)
+    messages = [str(w.message) for w in caught if not (thesis and '"thesis"' in str(w.message))]
+    assert messages == []
+    assert {k: v for k, v in again.items() if k != "_source"} == {k: v for k, v in case.items() if k != "_source"}
+
+
 def test_nested_and_flat_input_give_the_same_case():
     nested = load_case("fluidized-bed-step")
     flat = {k: v for k, v in sections(nested).items()}  # the dict of version 0.1.0

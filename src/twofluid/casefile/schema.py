@@ -219,6 +219,10 @@ ARRAYS: dict[str, dict[str, list[Key]]] = {}
 
 
 IGNORED: dict[str, dict[str, dict[str, str]]] = {}
+#: a model's keys that have no effect in a given resolved case, beyond ``Key.used_when`` and
+#: ``IGNORED`` (model -> inactive(case) -> {section: set of keys, array: [set of keys per entry]}):
+#: left out of the resolved case, so that checking it again warns of none of them
+INACTIVE: dict[str, object] = {}
 
 #: the keys a document gives in each entry of its arrays of tables, while its model's check runs
 #: ({array: [set of keys per entry]}; see :func:`given_keys`)
@@ -243,19 +247,22 @@ def given_section_keys(section: str) -> set:
 
 def register_model(model: str, sections: dict[str, list[Key]], check=None,
                    arrays: dict[str, list[Key]] | None = None,
-                   ignored: dict[str, dict[str, str]] | None = None) -> None:
+                   ignored: dict[str, dict[str, str]] | None = None, inactive=None) -> None:
     """Declare the sections (besides COMMON) of ``model``; ``check(case, source)`` runs after.
 
     ``arrays`` declares arrays of tables (``[[layers]]``): each entry is checked against the
     keys and resolved like a section; an entry's ``name`` key, if any, labels its messages.
     ``ignored`` = {section: {key: why}}: keys of a shared section this model does not use
-    (a warning when given, left out of the resolved case).
+    (a warning when given, left out of the resolved case). ``inactive(case)``: the keys that have no
+    effect in a resolved ``case`` for reasons of the model's own check (see :data:`INACTIVE`).
     """
     SCHEMAS[model] = {**{k: SCHEMA[k] for k in COMMON}, **sections}
     ARRAYS[model] = dict(arrays or {})
     if check is not None:
         MODEL_CHECKS[model] = check
     IGNORED[model] = dict(ignored or {})
+    if inactive is not None:
+        INACTIVE[model] = inactive
 
 
 def _model_schema(model: str) -> dict[str, list[Key]]:
@@ -450,19 +457,14 @@ def effective(case: dict) -> dict:
     Nested as the case is (``out["closures"]["drag"]``)."""
     model = case["case"]["model"]
     schema = _model_schema(model)
+    arrays = ARRAYS.get(model, {})
     ignored = IGNORED.get(model, {})
-    out = {}
-    for where, table in sections(case).items():
-        if not isinstance(table, dict):
-            out[where] = table
-            continue
-        if table.get("kind") == "none":
-            continue
-        keys = {k.name: k for k in schema.get(where, [])}
+    inactive = INACTIVE[model](case) if model in INACTIVE else {}
 
+    def acting(where: str, table: dict, keys: dict, off=frozenset()) -> dict:
         def acts(name, value):
             k = keys.get(name)
-            if name in ignored.get(where, {}):
+            if name in ignored.get(where, {}) or name in off:
                 return False
             if k is None:
                 return True
@@ -470,7 +472,22 @@ def effective(case: dict) -> dict:
                 return False
             return not (k.used_when and table.get(k.used_when[0], None) not in k.used_when[1])
 
-        out[where] = {name: value for name, value in table.items() if acts(name, value)}
+        return {name: value for name, value in table.items() if acts(name, value)}
+
+    out = {}
+    for where, table in sections(case).items():
+        if where in arrays and isinstance(table, list):  # [[layers]]: each entry as a table of its own
+            keys = {k.name: k for k in arrays[where]}
+            off = inactive.get(where, [])
+            out[where] = [acting(where, entry, keys, off[i] if i < len(off) else frozenset())
+                          if isinstance(entry, dict) else entry for i, entry in enumerate(table)]
+            continue
+        if not isinstance(table, dict):
+            out[where] = table
+            continue
+        if table.get("kind") == "none":
+            continue
+        out[where] = acting(where, table, {k.name: k for k in schema.get(where, [])}, inactive.get(where, frozenset()))
     return nest(out)
 
 

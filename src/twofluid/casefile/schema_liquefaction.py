@@ -747,4 +747,28 @@ def load_motion(case: dict, source: str):
     return gm.scale_to_pga(m, g["pga_g"], polarity=g["polarity"])
 
 
-register_model("liquefaction_1d", SECTIONS_LIQUEFACTION, check_liquefaction, {"layers": LAYER_KEYS})
+def inactive_keys(case: dict) -> dict:
+    """The keys of a resolved liquefaction ``case`` that have no effect for the reasons this module's
+    check warns of (``schema.INACTIVE``): a layer's gamma_ref under the hysteretic model, the
+    saturated-only keys and relative_density above the water table, k2max beside a shear-wave velocity,
+    and the flow keys and distance_km on level ground."""
+    layers = []
+    hysteretic = case["shear_wave"]["model"] != "thesis"
+    for wet, la in zip(saturated(case), case["layers"]):
+        off = set()
+        if hysteretic and la["modulus_reduction"] == "hyperbolic":
+            off.add("gamma_ref")
+        if not wet:
+            off.update(_SATURATED_ONLY + ("relative_density",))
+        if la["shear_wave_velocity"] > 0.0:
+            off.add("k2max")
+        layers.append(frozenset(off))
+    out = {"layers": layers}
+    if case["site"]["slope"] == 0.0:
+        out["shear_wave"] = frozenset(_FLOW_KEYS)
+        out["ground_motion"] = frozenset({"distance_km"})
+    return out
+
+
+register_model("liquefaction_1d", SECTIONS_LIQUEFACTION, check_liquefaction, {"layers": LAYER_KEYS},
+               inactive=inactive_keys)
