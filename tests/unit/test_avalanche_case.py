@@ -86,10 +86,24 @@ def test_short_run_writes_histories_profiles_and_a_summary_with_balances(tmp_pat
 
 
 def test_calibration_status_tells_a_k_at_the_search_bound_from_one_inside_it():
-    rh = dict(load_case(CASE)["closures"]["granular_rheology"])
-    assert "at the bound" in data.calibration_status(rh)["k_dil"]
-    inside = data.calibration_status({**rh, "k_dil": 4.09})["k_dil"]
-    assert "at the bound" not in inside and "not the declared fit" in inside
+    case = load_case(CASE)
+    status = data.calibration_status(case)
+    assert "at the bound" in status["k_dil"]
+    assert "for this case" in status["mu_s"] and "differs" not in status["mu_s"]  # the bundled μ_s is the fit
+    case["closures"]["granular_rheology"]["k_dil"] = 4.09
+    inside = data.calibration_status(case)["k_dil"]
+    assert "at the bound" not in inside and "not the bundled case's fit" in inside
+
+
+def test_calibration_status_computes_the_mu_s_fit_for_the_case_it_is_given():
+    """An edited case (another slope) gets the declared μ_s fit of its own set-up, not the bundled
+    case's number, and the summary says that its μ_s differs from it."""
+    case = load_case(CASE)
+    fit = data.calibrate_mu_s(case)
+    case["layer"]["slope_deg"] = case["layer"]["slope_deg"] + 1.0
+    other = data.calibrate_mu_s(case)
+    assert abs(other - fit) > 1e-3
+    assert f"{other:.4g}" in data.calibration_status(case)["mu_s"] and "differs" in data.calibration_status(case)["mu_s"]
 
 
 def test_the_command_runs_the_case_and_reports_the_time_reached_and_its_steps(tmp_path, capsys):

@@ -98,6 +98,22 @@ def test_liquefaction_resolved_case_reloads_silently(name, tmp_path):
     assert {k: v for k, v in again.items() if k != "_source"} == {k: v for k, v in case.items() if k != "_source"}
 
 
+def test_resolved_case_keeps_a_crusts_relative_density(tmp_path):
+    """Under the hysteretic model a crust's relative_density sets its friction angle and backbone: the
+    resolved case keeps it, so that the case loaded again runs the same crust."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        case = load_case("liquefaction-layered-site")
+    crust = next(la for la in case["layers"] if la["name"] == "crust")
+    crust["relative_density"] = 85.0
+    path = tmp_path / "case.resolved.toml"
+    write_resolved_case(path, case)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        again = load_case(path)
+    assert next(la for la in again["layers"] if la["name"] == "crust")["relative_density"] == 85.0
+
+
 def test_nested_and_flat_input_give_the_same_case():
     nested = load_case("fluidized-bed-step")
     flat = {k: v for k, v in sections(nested).items()}  # the dict of version 0.1.0

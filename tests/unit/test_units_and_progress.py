@@ -50,7 +50,10 @@ def test_the_simplified_table_prints_per_cent():
 
 
 def test_keys_without_effect_warn():
-    crust = {"name": "crust", "thickness": 2.0, "elements": 4, "unit_weight": 18e3, "relative_density": 60.0}
+    # n160cs describes the crust's soil, so its relative_density has no effect (without n160cs it sets
+    # the crust's friction angle and backbone under the hysteretic model: no warning then)
+    crust = {"name": "crust", "thickness": 2.0, "elements": 4, "unit_weight": 18e3, "relative_density": 60.0,
+             "n160cs": 20.0}
     doc = _liq_doc(shear_wave_velocity=150.0, k2max=40.0)
     doc["layers"].insert(0, crust)
     doc["site"]["water_table_depth"] = 2.0
@@ -60,6 +63,11 @@ def test_keys_without_effect_warn():
     text = [str(w.message) for w in caught if issubclass(w.category, CaseWarning)]
     assert any("'crust'] relative_density: ignored above the water table" in t for t in text), text
     assert any("'sand'] k2max: ignored (shear_wave_velocity = 150" in t for t in text), text
+    doc["layers"][0].pop("n160cs")  # the crust's relative_density now acts: no warning for it
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        validate(doc, "c.toml")
+    assert not any("relative_density" in str(w.message) for w in caught)
     doc["layers"][0].pop("relative_density")
     doc["layers"][1].pop("k2max")
     with warnings.catch_warnings():

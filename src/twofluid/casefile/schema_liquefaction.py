@@ -400,7 +400,8 @@ def check_liquefaction(case: dict, source: str) -> None:
     for i, wet in enumerate(saturated(case)):
         la = case["layers"][i]
         given = [k for k in _SATURATED_ONLY if not wet and la[k] > 0.0]
-        given += [k for k in ("relative_density",) if not wet and k in given_keys("layers", i)]
+        given += [k for k in ("relative_density",) if not wet and k in given_keys("layers", i)
+                  and not _crust_density_acts(case, la)]
         if given:
             warnings.warn(CaseWarning(f"{source}: {layer_label(case, i)} {', '.join(given)}: ignored above the "
                                       "water table (a crust has its unit_weight, stiffness and G/G_max only)"),
@@ -747,10 +748,17 @@ def load_motion(case: dict, source: str):
     return gm.scale_to_pga(m, g["pga_g"], polarity=g["polarity"])
 
 
+def _crust_density_acts(case: dict, layer: dict) -> bool:
+    """Whether a layer above the water table uses its relative_density: under the hysteretic model it
+    sets the crust's friction angle and fitted backbone unless n160cs or qc1ncs describe the soil."""
+    return case["shear_wave"]["model"] == "hysteretic" and not (layer["n160cs"] > 0.0 or layer["qc1ncs"] > 0.0)
+
+
 def inactive_keys(case: dict) -> dict:
     """The keys of a resolved liquefaction ``case`` that have no effect for the reasons this module's
     check warns of (``schema.INACTIVE``): a layer's gamma_ref under the hysteretic model, the
-    saturated-only keys and relative_density above the water table, k2max beside a shear-wave velocity,
+    saturated-only keys above the water table (and relative_density there where the crust does not use
+    it: :func:`_crust_density_acts`), k2max beside a shear-wave velocity,
     and the flow keys and distance_km on level ground."""
     layers = []
     hysteretic = case["shear_wave"]["model"] != "thesis"
@@ -759,7 +767,9 @@ def inactive_keys(case: dict) -> dict:
         if hysteretic and la["modulus_reduction"] == "hyperbolic":
             off.add("gamma_ref")
         if not wet:
-            off.update(_SATURATED_ONLY + ("relative_density",))
+            off.update(_SATURATED_ONLY)
+            if not _crust_density_acts(case, la):
+                off.add("relative_density")
         if la["shear_wave_velocity"] > 0.0:
             off.add("k2max")
         layers.append(frozenset(off))

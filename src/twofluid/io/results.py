@@ -1,13 +1,14 @@
 """Writers for a run's output folder: resolved case, profiles, probes, summary.
 
-Every row is flushed as it is written, so an interrupted or failed run leaves
+A plain stream writes every row as it comes, so an interrupted or failed run leaves
 readable CSV files; ``summary.json`` is written at the end whatever the outcome
 (with ``status`` "completed", "interrupted" or "failed" and where it stopped). A stream
 opened with ``block=True`` (a run that writes a row every step) keeps its rows in memory and
 writes them in blocks: at 64 KiB, after a second, on :meth:`CsvStream.flush` and on
 :meth:`CsvStream.close` (which the run's guard calls on every way out of the time loop:
 completed, failed, Ctrl-C, SIGTERM), so the file is the same, byte for byte, and what a stopped
-run had computed is still written.
+run had computed is still written (a process killed outright, SIGKILL or out of memory, loses
+the rows of the block not yet written: at most a second of them).
 
 Two guards sit here, at the one place every output passes through:
 

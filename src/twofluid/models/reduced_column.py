@@ -157,10 +157,11 @@ class ReducedVerticalColumn(Reduced1D):
         has_last = last is not None
         lt = last if has_last else old
         try:
-            code = ker(float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:],
-                       DW, Dn, order, float(ex_t or 0.0), float(ex_h), cont, float(settings.tol),
-                       int(settings.max_iter), newton, lt.V, lt.W, lt.n, float(lt.t), has_last,
-                       idx, c, meta, a, P, DWo, Dno, info)
+            with np.errstate(all="ignore"):  # a diverging iterate is the stepper's to report, as in its own path
+                code = ker(float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:],
+                           DW, Dn, order, float(ex_t or 0.0), float(ex_h), cont, float(settings.tol),
+                           int(settings.max_iter), newton, lt.V, lt.W, lt.n, float(lt.t), has_last,
+                           idx, c, meta, a, P, DWo, Dno, info)
         except ZeroDivisionError:  # a diverging iterate: the stepper's Python path meets it and says so
             code = -1
         except TypeError:  # an array not as the compiled call takes it (not C-contiguous float64)

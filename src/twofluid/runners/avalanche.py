@@ -124,7 +124,7 @@ def run_avalanche(case: dict, out_dir=None, progress: bool = False) -> RunResult
                               "permeability": f"Carman-Kozeny, C = {case['closures']['permeability']['constant']:g}",
                               "skeleton_modulus_Pa": case["layer"]["skeleton_modulus"]}}
     if case["output"]["compare"]:
-        summary["calibration"] = data.calibration_status(rh)
+        summary["calibration"] = data.calibration_status(case)
     write_json(out / "summary.json", summary)
     if case["output"]["plots"] and hists:
         from ..plots.avalanche import avalanche_figures

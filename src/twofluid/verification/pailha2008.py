@@ -171,18 +171,32 @@ def _at_bound(k: float, bounds) -> bool:
     return min(abs(k - bounds[0]), abs(k - bounds[1])) <= 2.0 * K_XATOL
 
 
-def calibration_status(rheology: dict) -> dict:
-    """What the declared calibration says of a case's μ_s and K (``rheology``: the case's
-    ``[closures.granular_rheology]``), for the run's summary: K at the bound of the declared search
-    is stated as not determined by the data (its misfits in :data:`K_MISFIT`)."""
-    k = float(rheology["k_dil"])
+def calibration_status(case: dict) -> dict:
+    """What the declared calibration says of a case's μ_s and K, for the run's summary: μ_s beside the
+    declared fit computed for this case (:func:`calibrate_mu_s`, closed form: the steady flow of φ0 =
+    0.568 at its measured late plateau, the case's other parameters fixed); K at the bound of the
+    declared search stated as not determined by the data (the misfits of the bundled case,
+    :data:`K_MISFIT`). The K search itself (a run per trial K) is not repeated here."""
+    rheology = case["closures"]["granular_rheology"]
+    mu_s, k = float(rheology["mu_s"]), float(rheology["k_dil"])
+    try:
+        fit = calibrate_mu_s(case)
+    except (ValueError, ArithmeticError):  # no root in the bracket: this case's flow cannot meet the plateau
+        fit = None
+    if fit is None:
+        mn = (f"mu_s = {mu_s:g}; the declared fit (the steady uniform flow of phi0 = 0.568 at its measured late "
+              "plateau, t >= 100 s) has no solution in [0.30, 0.46] for this case")
+    else:
+        mn = (f"mu_s = {mu_s:g}; the declared fit for this case (the steady uniform flow of phi0 = 0.568 at its "
+              f"measured late plateau, t >= 100 s): {fit:.4g}" + ("" if abs(fit - mu_s) <= 1e-3 else
+                                                                 f" (the case's value differs by {mu_s - fit:+.3g})"))
     misfit = ", ".join(f"{v:g} at K = {kk:g}" for kk, v in K_MISFIT.items())
     if _at_bound(k, K_SEARCH):
         kn = (f"K = {k:g} is at the bound of the declared search [{K_SEARCH[0]:g}, {K_SEARCH[1]:g}] on the velocity "
-              f"history of phi0 = 0.584, whose rms log10 misfit still falls there ({misfit}): K is not "
-              "determined by the data above about 8; Pailha & Pouliquen (2009) used 4.09")
+              f"history of phi0 = 0.584; on the bundled case (mu_s 0.392, 20 uniform elements) its rms log10 "
+              f"misfit still falls there ({misfit}): K is not determined by the data above about 8; Pailha & "
+              "Pouliquen (2009) used 4.09")
     else:
-        kn = f"K = {k:g}, not the declared fit (its search ends on its upper limit, {K_SEARCH[1]:g})"
-    return {"mu_s": f"mu_s = {float(rheology['mu_s']):g}; the declared fit is the steady uniform flow of phi0 = "
-                    "0.568 at its measured late plateau (t >= 100 s): 0.392",
-            "k_dil": kn, "fixed_beforehand": "mu_2, i_0, phi_c, Carman-Kozeny C = 180"}
+        kn = (f"K = {k:g}, inside the declared search [{K_SEARCH[0]:g}, {K_SEARCH[1]:g}]; not the bundled case's "
+              "fit, which ends on the search's upper bound (calibrate_k repeats the search for a case)")
+    return {"mu_s": mn, "k_dil": kn, "fixed_beforehand": "mu_2, i_0, phi_c, Carman-Kozeny C = 180"}
