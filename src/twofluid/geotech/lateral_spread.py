@@ -479,7 +479,9 @@ def newmark_sliding(a_drive, dt, a_yield, d_out, v_out):
     into ``d_out`` and ``v_out`` (length of ``a_drive``) and returns the final displacement.
 
     a_drive [m/s²] the acceleration that pushes the block downslope, a_yield [m/s²] > 0, dt [s].
-    Plain loops over floats: the same source compiles with ``numba.njit``.
+    The two-way block (:func:`newmark_sliding_two_way`) whose upslope yield is never reached
+    (:data:`NO_UPSLOPE_YIELD`): one integrator for both. Plain loops over floats: the same source
+    compiles with ``numba.njit`` (with the two-way function compiled as its callee).
 
     Hand value: a = 2, 2, 2, 0, 0, ... m/s² every 0.5 s, a_y = 1 m/s². For 1 s, a − a_y = 1:
     v = 1 m/s, d = 0.5 m. Over the ramp from 2 to 0 (0.5 s), a − a_y = 1 − 4τ:
@@ -494,65 +496,12 @@ def newmark_sliding(a_drive, dt, a_yield, d_out, v_out):
     >>> [float(x) for x in v]
     [0.0, 0.5, 1.0, 1.0, 0.5, 0.0, 0.0]
     """
-    n = a_drive.shape[0]
-    d = 0.0
-    v = 0.0
-    if n > 0:
-        d_out[0] = 0.0
-        v_out[0] = 0.0
-    for k in range(n - 1):
-        r0 = a_drive[k] - a_yield
-        r1 = a_drive[k + 1] - a_yield
-        c = (r1 - r0) / dt                 # d r / d s within the step
-        s = 0.0                            # time into the step [s]
-        while s < dt:
-            rs = r0 + c * s
-            if v <= 0.0:
-                v = 0.0
-                if rs > 0.0 or (rs == 0.0 and c > 0.0):
-                    pass                   # slides from s on
-                elif c > 0.0:
-                    s = max(s, -r0 / c)    # r crosses zero upwards within or after the step
-                    if s >= dt:
-                        break
-                    rs = 0.0
-                else:
-                    break                  # at rest until the end of the step
-            # sliding from s with v >= 0: v(τ) = v + rs τ + c τ²/2, first root in (0, dt − s]
-            span = dt - s
-            qa = 0.5 * c
-            qb = rs
-            qc = v
-            tau = span + 1.0               # > span: no stop within the step
-            if qa == 0.0:
-                if qb < 0.0:
-                    tau = -qc / qb
-            else:
-                disc = qb * qb - 4.0 * qa * qc
-                if disc >= 0.0:
-                    sq = math.sqrt(disc)
-                    q = -0.5 * (qb + sq) if qb >= 0.0 else -0.5 * (qb - sq)
-                    t1 = q / qa
-                    t2 = qc / q if q != 0.0 else -1.0
-                    if t1 > 0.0 and t1 < tau:
-                        tau = t1
-                    if t2 > 0.0 and t2 < tau:
-                        tau = t2
-            if tau <= span:
-                d += v * tau + 0.5 * rs * tau * tau + c * tau * tau * tau / 6.0
-                v = 0.0
-                s += tau
-                if c <= 0.0:
-                    break                  # r keeps falling: no restart within the step
-            else:
-                d += v * span + 0.5 * rs * span * span + c * span * span * span / 6.0
-                v = v + rs * span + 0.5 * c * span * span
-                if v < 0.0:
-                    v = 0.0
-                s = dt
-        d_out[k + 1] = d
-        v_out[k + 1] = v
-    return d
+    return newmark_sliding_two_way(a_drive, dt, a_yield, NO_UPSLOPE_YIELD, d_out, v_out)
+
+
+#: the upslope yield acceleration [m/s²] of a block that never slides upslope: so large that the
+#: upslope excess −a − a_yu is −a_yu to the last bit for any record (and its slope within a step 0)
+NO_UPSLOPE_YIELD = 1e300
 
 
 def newmark_sliding_two_way(a_drive, dt, a_yield_down, a_yield_up, d_out, v_out):
