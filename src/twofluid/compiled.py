@@ -59,6 +59,8 @@ _ANNOUNCED = False
 #: (``twofluid build-kernels`` calls each). A new group is added here.
 GROUPS = (
     ("band_lu", "twofluid.fem.banded:band_lu"),
+    ("band_22", "twofluid.fem.banded:_band_22"),
+    ("common_1d", "twofluid.models.reduced_kernel:common_kernels"),
     ("closures_1d", "twofluid.closures.kernels:_compiled"),
     ("extrapolation", "twofluid.models.extrapolation:_kernels"),
     ("newton_accept", "twofluid.timestepping.newton:_kernels"),
@@ -85,9 +87,9 @@ def jit_disabled() -> bool:
 #: closure laws, the extrapolated first iterate, Newton's acceptance test; a liquefaction column's
 #: shear wave and its response spectra). :func:`groups_for` adds the shear law's group.
 MODEL_GROUPS = {
-    "two_fluid_1d": ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
-    "reduced_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept"),
-    "liquefaction_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept",
+    "two_fluid_1d": ("full_1d", "band_lu", "common_1d", "closures_1d", "extrapolation", "newton_accept"),
+    "reduced_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept"),
+    "liquefaction_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept",
                         "spectra_peaks", "column_record"),
     "two_fluid_2d": (),
 }
@@ -378,6 +380,23 @@ def _cc_class(CC, folder: Path):
 _HELPER_DISPATCHERS: dict = {}
 
 
+def _unliteral(dispatcher):
+    """``dispatcher`` typed on its arguments' plain types where a caller passes a constant (numba
+    would otherwise compile a helper again for each literal it is called with, ``Literal[int](0)``
+    besides ``int64``: the same machine code but for folded constants, typed and optimised once more;
+    the hysteretic law's helpers, called with the element test's element 0 and the column's element
+    index, were each compiled twice)."""
+    from numba.core import types
+
+    resolve = dispatcher.get_call_template
+
+    def get_call_template(args, kws):
+        return resolve(tuple(types.unliteral(a) for a in args), {k: types.unliteral(v) for k, v in kws.items()})
+
+    dispatcher.get_call_template = get_call_template
+    return dispatcher
+
+
 @contextlib.contextmanager
 def _compiled_helpers(helpers: tuple):
     """The ``helpers`` replaced in their modules by their ``numba.njit`` versions while a kernel that
@@ -391,7 +410,8 @@ def _compiled_helpers(helpers: tuple):
     try:
         for g, name, f in saved:
             if f not in _HELPER_DISPATCHERS:
-                _HELPER_DISPATCHERS[f] = numba.njit(nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)(f)
+                _HELPER_DISPATCHERS[f] = _unliteral(numba.njit(nogil=True, no_cpython_wrapper=True,
+                                                               no_cfunc_wrapper=True)(f))
             g[name] = _HELPER_DISPATCHERS[f]
         yield
     finally:
@@ -525,7 +545,7 @@ def _probe() -> None:
 #: solver's and the closure laws' in the first, the shear laws' in the second), which that process
 #: then compiles once (:data:`_HELPER_DISPATCHERS`); a group not listed is a set of its own
 FAMILIES = (
-    ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
+    ("reduced_1d", "band_22", "common_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
     ("hysteretic", "shear_substeps", "spectra_peaks", "column_record"),
 )
 
