@@ -277,7 +277,7 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         cc.verbose = False
         for name, (func, signature) in exports.items():
             cc.export(name, signature)(func)
-        with _compiled_helpers(helpers), warnings.catch_warnings():
+        with _compiled_helpers(helpers), _no_jit_machine_code(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -384,6 +384,33 @@ def _cc_class(CC, folder: Path):
 #: its machine code linked into each module that calls it. Only compiled code calls them: numba
 #: makes them no Python or C-callable wrapper
 _HELPER_DISPATCHERS: dict = {}
+
+
+@contextlib.contextmanager
+def _no_jit_machine_code():
+    """While a module builds, numba's JIT makes no machine code: a helper's dispatcher (the only
+    JIT-compiled functions of a build) is compiled to optimised LLVM IR, which is linked into each
+    module that calls it, and would also be compiled to machine code for the process, which
+    nothing calls (they have no Python wrapper) — about a tenth of a build's CPU. Numba's own code
+    where it lacks the two methods."""
+    try:
+        from numba.core import codegen
+
+        library, jit = codegen.JITCodeLibrary, codegen.JITCPUCodegen
+        finalize, set_env = library._finalize_specific, jit.set_env
+    except (ImportError, AttributeError):
+        yield
+        return
+
+    def ir_only(self):  # JITCodeLibrary._finalize_specific without the engine's finalize_object
+        self._codegen._scan_and_fix_unresolved_refs(self._final_module)
+
+    library._finalize_specific = ir_only
+    jit.set_env = lambda self, env_name, env: None  # (its address lookup would make the machine code)
+    try:
+        yield
+    finally:
+        library._finalize_specific, jit.set_env = finalize, set_env
 
 
 def _unliteral(dispatcher):
