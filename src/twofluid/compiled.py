@@ -391,8 +391,8 @@ def _no_jit_machine_code():
     """While a module builds, numba's JIT makes no machine code: a helper's dispatcher (the only
     JIT-compiled functions of a build) is compiled to optimised LLVM IR, which is linked into each
     module that calls it, and would also be compiled to machine code for the process, which
-    nothing calls (they have no Python wrapper) — about a tenth of a build's CPU. Numba's own code
-    where it lacks the two methods."""
+    nothing calls (they have no Python wrapper): 1.5 s of CPU over all groups (load 9). Where this
+    numba lacks the two methods replaced, nothing is changed."""
     try:
         from numba.core import codegen
 
