@@ -68,7 +68,6 @@ GROUPS = (
     ("full_1d", "twofluid.models.full_kernel:kernels"),
     ("shear_substeps", "twofluid.models.shear_kernel:compiled"),
     ("hysteretic", "twofluid.models.hysteretic_kernel:compiled"),
-    ("hysteretic_element", "twofluid.models.hysteretic_kernel:compiled_element"),
     ("spectra_peaks", "twofluid.geotech.spectra:_compiled_peaks"),
     ("column_record", "twofluid.models.record_kernel:compiled"),
 )
@@ -581,7 +580,7 @@ def _probe() -> None:
 #: then compiles once (:data:`_HELPER_DISPATCHERS`); a group not listed is a set of its own
 FAMILIES = (
     ("reduced_1d", "band_22", "common_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
-    ("hysteretic", "hysteretic_element", "shear_substeps", "spectra_peaks", "column_record"),
+    ("hysteretic", "shear_substeps", "spectra_peaks", "column_record"),
 )
 
 

@@ -156,7 +156,7 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
     from twofluid.closures import kernels as closure_kernels
     from twofluid.fem import banded
     from twofluid.geotech import spectra
-    from twofluid.models import extrapolation, full_kernel, hysteretic_kernel, reduced_kernel, shear_kernel
+    from twofluid.models import extrapolation, full_kernel, reduced_kernel, shear_kernel
     from twofluid.timestepping import newton
 
     getters = {
@@ -167,13 +167,11 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
         "full_1d": (full_kernel, lambda: list(full_kernel.kernels().values())),
         "reduced_1d": (reduced_kernel, lambda: [*reduced_kernel.kernels(), *reduced_kernel.whole_iterate()]),
         "shear_substeps": (shear_kernel, lambda: [shear_kernel.compiled()]),
-        "hysteretic": (hysteretic_kernel,
-                       lambda: [hysteretic_kernel.compiled(), hysteretic_kernel.compiled_element()]),
         "newton_accept": (newton, lambda: [newton._kernels()]),
         "spectra_peaks": (spectra, lambda: [spectra._compiled_peaks()]),
     }
     saved = {m: {k: v for k, v in vars(m).items() if k in ("_KERNELS", "_KERNEL", "_TRIED", "_COMPILED",
-                                                             "_LU", "_LU22", "_BT22", "_WHOLE", "_COMMON", "_ELEMENT")} for m, _ in getters.values()}
+                                                             "_LU", "_LU22", "_BT22", "_WHOLE", "_COMMON")} for m, _ in getters.values()}
     try:
         for m, _ in getters.values():  # asked afresh
             for k in saved[m]:

@@ -335,33 +335,19 @@ def compiled():
     if not _TRIED:
         _TRIED = True
 
-        _COMPILED = group("hysteretic", {"substeps": (_substeps, SIGNATURE)}, helpers=_HELPERS)
+        _COMPILED = group("hysteretic", {"substeps": (_substeps, SIGNATURE),
+                                         "element_cycles": (_element_cycles, ELEMENT_SIGNATURE)},
+                          helpers=_HELPERS)
     return None if _COMPILED is None else _COMPILED["substeps"]
-
-
-_ELEMENT = None
-
-
-def compiled_element():
-    """The element test's kernel (:func:`_element_cycles`) compiled, or None: a group of its own, which
-    only ``twofluid element-test`` needs (a column's run builds the sub-steps alone)."""
-    global _ELEMENT
-    from ..compiled import group, jit_disabled
-
-    if jit_disabled():
-        return None
-    if _ELEMENT is None:
-        out = group("hysteretic_element", {"element_cycles": (_element_cycles, ELEMENT_SIGNATURE)}, helpers=_HELPERS)
-        _ELEMENT = False if out is None else out["element_cycles"]
-    return _ELEMENT or None
 
 
 def element_cycles(*args, jit: bool = True, bias: float = 0.0) -> float:
     """Run the element test (arguments as :func:`_element_cycles` but ``bias``, the static shear
     ratio, a keyword: 0 by default), compiled where possible."""
     args = args + (float(bias),)
-    k = compiled_element() if jit else None
-    return float(k(*args)) if k is not None else float(_element_cycles(*args))
+    if jit and compiled() is not None:
+        return float(_COMPILED["element_cycles"](*args))
+    return float(_element_cycles(*args))
 
 
 def substeps(*args, jit: bool = True, body: float = 0.0, rho_b: float = 0.0) -> int:
