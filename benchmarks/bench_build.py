@@ -10,7 +10,8 @@ function. Each group gets an empty cache folder, so nothing is shared between gr
 C helper objects that every build of the first group compiles (the first group pays them).
 ``--together`` builds the groups named in one process and one cache folder instead, as a run's
 first build or a worker of ``twofluid build-kernels`` does (helpers shared between groups then
-compiled once).
+compiled once), and prints each group's CPU in the order built (a helper counted with the first
+group that calls it).
 """
 from __future__ import annotations
 
@@ -44,12 +45,15 @@ rec = Rec()
 event.register("numba:compile", rec)
 from twofluid import compiled
 pairs = list(zip(sys.argv[1::2], sys.argv[2::2]))
-for spec, _name in pairs:
+each = []
+for spec, name in pairs:
+    t = cpu()
     compiled._build_group(spec)
+    each.append((name, cpu() - t))
 t2 = cpu()
 outs = [compiled._LOADED.get(name) or {} for _spec, name in pairs]
 aot = all(out and all(type(f).__name__ == "builtin_function_or_method" for f in out.values()) for out in outs)
-print(json.dumps({"numba_import": t1 - t0, "build": t2 - t1, "aot": aot, "events": events}))
+print(json.dumps({"numba_import": t1 - t0, "build": t2 - t1, "aot": aot, "events": events, "each": each}))
 '''
 
 
@@ -83,6 +87,8 @@ def main(argv=None) -> int:
             total += cpu
             print(f"{name:16s} process CPU {cpu:6.2f} s  wall {wall:6.2f} s  numba import {d['numba_import']:.2f} s"
                   f"  build {d['build']:.2f} s  {'ahead of time' if d['aot'] else 'JIT'}", flush=True)
+            if len(batch) > 1:  # each group's CPU in the order built (the helpers it compiles first included)
+                print("    " + ", ".join(f"{n} {t:.2f} s" for n, t in d["each"]))
             if args.events:
                 for disp, sig, t in sorted(d["events"], key=lambda e: -e[2])[:25]:
                     print(f"    {t:6.2f} s  {disp} {sig}")

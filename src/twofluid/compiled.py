@@ -59,6 +59,8 @@ _ANNOUNCED = False
 #: (``twofluid build-kernels`` calls each). A new group is added here.
 GROUPS = (
     ("band_lu", "twofluid.fem.banded:band_lu"),
+    ("band_22", "twofluid.fem.banded:_band_22"),
+    ("common_1d", "twofluid.models.reduced_kernel:common_kernels"),
     ("closures_1d", "twofluid.closures.kernels:_compiled"),
     ("extrapolation", "twofluid.models.extrapolation:_kernels"),
     ("newton_accept", "twofluid.timestepping.newton:_kernels"),
@@ -86,9 +88,9 @@ def jit_disabled() -> bool:
 #: closure laws, the extrapolated first iterate, Newton's acceptance test; a liquefaction column's
 #: shear wave and its response spectra). :func:`groups_for` adds the shear law's group.
 MODEL_GROUPS = {
-    "two_fluid_1d": ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
-    "reduced_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept"),
-    "liquefaction_1d": ("reduced_1d", "band_lu", "closures_1d", "extrapolation", "newton_accept",
+    "two_fluid_1d": ("full_1d", "band_lu", "common_1d", "closures_1d", "extrapolation", "newton_accept"),
+    "reduced_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept"),
+    "liquefaction_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept",
                         "spectra_peaks", "column_record", "column_step"),
     "two_fluid_2d": (),
 }
@@ -276,7 +278,7 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         cc.verbose = False
         for name, (func, signature) in exports.items():
             cc.export(name, signature)(func)
-        with _compiled_helpers(helpers), warnings.catch_warnings():
+        with _compiled_helpers(helpers), _no_jit_machine_code(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -346,6 +348,12 @@ def _cc_class(CC, folder: Path):
             for src in sources:  # the object of "numba/pycc/../core/x.c" is written through the
                 # folder of numba/pycc in build_dir, which only a compile of modulemixin.c made
                 os.makedirs(os.path.join(build_dir, os.path.dirname(src).lstrip(os.sep)), exist_ok=True)
+            with _lock(folder, f"pycc-objects-{key}"):  # one process compiles them, another waits for them
+                objects += self._shared_objects(shared, named, build_dir, include_dirs, macros, flags, store, key)
+            return objects
+
+        def _shared_objects(self, shared, named, build_dir, include_dirs, macros, flags, store, key):
+            objects = []
             for src in shared:
                 cached = store / f"{key}-{os.path.basename(src)}.o"
                 if not cached.is_file():
@@ -380,6 +388,50 @@ _HELPER_DISPATCHERS: dict = {}
 
 
 @contextlib.contextmanager
+def _no_jit_machine_code():
+    """While a module builds, numba's JIT makes no machine code: a helper's dispatcher (the only
+    JIT-compiled functions of a build) is compiled to optimised LLVM IR, which is linked into each
+    module that calls it, and would also be compiled to machine code for the process, which
+    nothing calls (they have no Python wrapper): 1.5 s of CPU over all groups (load 9). Where this
+    numba lacks the two methods replaced, nothing is changed."""
+    try:
+        from numba.core import codegen
+
+        library, jit = codegen.JITCodeLibrary, codegen.JITCPUCodegen
+        finalize, set_env = library._finalize_specific, jit.set_env
+    except (ImportError, AttributeError):
+        yield
+        return
+
+    def ir_only(self):  # JITCodeLibrary._finalize_specific without the engine's finalize_object
+        self._codegen._scan_and_fix_unresolved_refs(self._final_module)
+
+    library._finalize_specific = ir_only
+    jit.set_env = lambda self, env_name, env: None  # (its address lookup would make the machine code)
+    try:
+        yield
+    finally:
+        library._finalize_specific, jit.set_env = finalize, set_env
+
+
+def _unliteral(dispatcher):
+    """``dispatcher`` typed on its arguments' plain types where a caller passes a constant (numba
+    would otherwise compile a helper again for each literal it is called with, ``Literal[int](0)``
+    besides ``int64``: the same machine code but for folded constants, typed and optimised once more;
+    the hysteretic law's helpers, called with the element test's element 0 and the column's element
+    index, were each compiled twice)."""
+    from numba.core import types
+
+    resolve = dispatcher.get_call_template
+
+    def get_call_template(args, kws):
+        return resolve(tuple(types.unliteral(a) for a in args), {k: types.unliteral(v) for k, v in kws.items()})
+
+    dispatcher.get_call_template = get_call_template
+    return dispatcher
+
+
+@contextlib.contextmanager
 def _compiled_helpers(helpers: tuple):
     """The ``helpers`` replaced in their modules by their ``numba.njit`` versions while a kernel that
     calls them compiles (a compiled function can call only compiled functions); restored after."""
@@ -392,7 +444,8 @@ def _compiled_helpers(helpers: tuple):
     try:
         for g, name, f in saved:
             if f not in _HELPER_DISPATCHERS:
-                _HELPER_DISPATCHERS[f] = numba.njit(nogil=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)(f)
+                _HELPER_DISPATCHERS[f] = _unliteral(numba.njit(nogil=True, no_cpython_wrapper=True,
+                                                               no_cfunc_wrapper=True)(f))
             g[name] = _HELPER_DISPATCHERS[f]
         yield
     finally:
@@ -517,7 +570,8 @@ def _probe() -> None:
     """Print the groups of :data:`GROUPS` that have no module in the cache folder (in a process of
     its own, ``TWOFLUID_KERNELS_PROBE`` set: nothing is built or compiled)."""
     for name, spec in GROUPS:
-        _build_group(spec)
+        with contextlib.suppress(Exception):  # a getter that fails on a group not built: not built
+            _build_group(spec)
         if not _LOADED.get(name):
             print(name)
 
@@ -526,7 +580,8 @@ def _probe() -> None:
 #: solver's and the closure laws' in the first, the shear laws' in the second), which that process
 #: then compiles once (:data:`_HELPER_DISPATCHERS`); a group not listed is a set of its own
 FAMILIES = (
-    ("reduced_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept"),
+    ("reduced_1d", "band_22", "common_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept",
+     "column_step"),
     ("hysteretic", "shear_substeps", "spectra_peaks", "column_record"),
 )
 

@@ -161,6 +161,7 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
 
     getters = {
         "band_lu": (banded, lambda: [banded.band_lu(), banded.band_lu_22(), banded.block_solve_22()]),
+        "common_1d": (reduced_kernel, lambda: list(reduced_kernel.common_kernels().values())),
         "closures_1d": (closure_kernels, lambda: list(closure_kernels._compiled().values())),
         "extrapolation": (extrapolation, lambda: list(extrapolation._kernels())),
         "full_1d": (full_kernel, lambda: list(full_kernel.kernels().values())),
@@ -171,7 +172,7 @@ def test_every_kernel_of_the_project_is_built_ahead_of_time(tmp_path, monkeypatc
         "column_step": (column_step_kernel, lambda: [column_step_kernel.compiled()]),
     }
     saved = {m: {k: v for k, v in vars(m).items() if k in ("_KERNELS", "_KERNEL", "_TRIED", "_COMPILED",
-                                                             "_LU", "_LU22", "_BT22", "_WHOLE")} for m, _ in getters.values()}
+                                                             "_LU", "_LU22", "_BT22", "_WHOLE", "_COMMON")} for m, _ in getters.values()}
     try:
         for m, _ in getters.values():  # asked afresh
             for k in saved[m]:

@@ -344,6 +344,40 @@ def test_groups_for_names_every_group_a_short_run_loads(name):
     assert seen and seen <= planned, seen - planned
 
 
+def test_the_full_model_builds_none_of_the_reduced_models_groups():
+    """The default case (the full model) calls four kernels of ``reduced_kernel``, which are a group of
+    their own: its run neither plans nor loads the reduced model's iterate or its band solvers."""
+    pytest.importorskip("numba")
+    if compiled.cache_dir() is None:
+        pytest.skip("no writable kernel cache")
+    r = subprocess.run([sys.executable, "-c", RECORD, "fluidized-bed-step", "0.1"], capture_output=True,
+                       text=True, env=_env(compiled.cache_dir()), timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    seen, planned = (set(line.split()) for line in r.stdout.splitlines()[-2:])
+    assert "common_1d" in seen and not {"reduced_1d", "band_22"} & (seen | planned)
+
+
+def test_a_helper_called_with_a_constant_compiles_once():
+    """A helper's dispatcher is typed on plain argument types: called with a constant by one caller
+    and a variable by another it is compiled once (numba alone compiles a literal-typed copy too)."""
+    numba = pytest.importorskip("numba")
+
+    def helper(x, i):
+        return x[i] * 2.0
+
+    d = compiled._unliteral(numba.njit(helper))
+
+    def by_constant(x):
+        return d(x, 0)
+
+    def by_index(x, i):
+        return d(x, i)
+
+    x = np.arange(3.0)
+    assert numba.njit(by_constant)(x) == 0.0 and numba.njit(by_index)(x, 2) == 4.0
+    assert len(d.signatures) == 1, d.signatures
+
+
 def test_prepare_announces_the_groups_it_builds_in_one_line(toy, tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("TWOFLUID_CACHE_DIR", str(tmp_path / "empty"))
     monkeypatch.delenv("TWOFLUID_BUILDING_KERNELS", raising=False)

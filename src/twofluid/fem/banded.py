@@ -286,30 +286,49 @@ def band_lu():
     >>> lu is None or (lu(ab, b, 1, 1) == 0 and b.round(12).tolist() == [1.0, 1.0, 1.0])
     True
     """
-    global _LU, _LU22, _BT22, _TRIED
+    global _LU, _TRIED
     if not _TRIED:
         _TRIED = True
         from ..compiled import group
 
-        lu = group("band_lu", {"band_lu": (_gbsv, "i8(f8[:,:], f8[:], i8, i8)"),
-                               "band_lu_22": (_gbsv22, "i8(f8[::1,:], f8[::1])"),
-                               "block_solve_22": (_bt22, "i8(f8[::1,:], f8[::1])")}, helpers=(_u, _gbsv22))
+        lu = group("band_lu", {"band_lu": (_gbsv, "i8(f8[:,:], f8[:], i8, i8)")}, helpers=(_u,))
         _LU = None if lu is None else lu["band_lu"]
-        _LU22 = None if lu is None else lu["band_lu_22"]
-        _BT22 = None if lu is None else lu["block_solve_22"]
     return _LU
+
+
+def _gbsv22_entry(ab, b):
+    """:func:`_gbsv22` as exported: a call of the helper, compiled once per process for these argument
+    types whether the export or the reduced model's whole iterate asks for it first."""
+    return _gbsv22(ab, b)
+
+
+def _bt22_entry(ab, b):
+    """:func:`_bt22` as exported (as :func:`_gbsv22_entry`)."""
+    return _bt22(ab, b)
+
+
+def _band_22():
+    """The reduced model's band solvers (kl = ku = 2), a group of their own (the full model's band LU
+    needs neither): (:func:`_gbsv22`, :func:`_bt22`) compiled, or (None, None)."""
+    global _LU22, _BT22
+    if _LU22 is None:
+        from ..compiled import group
+
+        lu = group("band_22", {"band_lu_22": (_gbsv22_entry, "i8(f8[::1,:], f8[::1])"),
+                               "block_solve_22": (_bt22_entry, "i8(f8[::1,:], f8[::1])")},
+                   helpers=(_u, _gbsv22, _bt22))
+        _LU22, _BT22 = (False, False) if lu is None else (lu["band_lu_22"], lu["block_solve_22"])
+    return _LU22 or None, _BT22 or None
 
 
 def band_lu_22():
     """:func:`_gbsv22` compiled (``lu(ab, b) -> info``, ``ab`` (7, n) in Fortran order, in place), or None."""
-    band_lu()
-    return _LU22
+    return _band_22()[0]
 
 
 def block_solve_22():
     """:func:`_bt22` compiled (``solve(ab, b) -> info``, ``ab`` (7, n) in Fortran order, n odd), or None."""
-    band_lu()
-    return _BT22
+    return _band_22()[1]
 
 
 class BandSolver:

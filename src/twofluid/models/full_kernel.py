@@ -557,7 +557,7 @@ def force_shift(model, s) -> np.ndarray | None:
     """:meth:`TwoFluid1D._force_shift_at` by the reduced model's compiled shift kernels (the same
     arithmetic, :mod:`~twofluid.models.reduced_kernel`; they read the mass matrix from rows 10–13
     of their element constants), or None where they are not available."""
-    rk = reduced_kernel.kernels()
+    rk = reduced_kernel.common_kernels()
     if rk is None:
         return None
     mc = model._fk_constants[0]
@@ -568,13 +568,13 @@ def force_shift(model, s) -> np.ndarray | None:
     n = s.n
     ne = n.size
     x, s_abs = np.empty(2 * ne), np.empty(2 * ne)
-    rk[4](n, s.V, s.W, mc[14], mc[15], x, s_abs)
+    rk["shift_points"](n, s.V, s.W, mc[14], mc[15], x, s_abs)
     laws = model.compiled_laws()
     K = laws.beta_per_solids(x, s_abs) if laws is not None else \
         _vector(model.clo.beta_per_solids(x, s_abs, model._materials_times(2)), 2 * ne)
     _, dps = model.solids_pressure(n, s.n_bar, derivative=True)
     alpha = np.empty(ne)
     mat = model.mat
-    rk[5](n, s.V, s.W, x, K, _vector(dps, ne), shift_mc, mc[16], model.mesh.lengths,
+    rk["shift"](n, s.V, s.W, x, K, _vector(dps, ne), shift_mc, mc[16], model.mesh.lengths,
           float(mat.rho_s - mat.rho_f), float(model.g_y), float(mat.g), alpha)
     return alpha

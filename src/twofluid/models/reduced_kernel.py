@@ -37,7 +37,7 @@ from ..closures import kernels as laws
 from ..fem import banded
 from . import extrapolation
 
-__all__ = ["available", "kernels", "whole_iterate", "LAST_ROWS"]
+__all__ = ["available", "kernels", "common_kernels", "whole_iterate", "LAST_ROWS"]
 
 _CLEAR = 1e-6  # as two_fluid_1d._CLEAR: floor of 1 − n in the slip and the upwind ratio
 # rows of the per-element pieces of the last iterate kept for the pressure of the step (end_step)
@@ -575,9 +575,7 @@ def _compile():
         from ..fem.banded import block_solve_22
 
         funcs = {"closure_points": _closure_points, "band_system": _band_system,
-                 "step_pressure": _step_pressure, "shift_points": _shift_points, "shift": _shift,
-                 "step_constants": _step_constants, "iterate_change": _iterate_change,
-                 "state_check": _state_check, "iterate_points": _iterate_points, "whole_iterate": _whole_iterate,
+                 "step_pressure": _step_pressure, "step_constants": _step_constants, "iterate_points": _iterate_points, "whole_iterate": _whole_iterate,
                  "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws,
                  "first_iterate": _first_iterate}
         helpers = (_fmax, _sign, _closure_points, _band_system, _iterate_change, _shift_points, _shift, banded._u,
@@ -587,14 +585,39 @@ def _compile():
                    laws._solids_pressure, laws._viscosity, laws._mooney)
         ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers)
         lu = block_solve_22()
-        if ker is None or lu is None:
+        common = common_kernels()
+        if ker is None or lu is None or common is None:
             return None
         _COMPILED = (ker["closure_points"], ker["band_system"], lu, ker["step_pressure"],
-                     ker["shift_points"], ker["shift"], ker["step_constants"], ker["iterate_change"],
-                     ker["state_check"])
+                     common["shift_points"], common["shift"], ker["step_constants"], common["iterate_change"],
+                     common["state_check"])
         _WHOLE = (ker["iterate_points"], ker["whole_iterate"], ker["shift_law_points"], ker["shift_with_laws"],
                   ker["first_iterate"])
     return _COMPILED
+
+
+_COMMON = None
+#: the kernels both 1D models call (the full model these alone of this module): a group of their own,
+#: so that the full model builds neither the reduced model's iterate nor its band solver
+COMMON = {"iterate_change": _iterate_change, "state_check": _state_check, "shift_points": _shift_points,
+          "shift": _shift}
+
+
+def common_kernels():
+    """{iterate_change, state_check, shift_points, shift} (:data:`COMMON`) compiled
+    (:mod:`twofluid.compiled`), or None.
+
+    >>> k = common_kernels()
+    >>> k is None or sorted(k) == sorted(COMMON)
+    True
+    """
+    global _COMMON
+    if _COMMON is None:
+        from ..compiled import group
+
+        ker = group("common_1d", {k: (f, SIGNATURES[k]) for k, f in COMMON.items()}, helpers=(_fmax,))
+        _COMMON = False if ker is None else ker
+    return _COMMON or None
 
 
 def whole_iterate():

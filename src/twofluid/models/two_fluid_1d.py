@@ -558,8 +558,8 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
 
     def check(self, s: State) -> str | None:
         """Why a state is not admissible (porosity outside (0, 1]), or None."""
-        ker = reduced_kernel.kernels() if self.compiled is not False else None
-        if ker is not None and ker[8](s.n, s.V) == 0:  # one compiled pass of the tests below
+        ker = reduced_kernel.common_kernels() if self.compiled is not False else None
+        if ker is not None and ker["state_check"](s.n, s.V) == 0:  # one compiled pass of the tests below
             return None
         if not np.all(np.isfinite(s.n)) or not np.all(np.isfinite(s.V)):
             return "non-finite values"
@@ -580,13 +580,13 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         iterate ``new`` after ``k``: the stepper's test of an iterate
         (:func:`~twofluid.timestepping.backward_euler.relative_change`, the same numbers), in one
         compiled pass where the kernels are."""
-        ker = reduced_kernel.kernels() if self.compiled is not False else None
+        ker = reduced_kernel.common_kernels() if self.compiled is not False else None
         if ker is None or type(self).velocity_scale is not TwoFluid1D.velocity_scale:
             if not np.all(np.isfinite(a)):
                 return False, np.nan, np.nan
             return (True, *relative_change(self, new, k))
         out = np.empty(3)
-        ker[7](a, new.V, new.W, new.n, k.V, k.W, k.n, float(self.velocity_floor), out)
+        ker["iterate_change"](a, new.V, new.W, new.n, k.V, k.W, k.n, float(self.velocity_floor), out)
         return out[0] != 0.0, float(out[1]), float(out[2])
 
     def end_step(self, old: State, new: State, dt: float) -> State:
