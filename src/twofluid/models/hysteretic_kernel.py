@@ -350,6 +350,19 @@ def element_cycles(*args, jit: bool = True, bias: float = 0.0) -> float:
     return float(_element_cycles(*args))
 
 
+def runner():
+    """The sub-steps' function to call for a whole run, resolved once (the compiled kernel, or
+    :func:`_substeps` where :func:`compiled` gives None): arguments as :func:`_substeps`, ``body`` and
+    ``rho_b`` (as :func:`substeps` takes them) last and as floats; returns the code as :func:`substeps`
+    does once passed to ``int``.
+
+    >>> runner() in (compiled(), _substeps)
+    True
+    """
+    k = compiled()
+    return _substeps if k is None else k
+
+
 def substeps(*args, jit: bool = True, body: float = 0.0, rho_b: float = 0.0) -> int:
     """Run the sub-steps (arguments as :func:`_substeps` but ``body``, the slope's g sin α [m/s²],
     and ``rho_b``, the density its saturated elements' driving weight leaves out [kg/m³], keywords:

@@ -602,6 +602,9 @@ class LiquefactionColumn:
         m = max(1, math.ceil(span / self._substep(s.t) - 1e-9))
         ne = wave.h.size
         A, p_ref = self._skeleton_arrays()
+        run = self.__dict__.get("_hyst_run")
+        if run is None:  # the kernel (or its plain Python) resolved once per run, not per step
+            run = self._hyst_run = _hyst_kernel.runner()
         for attempt in range(5):
             dt = span / m
             times = s.t + np.arange(1.0, m + 1.0) * dt
@@ -610,12 +613,12 @@ class LiquefactionColumn:
             st = np.array(s.shear, dtype=float)
             nb = np.array(s.vertical.n_bar, dtype=float)
             surface, tau = np.empty(m), np.empty(ne)
-            code = _hyst_kernel.substeps(
+            code = int(run(
                 u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
                 wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
                 0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
-                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1], body=self.body,
-                rho_b=self.rho_b)
+                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1], float(self.body),
+                float(self.rho_b)))
             if code != 1:
                 break
             m *= 2

@@ -21,6 +21,7 @@ stepper's Python path, which takes any step the call cannot make at its first tr
 from __future__ import annotations
 
 from collections import deque
+from contextlib import nullcontext
 
 import numpy as np
 
@@ -29,6 +30,8 @@ from ..timestepping import newton as _newton
 from . import column_step_kernel
 from .reduced_1d import Reduced1D
 from .two_fluid_1d import State
+
+_QUIET = nullcontext()  # (reusable: the compiled step's call needs no context)
 
 __all__ = ["ReducedVerticalColumn"]
 
@@ -157,7 +160,9 @@ class ReducedVerticalColumn(Reduced1D):
         has_last = last is not None
         lt = last if has_last else old
         try:
-            with np.errstate(all="ignore"):  # a diverging iterate is the stepper's to report, as in its own path
+            # a diverging iterate is the stepper's to report, as in its own path (compiled code sets no
+            # NumPy error state: only the plain Python of the un-jitted run needs it quiet)
+            with np.errstate(all="ignore") if ker is column_step_kernel.vertical_step else _QUIET:
                 code = ker(float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:],
                            DW, Dn, order, float(ex_t or 0.0), float(ex_h), cont, float(settings.tol),
                            int(settings.max_iter), newton, lt.V, lt.W, lt.n, float(lt.t), has_last,

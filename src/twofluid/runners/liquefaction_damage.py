@@ -58,7 +58,7 @@ class DamageRecord:
         self.gamma_static = np.zeros(h.size) if u0 is None else np.diff(np.asarray(u0, dtype=float)) / h
         self.d_first_any = np.full(ns, np.nan)
         self.d_first_below = np.full(ns, np.nan)
-        self.d_end = np.full(ns, np.nan)
+        self._end_shear = None  # the law's state at the last step of the shaking (its damage: d_end)
         self.lowest = ns  # lowest element index that has liquefied so far
         self.gamma_end = np.zeros(h.size)
 
@@ -68,20 +68,31 @@ class DamageRecord:
         if not self.active:
             return
         st = s.shear
-        d = st[:self.ns, law.S_D] + st[:self.ns, law.S_DPART]
         if s.t <= self.shaking_end + 1e-9:
-            self.d_end[:] = d
-        idx = np.flatnonzero(liquefied)
-        if idx.size == 0:
+            self._end_shear = st  # (each step's law state is a new array; the damage columns stay as they are)
+        if not liquefied.any():
             return
-        if np.isnan(self.d_first_any[0]):
+        low = int(liquefied.argmax())  # the lowest liquefied element
+        first = self.d_first_any[0] != self.d_first_any[0]  # (NaN: not yet taken)
+        if not first and low >= self.lowest:
+            return
+        d = self._damage(st)
+        if first:
             self.d_first_any[:] = d
-        low = int(idx[0])
         if low < self.lowest:  # every element above a newly liquefied one, not yet taken
             take = np.zeros(self.ns, dtype=bool)
             take[low + 1:self.lowest + 1] = True  # (the previous lowest had none below it)
             self.d_first_below[take] = d[take]
             self.lowest = low
+
+    def _damage(self, st) -> np.ndarray:
+        """D of the saturated elements in the law state ``st`` [-]."""
+        return st[:self.ns, law.S_D] + st[:self.ns, law.S_DPART]
+
+    @property
+    def d_end(self) -> np.ndarray:
+        """D of the saturated elements at the last step of the shaking (NaN before it) [-]."""
+        return np.full(self.ns, np.nan) if self._end_shear is None else self._damage(self._end_shear)
 
     def columns(self, e: int) -> list:
         """The :data:`DAMAGE_COLUMNS` of element ``e`` (whole column's index: saturated bottom first, then
