@@ -293,6 +293,7 @@ class _Recorder:
         self._scalars = np.zeros(4)
         self._sizes = (ne, self._elem.size)
         self._fixed, self._fixed_of = (), None  # the column's constant arrays as the kernel takes them
+        self._last_ru = None  # the r_u of the last :meth:`record` (its report depths: self.ru[-1])
 
     def _constants(self) -> tuple:
         """(P_hydrostatic, σ′_v0, n0, element lengths) as contiguous float64, converted again only if
@@ -332,6 +333,7 @@ class _Recorder:
         if field:
             self.field_t.append(s.t)
             self.field.append(ru)
+        self._last_ru = ru
         return ru
 
     def probe_names(self) -> list[str]:
@@ -347,7 +349,8 @@ class _Recorder:
         col = self.col
         base, surface = col.accelerations(s)
         return [float(base), float(surface), self.settle[-1], float(s.vertical.P[0]), self.pbase[-1],
-                col.surface_displacement(s), self.flux_top[-1], *ru[self._elem].tolist(),
+                col.surface_displacement(s), self.flux_top[-1],
+                *(self.ru[-1] if ru is self._last_ru else ru[self._elem]).tolist(),  # (the record's r_u at the depths)
                 *self.ps[self._elem].tolist()]
 
 
