@@ -43,7 +43,6 @@ liquefied range (r_u >= 0.95 during the run), surface 5 %-damped Sa at 0.1-2 s, 
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import math
 import os
@@ -57,19 +56,20 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import pm4sand_element as pe  # noqa: E402
-from bench_peers import PEERS  # noqa: E402
 
-ops = peer = None           # openseespy and the project's OpenSees peer column, loaded by load() at run time
+ops = peer = pe_static = None  # openseespy, the OpenSees peer column's helpers, the gravity stages' analysis
 
 
 def load():
-    """openseespy and the peer column's helpers (recover, run_until, Stats); nothing else needs OpenSees."""
-    global ops, peer
+    """openseespy, the peer column's helpers (recover, run_until, Stats) and the gravity stages' static
+    analysis, as the PDMY02 layered column (``opensees_layered.py``) sets them up; nothing else needs
+    OpenSees."""
+    global ops, peer, pe_static
     if ops is None:
-        ops = pe.load_ops()
-        spec = importlib.util.spec_from_file_location("peer_column", PEERS / "opensees" / "column.py")
-        peer = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(peer)
+        ops = pe.load_ops()  # (the wheel's BLAS loaded first where the system has none)
+        import opensees_layered as layered
+
+        peer, pe_static = layered.peer, layered._static_transient
     return ops
 
 
@@ -560,16 +560,6 @@ def advance(t_stop, dt, stats, halvings=4):
             stats.substeps += 1
             step(0.5 * h, 1)
             step(0.5 * h, 1)
-
-
-def pe_static(tol):
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", tol, 50, 0)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
 
 
 if __name__ == "__main__":
