@@ -17,7 +17,6 @@ import math
 import numpy as np
 import pytest
 
-from twofluid.casefile.loader import case_text
 from twofluid.cli import main
 from twofluid.casefile.schema import CaseError
 from twofluid.closures import hysteretic as law
@@ -25,18 +24,12 @@ from twofluid.geotech import lateral_spread as ls
 from twofluid.models.liquefaction_1d import ColumnState
 from twofluid.runners.common import run_case
 from twofluid.runners.liquefaction import build_column
-from slope_cases import CASE, sloping_case as _case
+from slope_cases import assert_site_line_refused, sloping_case as _case
 
 
 @pytest.mark.parametrize("value", ["-1.0", "10.5", "\"3\"", "nan"])
 def test_bad_slope_is_one_line_and_exit_2(value, tmp_path, capsys):
-    text = case_text(CASE).replace("slope = 3.0", f"slope = {value}")
-    path = tmp_path / "case.toml"
-    path.write_text(text)
-    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "[site] slope" in err, err
-    assert not (tmp_path / "out").exists()
+    assert_site_line_refused(f"slope = {value}", "[site] slope", tmp_path, capsys)
 
 
 def test_element_test_alpha_out_of_range_is_one_line(capsys):

@@ -18,9 +18,7 @@ import math
 import numpy as np
 import pytest
 
-from twofluid.casefile.loader import case_text
 from twofluid.casefile.schema import CaseError
-from twofluid.cli import main
 from twofluid.closures import hysteretic as law
 from twofluid.geotech import lateral_spread as ls
 from twofluid.models import hysteretic_kernel as hk
@@ -28,7 +26,7 @@ from twofluid.models.liquefaction_1d import ColumnState
 from twofluid.runners.common import run_case
 from twofluid.runners.liquefaction import build_column
 from twofluid.runners.liquefaction_slope import GROUNDWATER
-from slope_cases import CASE, sloping_case
+from slope_cases import assert_site_line_refused, sloping_case
 
 TAN = 0.03  # the bundled site's slope, 3 %
 
@@ -46,13 +44,7 @@ def _submerged(groundwater="submerged", **edits):
 
 @pytest.mark.parametrize("value", ["\"seepage\"", "1.0", "\"\""])
 def test_bad_groundwater_is_one_line_and_exit_2(value, tmp_path, capsys):
-    text = case_text(CASE).replace("slope = 3.0", f"slope = 3.0\ngroundwater = {value}")
-    path = tmp_path / "case.toml"
-    path.write_text(text)
-    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "[site] groundwater" in err, err
-    assert not (tmp_path / "out").exists()
+    assert_site_line_refused(f"slope = 3.0\ngroundwater = {value}", "[site] groundwater", tmp_path, capsys)
 
 
 def test_submerged_slope_with_a_crust_is_refused():
