@@ -173,6 +173,25 @@ def _sloping_start(case: dict, source: str, column: LiquefactionColumn, site) ->
                         "are slopes the site stands on before shaking") from None
 
 
+def total_stress_column(case: dict, polarity: int | None = None) -> Built | None:
+    """The built total-stress companion of ``case``: the same column with every layer
+    ``liquefiable = false`` (n̄ held: no pore-pressure generation), nothing moving vertically
+    (``LiquefactionColumn.shear_only``), the record with the sign ``polarity`` where given; None
+    without shaking."""
+    import copy
+
+    if case["ground_motion"]["pga_g"] == 0.0:
+        return None
+    c = copy.deepcopy(case)
+    for la in c["layers"]:
+        la["liquefiable"] = False
+    if polarity is not None:
+        c["ground_motion"]["polarity"] = int(polarity)
+    b = build_column(c)
+    b.column.shear_only = True
+    return b
+
+
 def total_stress_surface(case: dict, one_call: bool = True):
     """(t [s], absolute surface acceleration [m/s²]) of the same column without pore-pressure
     generation (every layer ``liquefiable = false``: n̄ held, total stress), run to the end of the
@@ -186,16 +205,10 @@ def total_stress_surface(case: dict, one_call: bool = True):
     as the run's vertical steps (:func:`_whole_wave`): the same accelerations to round-off (the
     sub-steps' times are summed differently; tests/unit/test_total_stress_surface.py). Otherwise, or
     with ``one_call=False``, the column runs step by step as the two-fluid run does."""
-    import copy
-
-    if case["ground_motion"]["pga_g"] == 0.0:
+    b = total_stress_column(case)
+    if b is None:
         return None
-    c = copy.deepcopy(case)
-    for la in c["layers"]:
-        la["liquefiable"] = False
-    b = build_column(c)
     col = b.column
-    col.shear_only = True
     whole = _whole_wave(b) if one_call else None
     if whole is not None:
         return whole

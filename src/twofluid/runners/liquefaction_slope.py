@@ -223,19 +223,12 @@ def total_stress_node_motion(case: dict, polarity: int):
     pore-pressure generation, as :func:`twofluid.runners.liquefaction.total_stress_surface`) with
     the record's sign ``polarity``, run to the end of its shear wave in steps of the record's
     sample interval (at least the shear sub-step), sampled after each step. None without shaking."""
-    import copy
+    from .liquefaction import total_stress_column
 
-    from .liquefaction import build_column
-
-    if case["ground_motion"]["pga_g"] == 0.0:
+    b = total_stress_column(case, polarity)
+    if b is None:
         return None
-    c = copy.deepcopy(case)
-    for la in c["layers"]:
-        la["liquefiable"] = False
-    c["ground_motion"]["polarity"] = int(polarity)
-    b = build_column(c)
     col = b.column
-    col.shear_only = True
     dt = max(col.shear_step, float(b.motion.dt) if b.motion.dt else b.dt)
     s = b.state
     t, a = [s.t], [np.zeros(len(s.wave.a))]
