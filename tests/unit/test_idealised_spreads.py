@@ -3,26 +3,21 @@ the fines correction, the columns' profile, the grid's ranges and roles, the rec
 written case files (--write-cases): each loads, without a warning, to the very column the script runs,
 so that twofluid and the OpenSees PM4Sand column (benchmarks/pm4sand_column.py) run one column,
 record, scale, duration and polarity."""
-import importlib.util
 import math
 import warnings
-from pathlib import Path
 
 import pytest
 
 from twofluid.casefile.case import sections
 from twofluid.casefile.loader import load_case
 from twofluid.runners.liquefaction import validated
+from repo_scripts import load_script
 
-PATH = Path(__file__).resolve().parents[2] / "scripts" / "idealised_spreads.py"
 
 
 @pytest.fixture(scope="module")
 def ideal():
-    spec = importlib.util.spec_from_file_location("idealised_spreads", PATH)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("scripts/idealised_spreads.py")
 
 
 def test_fines_correction_is_idriss_boulanger(ideal):

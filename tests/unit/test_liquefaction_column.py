@@ -409,14 +409,9 @@ def test_sand_viscosity_adds_to_the_mixture_viscosity_of_the_shear_wave():
 
 
 def _ensemble():
-    import importlib.util
-    from pathlib import Path
+    from repo_scripts import load_script
 
-    path = Path(__file__).resolve().parents[2] / "scripts" / "liquefaction_ensemble.py"
-    spec = importlib.util.spec_from_file_location("liquefaction_ensemble", path)
-    ensemble = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ensemble)
-    return ensemble
+    return load_script("scripts/liquefaction_ensemble.py")
 
 
 def test_medium_sand_is_determinate(bundled_runs):

@@ -14,6 +14,7 @@ import pytest
 from twofluid.casefile.loader import load_case
 from twofluid.io import ground_motion as gm
 from twofluid.io.results import write_resolved_case
+from repo_scripts import load_script
 
 BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
 INPUTS = [b.name for b in gm.BUNDLED.values() if b.input_motion]
@@ -21,10 +22,7 @@ INPUTS = [b.name for b in gm.BUNDLED.values() if b.input_motion]
 
 @pytest.fixture(scope="module")
 def col():
-    spec = importlib.util.spec_from_file_location("pm4sand_column", BENCH / "pm4sand_column.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/pm4sand_column.py")
 
 
 def _case_file(tmp_path, record, duration, pga=0.2, polarity=1):
@@ -91,10 +89,7 @@ def test_flow_criterion_is_the_window_mean_velocity(col):
 
 
 def _ideal():
-    spec = importlib.util.spec_from_file_location("idealised_spreads", BENCH.parent / "scripts" / "idealised_spreads.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("scripts/idealised_spreads.py")
 
 
 def test_frozen_idealised_runs_are_the_scripts_columns():

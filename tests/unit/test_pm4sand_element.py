@@ -8,22 +8,20 @@ must give the frozen N_3%.
 """
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 from pathlib import Path
 
 import pytest
 
+from repo_scripts import load_script
+
 BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
 RESULTS = BENCH / "pm4sand_element_results.json"
 
 
 def _script():
-    spec = importlib.util.spec_from_file_location("pm4sand_element", BENCH / "pm4sand_element.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script("benchmarks/pm4sand_element.py")
 
 
 @pytest.fixture(scope="module")
