@@ -132,6 +132,38 @@ def parse_args(argv=None):
 
 
 
+def up_mesh(y, node_depth, water_table, c_dash, compliant=True):
+    """The u-p column's nodes (two a level, ``WIDTH`` apart, at heights ``y``, bottom first), its
+    periodic sides (equalDOF), the pressure fixed at the nodes at or above the water table
+    (``node_depth`` [m] from the surface) and the base: on a compliant base a Lysmer dashpot
+    ``c_dash`` [kN s/m] to a fixed node (2 nele + 101), else fixed horizontally."""
+    nele = len(y) - 1
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for j in range(nele + 1):
+        ops.node(2 * j + 1, 0.0, y[j])
+        ops.node(2 * j + 2, WIDTH, y[j])
+    if compliant:
+        ops.fix(1, 0, 1, 0)
+        ops.fix(2, 0, 1, 0)
+        ops.equalDOF(1, 2, 1)
+    else:
+        ops.fix(1, 1, 1, 0)
+        ops.fix(2, 1, 1, 0)
+    for j in range(1, nele + 1):
+        ops.equalDOF(2 * j + 1, 2 * j + 2, 1, 2)
+    for j in range(nele + 1):
+        if node_depth[j] <= water_table + 1e-9:          # at or above the water table: p = 0
+            ops.fix(2 * j + 1, 0, 0, 1)
+            ops.fix(2 * j + 2, 0, 0, 1)
+    if compliant:
+        dash = 2 * nele + 101
+        ops.node(dash, 0.0, 0.0)
+        ops.fix(dash, 1, 1, 1)
+        ops.uniaxialMaterial("Viscous", 100, c_dash, 1.0)
+        ops.element("zeroLength", 10000, dash, 1, "-mat", 100, "-dir", 1)
+
+
 def _static_transient(tol):
     """The transient analysis of the gravity stages: Newton on NormDispIncr ``tol`` (50 iterations),
     Newmark's average acceleration (no numerical damping), a banded solver."""
@@ -282,32 +314,9 @@ def main(argv=None):
     perm_gravity = 1.0 / GAMMA_W
 
     # ------------------------------------------------------------------ model
-    ops.wipe()
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
-    for j in range(nele + 1):
-        ops.node(2 * j + 1, 0.0, y[j])
-        ops.node(2 * j + 2, WIDTH, y[j])
     compliant = a.base == "compliant"
-    if compliant:
-        ops.fix(1, 0, 1, 0)
-        ops.fix(2, 0, 1, 0)
-        ops.equalDOF(1, 2, 1)
-    else:
-        ops.fix(1, 1, 1, 0)
-        ops.fix(2, 1, 1, 0)
-    for j in range(1, nele + 1):
-        ops.equalDOF(2 * j + 1, 2 * j + 2, 1, 2)
-    for j in range(nele + 1):
-        if yn_depth[j] <= WATER_TABLE + 1e-9:          # at or above the water table: p = 0
-            ops.fix(2 * j + 1, 0, 0, 1)
-            ops.fix(2 * j + 2, 0, 0, 1)
     c_dash = BEDROCK_RHO * BEDROCK_VS * WIDTH          # kN s/m per metre of thickness
-    if compliant:
-        dash = 2 * nele + 101
-        ops.node(dash, 0.0, 0.0)
-        ops.fix(dash, 1, 1, 1)
-        ops.uniaxialMaterial("Viscous", 100, c_dash, 1.0)
-        ops.element("zeroLength", 10000, dash, 1, "-mat", 100, "-dir", 1)
+    up_mesh(y, yn_depth, WATER_TABLE, c_dash, compliant)
 
     for i, s in enumerate(mats):
         ops.nDMaterial("PressureDependMultiYield02", i + 1, 2, s["rho"], s["Gr"], s["Br"], s["phi"],

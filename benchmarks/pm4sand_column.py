@@ -57,19 +57,19 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import pm4sand_element as pe  # noqa: E402
 
-ops = peer = pe_static = None  # openseespy, the OpenSees peer column's helpers, the gravity stages' analysis
+ops = peer = pe_static = up_mesh = None  # openseespy, the peer's helpers, the gravity analysis, the mesh
 
 
 def load():
-    """openseespy, the peer column's helpers (recover, run_until, Stats) and the gravity stages' static
-    analysis, as the PDMY02 layered column (``opensees_layered.py``) sets them up; nothing else needs
-    OpenSees."""
-    global ops, peer, pe_static
+    """openseespy, the peer column's helpers (recover, run_until, Stats), the gravity stages' static
+    analysis and the u-p mesh, as the PDMY02 layered column (``opensees_layered.py``) sets them up;
+    nothing else needs OpenSees."""
+    global ops, peer, pe_static, up_mesh
     if ops is None:
         ops = pe.load_ops()  # (the wheel's BLAS loaded first where the system has none)
         import opensees_layered as layered
 
-        peer, pe_static = layered.peer, layered._static_transient
+        peer, pe_static, up_mesh = layered.peer, layered._static_transient, layered.up_mesh
     return ops
 
 
@@ -77,7 +77,7 @@ G_ACC = 9.80665
 RHO_W = 1.0                 # Mg/m3
 GAMMA_W = RHO_W * G_ACC     # kN/m3
 K_FLUID = 2.2e6             # kPa
-WIDTH = 0.5                 # m
+WIDTH = 0.5                 # m (opensees_layered.WIDTH: its up_mesh builds the column)
 CRUST_DR = 55.0             # %
 HPO_CACHE = HERE / "pm4sand_column_hpo.json"
 PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0)
@@ -228,26 +228,8 @@ def main(argv=None):
     t_max = dur + free + (a.flow_max if slope > 0.0 else 0.0)
     vel = np.concatenate([vel, np.full(int(math.ceil((t_max - dur) / dt_gm)) + 2, vel[-1])])
     # ---------------------------------------------------------------- model
-    ops.wipe()
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
-    for j in range(nele + 1):
-        ops.node(2 * j + 1, 0.0, y[j])
-        ops.node(2 * j + 2, WIDTH, y[j])
-    ops.fix(1, 0, 1, 0)
-    ops.fix(2, 0, 1, 0)
-    ops.equalDOF(1, 2, 1)
-    for j in range(1, nele + 1):
-        ops.equalDOF(2 * j + 1, 2 * j + 2, 1, 2)
-    for j in range(nele + 1):
-        if ydepth[j] <= wt + 1e-9:
-            ops.fix(2 * j + 1, 0, 0, 1)
-            ops.fix(2 * j + 2, 0, 0, 1)
     c_dash = bedrock_rho * bedrock_vs * WIDTH
-    dash = 2 * nele + 101
-    ops.node(dash, 0.0, 0.0)
-    ops.fix(dash, 1, 1, 1)
-    ops.uniaxialMaterial("Viscous", 100, c_dash, 1.0)
-    ops.element("zeroLength", 10000, dash, 1, "-mat", 100, "-dir", 1)
+    up_mesh(y, ydepth, wt, c_dash)
     sec = list(pe.SECONDARY.values())
     for i, m in enumerate(mats):
         ops.nDMaterial("PM4Sand", i + 1, m["dr"] / 100.0, m["G_o"], m["hpo"], m["rho"], *sec)
