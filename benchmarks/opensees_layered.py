@@ -164,6 +164,20 @@ def up_mesh(y, node_depth, water_table, c_dash, compliant=True):
         ops.element("zeroLength", 10000, dash, 1, "-mat", 100, "-dir", 1)
 
 
+def elastic_gravity(n_materials):
+    """The first gravity stage: every material elastic (stage 0), ten steps of 500 in the static
+    transient analysis (:func:`_static_transient` at 1e-6), then every material switched to its
+    plastic stage (1); returns the peer's step statistics to go on with."""
+    stats = peer.Stats()
+    for i in range(n_materials):
+        ops.updateMaterialStage("-material", i + 1, "-stage", 0)
+    _static_transient(1.0e-6)
+    peer.run_until(10 * 500.0, 500.0, stats)
+    for i in range(n_materials):
+        ops.updateMaterialStage("-material", i + 1, "-stage", 1)
+    return stats
+
+
 def _static_transient(tol):
     """The transient analysis of the gravity stages: Newton on NormDispIncr ``tol`` (50 iterations),
     Newmark's average acceleration (no numerical damping), a banded solver."""
@@ -330,13 +344,7 @@ def main(argv=None):
                     1.0, K_FLUID, RHO_W, perm_gravity, perm_gravity, s["e"], float(alpha[j]), 0.0, -G_ACC)
 
     # ---------------------------------------------------------------- gravity
-    g_stats = peer.Stats()
-    for i in range(len(mats)):
-        ops.updateMaterialStage("-material", i + 1, "-stage", 0)
-    _static_transient(1.0e-6)
-    peer.run_until(10 * 500.0, 500.0, g_stats)
-    for i in range(len(mats)):
-        ops.updateMaterialStage("-material", i + 1, "-stage", 1)
+    g_stats = elastic_gravity(len(mats))
     peer.run_until(20 * 500.0, 500.0, g_stats)
     ops.setParameter("-val", perm, "-eleRange", 1, nele, "hPerm")
     ops.setParameter("-val", perm, "-eleRange", 1, nele, "vPerm")

@@ -57,19 +57,19 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import pm4sand_element as pe  # noqa: E402
 
-ops = peer = pe_static = up_mesh = None  # openseespy, the peer's helpers, the gravity analysis, the mesh
+ops = peer = up_mesh = elastic_gravity = None  # openseespy, the peer's helpers, the mesh, the first gravity stage
 
 
 def load():
-    """openseespy, the peer column's helpers (recover, run_until, Stats), the gravity stages' static
-    analysis and the u-p mesh, as the PDMY02 layered column (``opensees_layered.py``) sets them up;
+    """openseespy, the peer column's helpers (recover, run_until, Stats), the u-p mesh and the first
+    (elastic) gravity stage, as the PDMY02 layered column (``opensees_layered.py``) sets them up;
     nothing else needs OpenSees."""
-    global ops, peer, pe_static, up_mesh
+    global ops, peer, up_mesh, elastic_gravity
     if ops is None:
         ops = pe.load_ops()  # (the wheel's BLAS loaded first where the system has none)
         import opensees_layered as layered
 
-        peer, pe_static, up_mesh = layered.peer, layered._static_transient, layered.up_mesh
+        peer, up_mesh, elastic_gravity = layered.peer, layered.up_mesh, layered.elastic_gravity
     return ops
 
 
@@ -245,13 +245,7 @@ def main(argv=None):
         ops.element("SSPquadUP", j + 1, 2 * j + 1, 2 * j + 2, 2 * j + 4, 2 * j + 3, int(lay[j]) + 1, 1.0, K_FLUID,
                     RHO_W, 1.0 / GAMMA_W, 1.0 / GAMMA_W, m["e"], alpha, 0.0, -G_ACC * math.cos(theta))
     # ---------------------------------------------------------------- gravity
-    stats = peer.Stats()
-    for i in range(len(mats)):
-        ops.updateMaterialStage("-material", i + 1, "-stage", 0)
-    pe_static(1e-6)
-    peer.run_until(10 * 500.0, 500.0, stats)
-    for i in range(len(mats)):
-        ops.updateMaterialStage("-material", i + 1, "-stage", 1)
+    stats = elastic_gravity(len(mats))
     for j in range(nele):
         ops.setParameter("-val", 0, "-ele", j + 1, "FirstCall", str(int(lay[j]) + 1))
         ops.setParameter("-val", pe.NU_PLASTIC, "-ele", j + 1, "poissonRatio", str(int(lay[j]) + 1))
