@@ -57,19 +57,20 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import pm4sand_element as pe  # noqa: E402
 
-ops = peer = up_mesh = elastic_gravity = None  # openseespy, the peer's helpers, the mesh, the first gravity stage
+ops = peer = up_mesh = elastic_gravity = dynamic_transient = None  # OpenSees and opensees_layered's set-up
 
 
 def load():
-    """openseespy, the peer column's helpers (recover, run_until, Stats), the u-p mesh and the first
-    (elastic) gravity stage, as the PDMY02 layered column (``opensees_layered.py``) sets them up;
+    """openseespy, the peer column's helpers (recover, run_until, Stats), the u-p mesh, the first
+    (elastic) gravity stage and the shaking's transient analysis, as the PDMY02 layered column (``opensees_layered.py``) sets them up;
     nothing else needs OpenSees."""
-    global ops, peer, up_mesh, elastic_gravity
+    global ops, peer, up_mesh, elastic_gravity, dynamic_transient
     if ops is None:
         ops = pe.load_ops()  # (the wheel's BLAS loaded first where the system has none)
         import opensees_layered as layered
 
         peer, up_mesh, elastic_gravity = layered.peer, layered.up_mesh, layered.elastic_gravity
+        dynamic_transient = layered.dynamic_transient
     return ops
 
 
@@ -289,13 +290,7 @@ def main(argv=None):
     ops.recorder("Node", "-file", f["ux"], "-time", "-dT", 0.01, "-node", *nodes_l, "-dof", 1, "disp")
     ops.recorder("Node", "-file", f["uy"], "-time", "-dT", 0.01, "-node", nodes_l[-1], "-dof", 2, "disp")
     ops.recorder("Node", "-file", f["acc"], "-time", "-node", nodes_l[-1], "-dof", 1, "accel")
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-4, 30, 0)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.6, 0.25 * 1.1 ** 2)
-    ops.analysis("Transient")
+    dynamic_transient(1e-4)
     ops.record()
     d_stats = peer.Stats()
     t_d0 = time.perf_counter()
