@@ -38,6 +38,7 @@ BAD = [("layer", "thickness", "0.0"), ("layer", "thickness", "nan"), ("layer", "
        ("closures.granular_rheology", "law", '"mu_i"'), ("closures.granular_rheology", "mu_s", "0.0"),
        ("closures.granular_rheology", "mu_2", "0.3"), ("closures.granular_rheology", "i_0", "-0.1"),
        ("closures.granular_rheology", "phi_c", "0.8"), ("closures.granular_rheology", "k_dil", "-1.0"),
+       ("closures.granular_rheology", "amplitude", "0.0"), ("closures.granular_rheology", "amplitude", "11.0"),
        ("closures.permeability", "law", '"ergun"'), ("closures.permeability", "constant", "0.0"),
        ("time", "end", "0.0"), ("time", "rtol", "0.1"), ("time", "step", "0.0"),
        ("output", "times", "[-1.0]"), ("output", "samples", "2"), ("output", "compare", '"yes"')]
@@ -93,6 +94,20 @@ def test_calibration_status_tells_a_k_at_the_search_bound_from_one_inside_it():
     case["closures"]["granular_rheology"]["k_dil"] = 4.09
     inside = data.calibration_status(case)["k_dil"]
     assert "at the bound" not in inside and "not the bundled case's fit" in inside
+
+
+def test_calibration_status_names_the_nonlocal_amplitude_only_where_the_law_uses_it():
+    case = load_case(CASE)
+    assert "A = 0.48" in data.calibration_status(case)["fixed_beforehand"]
+    case["closures"]["granular_rheology"]["law"] = "boyer_pailha"
+    assert "amplitude" not in data.calibration_status(case)["fixed_beforehand"]
+
+
+def test_the_local_law_ignores_the_amplitude_and_the_nonlocal_law_uses_it():
+    case = load_case(CASE)
+    assert layer_of(case, 0.588).amplitude == 0.48
+    case["closures"]["granular_rheology"]["law"] = "boyer_pailha"
+    assert layer_of(case, 0.588).amplitude == 0.0
 
 
 def test_calibration_status_computes_the_mu_s_fit_for_the_case_it_is_given():

@@ -33,12 +33,16 @@ _LAYER = [
 
 _RHEOLOGY = [
     K("law", str, "boyer_pailha", "-", "granular rheology: μ(I_v) of Boyer, Guazzelli & Pouliquen (2011) "
-      "plus tan ψ = K (φ − φ_eq(I_v)) of Pailha & Pouliquen (2009)", choices=("boyer_pailha",)),
+      "plus tan ψ = K (φ − φ_eq(I_v)) of Pailha & Pouliquen (2009), local (boyer_pailha) or made nonlocal by "
+      "the granular fluidity of Kamrin & Koval (2012) (boyer_pailha_nonlocal)",
+      choices=("boyer_pailha", "boyer_pailha_nonlocal")),
     K("mu_s", float, 0.425, "-", "μ_s, friction at I_v → 0", lo=0.0, hi=2.0, lo_open=True),
     K("mu_2", float, 0.765, "-", "μ_2, friction at large I_v (> mu_s)", lo=0.0, hi=3.0, lo_open=True),
     K("i_0", float, 0.004, "-", "I_0 of μ(I_v)", lo=0.0, hi=1.0, lo_open=True),
     K("phi_c", float, 0.585, "-", "φ_c, critical solid fraction at I_v → 0", lo=0.3, hi=0.74),
     K("k_dil", float, 4.09, "-", "K, dilatancy constant", lo=0.0, hi=1000.0),
+    K("amplitude", float, 0.48, "-", "A of the nonlocal law, cooperativity length ξ = A d/√abs(μ − μ_y) (Henann & "
+      "Kamrin 2013, glass beads)", lo=0.0, hi=10.0, lo_open=True, used_when=("law", ("boyer_pailha_nonlocal",))),
 ]
 
 _PERMEABILITY = [

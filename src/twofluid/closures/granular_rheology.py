@@ -35,12 +35,16 @@ from numpy.typing import ArrayLike
 
 from .registry import register
 
-__all__ = ["RHEOLOGY_DEFAULTS", "boyer_pailha", "mu_iv", "phi_eq", "viscous_number", "carman_kozeny"]
+__all__ = ["RHEOLOGY_DEFAULTS", "NONLOCAL_AMPLITUDE", "boyer_pailha", "mu_iv", "phi_eq", "viscous_number",
+           "nonlocal_shear_rate", "carman_kozeny"]
 
 #: the sedFoam 1DWetAvalanche tutorial's set (μ_s, μ_2, I_0, φ_c) and K = 4.09, the value quoted for
 #: Pailha & Pouliquen (2009) (its text was not available to check it; sedFoam's own K_dila is a
 #: different, pressure-based dilatancy); the bundled case states its own calibrated values
 RHEOLOGY_DEFAULTS = {"mu_s": 0.425, "mu_2": 0.765, "i_0": 0.004, "phi_c": 0.585, "k_dil": 4.09}
+#: nonlocal amplitude A [-] of the granular fluidity model for glass beads (Henann & Kamrin 2013,
+#: *PNAS* 110, 6730, their calibration on glass beads: μ_s 0.3819, b 0.9377, A 0.48)
+NONLOCAL_AMPLITUDE = 0.48
 
 
 def mu_iv(iv: ArrayLike, mu_s: float = 0.425, mu_2: float = 0.765, i_0: float = 0.004,
@@ -121,6 +125,54 @@ def viscous_number(ratio: ArrayLike, phi: ArrayLike, mu_s: float = 0.425, mu_2: 
             break
     out[act] = s * s
     return out
+
+
+@register("granular_rheology", "boyer_pailha_nonlocal",
+          params={**RHEOLOGY_DEFAULTS, "amplitude": NONLOCAL_AMPLITUDE}, porosity_range=(0.35, 0.5),
+          reference="Boyer et al. (2011); Pailha & Pouliquen (2009); nonlocal granular fluidity of Kamrin & Koval "
+                    "(2012), A of Henann & Kamrin (2013)")
+def nonlocal_shear_rate(ratio: ArrayLike, phi: ArrayLike, p_s: ArrayLike, dz: ArrayLike, eta_f: float, d: float,
+                        amplitude: float = NONLOCAL_AMPLITUDE, mu_s: float = 0.425, mu_2: float = 0.765,
+                        i_0: float = 0.004, phi_c: float = 0.585, k_dil: float = 4.09) -> np.ndarray:
+    """Shear rate γ̇ [1/s] of the Boyer–Pailha law made nonlocal by the granular fluidity g = γ̇/μ.
+
+    Kamrin & Koval (2012, *Phys. Rev. Lett.* 108, 178301) replace the local law γ̇ = μ g_loc(μ) by
+
+        g = g_loc + ξ² ∂²g/∂z² ,   ξ = A d / √|μ − μ_y| ,
+
+    on a column of cells (thicknesses ``dz`` [m], bottom first) with no flux of g through either end
+    (∂g/∂z = 0). Here μ = τ/P_s is the stress ratio ``ratio`` [-], g_loc = γ̇_loc/μ with γ̇_loc =
+    I_v P_s/η_f of the local law (:func:`viscous_number`), and μ_y = μ_s + K (φ − φ_c) the local
+    yield friction, which takes the place of Kamrin & Koval's μ_s in ξ (the dilatant law's static
+    friction). A flowing zone thus fluidises its neighbours over ξ, a few grain diameters ``d`` [m]:
+    a shear band has a width of its own, and material below yield next to it creeps. A uniform
+    state is unchanged (g = g_loc). ``amplitude`` A = 0 gives the local law. ``p_s`` [Pa], ``eta_f``
+    [Pa·s]. Finite volumes, solved as one tridiagonal system.
+
+    >>> r = nonlocal_shear_rate([0.6, 0.6], [0.58, 0.58], [30.0, 30.0], [1e-4, 1e-4], 0.096, 160e-6)
+    >>> bool(np.allclose(r, viscous_number(0.6, 0.58) * 30.0 / 0.096, rtol=1e-12))
+    True
+    """
+    from scipy.linalg import solve_banded
+
+    ratio = np.asarray(ratio, dtype=float)
+    phi = np.asarray(phi, dtype=float)
+    p_s = np.asarray(p_s, dtype=float)
+    dz = np.asarray(dz, dtype=float)
+    local = viscous_number(ratio, phi, mu_s, mu_2, i_0, phi_c, k_dil) * p_s / eta_f
+    if amplitude <= 0.0 or ratio.size < 2:
+        return local
+    g_loc = np.divide(local, ratio, out=np.zeros_like(local), where=ratio > 0.0)
+    # 1/ξ², floored at |μ − μ_y| = 1e-12 so that the system stays regular where μ = μ_y everywhere
+    c = np.maximum(np.abs(ratio - mu_s - k_dil * (phi - phi_c)), 1e-12) / (amplitude * d) ** 2
+    w = 1.0 / (0.5 * (dz[1:] + dz[:-1]))  # face conductances
+    ab = np.zeros((3, ratio.size))
+    ab[1] = c * dz
+    ab[1, :-1] += w
+    ab[1, 1:] += w
+    ab[0, 1:] = -w
+    ab[2, :-1] = -w
+    return ratio * solve_banded((1, 1), ab, c * dz * g_loc)
 
 
 @register("permeability", "carman_kozeny", params={"constant": 180.0}, porosity_range=(0.3, 0.6),

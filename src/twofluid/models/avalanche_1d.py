@@ -40,7 +40,7 @@ import numpy as np
 from scipy.integrate import BDF
 from scipy.sparse import diags
 
-from ..closures.granular_rheology import RHEOLOGY_DEFAULTS, carman_kozeny, phi_eq, viscous_number
+from ..closures.granular_rheology import RHEOLOGY_DEFAULTS, carman_kozeny, nonlocal_shear_rate, phi_eq, viscous_number
 
 __all__ = ["AvalancheLayer", "LayerState", "SKELETON_MODULUS_PA"]
 
@@ -82,17 +82,20 @@ class AvalancheLayer:
     ``grading`` the ratio of the top element's thickness at the start to the base element's, the
     thicknesses in geometric progression between (1: uniform; above 1 the elements are thinnest at
     the base, where a dense layer's shear band forms). The ratio is fixed as N changes, so doubling
-    N about halves every element.
+    N about halves every element. ``nonlocal_amplitude`` A > 0 makes the rheology nonlocal
+    (:func:`~twofluid.closures.granular_rheology.nonlocal_shear_rate`: a flowing zone fluidises its
+    neighbours over ξ = A d/√|μ − μ_y|); 0 keeps it local.
     """
 
     def __init__(self, thickness: float, elements: int, phi0, slope_deg: float, rho_s: float, rho_f: float,
                  eta_f: float, d: float, gravity: float = 9.81, rheology: dict | None = None,
                  permeability_constant: float = 180.0, modulus: float = SKELETON_MODULUS_PA,
-                 top: str = "drained", grading: float = 1.0):
+                 top: str = "drained", grading: float = 1.0, nonlocal_amplitude: float = 0.0):
         n = int(elements)
         phi0 = np.broadcast_to(np.asarray(phi0, dtype=float), (n,)).copy()
         self.n, self.eta, self.d = n, float(eta_f), float(d)
         self.rh = {**RHEOLOGY_DEFAULTS, **(rheology or {})}
+        self.amplitude = float(nonlocal_amplitude)
         self.c_k, self.modulus, self.closed = float(permeability_constant), float(modulus), top == "closed"
         th = math.radians(slope_deg)
         widths = float(grading) ** (np.arange(n) / (n - 1))
@@ -112,11 +115,16 @@ class AvalancheLayer:
         p_s = self.modulus * (phi - phib)
         return dz, phib, phi, p_s, self.load - p_s
 
-    def _shear(self, phi, p_s):
+    def _shear(self, phi, p_s, dz):
         ps = np.maximum(p_s, 1e-9 * self.load[0])  # a liquefied element keeps the viscous limit τ = η_f γ̇
-        iv = viscous_number(self.tau / ps, phi, **self.rh)
+        if self.amplitude > 0.0:
+            gd = nonlocal_shear_rate(self.tau / ps, phi, ps, dz, self.eta, self.d, self.amplitude, **self.rh)
+            iv = self.eta * gd / ps
+        else:
+            iv = viscous_number(self.tau / ps, phi, **self.rh)
+            gd = iv * ps / self.eta
         tan_psi = self.rh["k_dil"] * (phi - phi_eq(iv, self.rh["phi_c"]))
-        return iv * ps / self.eta, tan_psi
+        return gd, tan_psi
 
     def rhs(self, t, y):
         """d(Δz, φ̄)/dt of the module docstring."""
@@ -128,12 +136,12 @@ class AvalancheLayer:
         q[1:-1] = -(p[1:] - p[:-1]) / r
         if not self.closed:
             q[-1] = p[-1] / (0.5 * dz[-1] / k[-1])  # to p = 0 at the surface
-        gd, tan_psi = self._shear(phi, p_s)
+        gd, tan_psi = self._shear(phi, p_s, dz)
         return np.concatenate([q[:-1] - q[1:], -phi * gd * tan_psi])
 
     def state(self, t: float, y) -> LayerState:
         dz, phib, phi, p_s, p = self._split(np.asarray(y, dtype=float))
-        gd, tan_psi = self._shear(phi, p_s)
+        gd, tan_psi = self._shear(phi, p_s, dz)
         z = np.concatenate([[0.0], np.cumsum(dz)])
         u = np.concatenate([[0.0], np.cumsum(gd * dz)])
         return LayerState(float(t), z, u, phi, phib, p, p_s, gd, tan_psi)
@@ -141,7 +149,7 @@ class AvalancheLayer:
     def jac_sparsity(self):
         n = self.n
         band = diags([1, 1, 1], [-1, 0, 1], shape=(n, n), dtype=float).toarray()
-        eye = np.eye(n)
+        eye = np.eye(n) if self.amplitude <= 0.0 else np.ones((n, n))  # nonlocal: every element's rate
         return np.block([[band, band], [eye, eye]])
 
     # -- time loop --------------------------------------------------------------------------------

@@ -39,12 +39,14 @@ _PROF = ["time_s", "z_m", "velocity_m_s", "solid_fraction", "excess_pressure_Pa"
 def layer_of(case: dict, phi0: float, elements: int | None = None) -> AvalancheLayer:
     """The layer of ``case`` at initial solid fraction ``phi0`` (``elements`` overrides the case's)."""
     la, ma = case["layer"], case["materials"]
-    rh = {k: v for k, v in case["closures"]["granular_rheology"].items() if k != "law"}
+    rh = {k: v for k, v in case["closures"]["granular_rheology"].items() if k not in ("law", "amplitude")}
+    nonlocal_ = case["closures"]["granular_rheology"]["law"] == "boyer_pailha_nonlocal"
     return AvalancheLayer(la["thickness"], elements or la["elements"], phi0, la["slope_deg"],
                           ma["particle_density"], ma["liquid_density"], ma["liquid_viscosity"],
                           ma["particle_diameter"], ma["gravity"], rheology=rh,
                           permeability_constant=case["closures"]["permeability"]["constant"],
-                          modulus=la["skeleton_modulus"], top=la["top"], grading=la["grading"])
+                          modulus=la["skeleton_modulus"], top=la["top"], grading=la["grading"],
+                          nonlocal_amplitude=case["closures"]["granular_rheology"]["amplitude"] if nonlocal_ else 0.0)
 
 
 def member_times(case: dict, phi0: float) -> np.ndarray:
