@@ -182,12 +182,19 @@ def _prepare(d, st, par, e, s, gr, c):
     """What element ``e``'s committed state and the direction ``d`` fix for a sub-step with strength
     ``s`` [Pa] and reference strain ``gr`` (``Q_*``): the open reversal points (:func:`_open_count`)
     and the origins of the branches from them, the MRDF factor, the largest strain so far."""
+    return _prepare_fm(d, st, par, e, s, gr, c, -1.0)
+
+
+def _prepare_fm(d, st, par, e, s, gr, c, fm):
+    """:func:`_prepare` with the branches' F ``fm`` given (:func:`_mrdf` of the same state and ``gr``,
+    which the caller kept from an earlier sub-step: the same number; < 0: not known, computed here)."""
     n, rev = _hm._open_count(d, st, e)
     virgin = 1.0 if st[e, S_DIR] == 0.0 else 0.0
     if n == 0:
         return (d, s, gr, virgin, 0.0, 0.0, st[e, S_GM], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    fm = _hm._mrdf(st, par, e, gr, c)
+    if fm < 0.0:
+        fm = _hm._mrdf(st, par, e, gr, c)
     g0, t0 = _hm._open_point(n - 1, n, rev, st, e)
     a = _hm._origin(g0, t0, d, s, gr, fm, c)
     b = a
