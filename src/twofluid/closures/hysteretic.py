@@ -353,7 +353,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
     """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given."""
     s, gmx = _hb.strength_modulus(ps, par, e)
     gr = s / gmx
-    q = _prepare(d, st, par, e, s, gr, c)
+    q = _prepare_fm(d, st, par, e, s, gr, c, -1.0)
     tau = _stress(g, q, c)[0]
     fm = q[Q_FM] if q[Q_N] > 0.0 else -1.0
     r_old = st[e, S_RG]
@@ -383,7 +383,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
             st[e, k] = save[k]
         s, gmx = _hb.strength_modulus(ps * q, par, e)
         gr = s / gmx
-        qq = _prepare(d, st, par, e, s, gr, c)
+        qq = _prepare_fm(d, st, par, e, s, gr, c, -1.0)
         tau = _stress(g, qq, c)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
         f = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old) - q

@@ -93,31 +93,35 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     ca = 0.5 / nm_beta - 1.0
     for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
         _law._store(cst, e, _hb._constants(st, par, e))
-    if m == 0:
-        return 0
     # an element whose P_s cannot change over the call (above the water table, or neither drained
-    # nor generating) has the same strength, G_max and viscosity at every sub-step: computed once,
-    # the same numbers; with every element so, the damping bands too
+    # nor generating) has the same strength, G_max and viscosity at every sub-step: computed at the
+    # first only, the same numbers; with every element so, the damping bands too
     all_fixed = _fixed_strength(par, dn, ns, fixed)
-    for e in range(ne):
-        if fixed[e] and not _strength(e, 1.0 / m, n, dn, nb, A, p_ref, ns, par, nn, psv, s, gm, gr):
-            return 2
-        visc[e] = eta[e] + a1 * gm[e]
-    if all_fixed:
-        _nb.damping_bands(md, mo, a0, impedance, visc, h, cd, co)
     for i in range(m):
         t = t0 + (i + 1) * dt
         frac = (i + 1.0) / m
-        if not all_fixed:
+        if i == 0 or not all_fixed:
             for e in range(ne):
-                if not fixed[e]:
-                    if not _strength(e, frac, n, dn, nb, A, p_ref, ns, par, nn, psv, s, gm, gr):
-                        return 2
-                    visc[e] = eta[e] + a1 * gm[e]
+                if i > 0 and fixed[e]:
+                    continue
+                ps = 0.0
+                if e < ns:
+                    nn[e] = n[e] + frac * dn[e]
+                    one_m = 1.0 - nn[e]
+                    if one_m > 0.0:
+                        ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
+                psv[e] = ps
+                se, ge = _hb.strength_modulus(ps, par, e)
+                if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
+                    return 2
+                s[e] = se
+                gm[e] = ge
+                gr[e] = se / ge
+                visc[e] = eta[e] + a1 * gm[e]
         ag = a_in[i]
         if not math.isfinite(ag):
             return 2
-        if not all_fixed:
+        if i == 0 or not all_fixed:
             _nb.damping_bands(md, mo, a0, impedance, visc, h, cd, co)
         for j in range(nv):
             un[j] = u[j] + dt * v[j] + 0.5 * dt * dt * a[j]
@@ -132,7 +136,10 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = _hm.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
-            _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
+            if fixed[e]:
+                _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
+            else:
+                _law._store(prep, e, _law._prepare_fm(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e), -1.0))
         for sweep in range(4):
             # Newton's iterations with each element's branch fixed; then each element's branch is
             # checked against the direction its converged strain actually moved: an element whose
@@ -186,7 +193,10 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     changed += 1
                 else:
                     continue
-                _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
+                if fixed[e]:
+                    _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
+                else:
+                    _law._store(prep, e, _law._prepare_fm(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e), -1.0))
             if changed == 0:
                 break
         if not converged:
@@ -235,26 +245,6 @@ def _fixed_strength(par, dn, ns, fixed):
         if not fixed[e]:
             every = False
     return every
-
-
-def _strength(e, frac, n, dn, nb, A, p_ref, ns, par, nn, psv, s, gm, gr):
-    """Element ``e``'s porosity ``nn``, P_s ``psv`` [Pa], strength ``s`` [Pa], G_max ``gm`` [Pa] and γ_r
-    ``gr`` at the fraction ``frac`` of the vertical step (the porosity moved linearly by ``dn``);
-    False where they are not finite and positive."""
-    ps = 0.0
-    if e < ns:
-        nn[e] = n[e] + frac * dn[e]
-        one_m = 1.0 - nn[e]
-        if one_m > 0.0:
-            ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
-    psv[e] = ps
-    se, ge = _hb.strength_modulus(ps, par, e)
-    if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
-        return False
-    s[e] = se
-    gm[e] = ge
-    gr[e] = se / ge
-    return True
 
 
 def _prepare_kept(d, st, par, e, s, gr, cst, prep, fm_key, fm_val):
@@ -362,7 +352,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _strength, _prepare_kept, _law._prepare_fm, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _prepare_kept, _law._prepare_fm, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
