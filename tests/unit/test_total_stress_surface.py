@@ -80,7 +80,7 @@ def test_strength_and_mrdf_factor_kept_over_the_call_are_those_of_every_substep(
     kept = _companion_call(c)
 
     def nothing_fixed(par, dn, ns, fixed):
-        fixed[:] = False
+        fixed[:] = 0.0
         return False
 
     real = hk._prepare_kept

@@ -83,8 +83,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     psv = np.zeros(ne)
     flips = np.zeros(ne, dtype=np.int64)
     save = np.empty(st.shape[1])
-    fixed = np.zeros(ne, dtype=np.bool_)  # P_s cannot change over the call (:func:`_fixed_strength`)
-    fm_key = np.full((ne, 3), np.nan)  # (γ_m, γ_r, r_g) of each element's last F (_mrdf), and F
+    fixed = np.zeros(ne)  # 1: P_s cannot change over the call (:func:`_fixed_strength`)
+    fm_key = np.empty((ne, 3))  # (γ_m, γ_r, r_g) of each element's last F (_mrdf; nan: none yet), and F
     fm_val = np.empty(ne)
     cst = np.empty((ne, _law.NCONST))  # each element's constants and its prepared branches for the
     prep = np.empty((ne, _law.NPREP))  # sub-step's Newton iterations (closures.hysteretic._prepare)
@@ -93,6 +93,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     ca = 0.5 / nm_beta - 1.0
     for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
         _law._store(cst, e, _hb._constants(st, par, e))
+        fm_key[e, 0] = math.nan
     # an element whose P_s cannot change over the call (above the water table, or neither drained
     # nor generating) has the same strength, G_max and viscosity at every sub-step: computed at the
     # first only, the same numbers; with every element so, the damping bands too
@@ -102,7 +103,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         frac = (i + 1.0) / m
         if i == 0 or not all_fixed:
             for e in range(ne):
-                if i > 0 and fixed[e]:
+                if i > 0 and fixed[e] > 0.0:
                     continue
                 ps = 0.0
                 if e < ns:
@@ -136,10 +137,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = _hm.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
-            if fixed[e]:
-                _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
-            else:
-                _law._store(prep, e, _law._prepare_fm(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e), -1.0))
+            _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
         for sweep in range(4):
             # Newton's iterations with each element's branch fixed; then each element's branch is
             # checked against the direction its converged strain actually moved: an element whose
@@ -193,10 +191,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     changed += 1
                 else:
                     continue
-                if fixed[e]:
-                    _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
-                else:
-                    _law._store(prep, e, _law._prepare_fm(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e), -1.0))
+                _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
             if changed == 0:
                 break
         if not converged:
@@ -235,14 +230,14 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
 
 
 def _fixed_strength(par, dn, ns, fixed):
-    """Mark in ``fixed`` the elements whose P_s cannot change over a call of :func:`_substeps`: those
+    """Mark in ``fixed`` (1) the elements whose P_s cannot change over a call of :func:`_substeps`: those
     above the water table (from ``ns`` on: P_s = 0) and the saturated ones that neither drain
     (``dn`` = 0: the porosity n + frac·0 = n at every sub-step) nor generate pore pressure
     (``P_LIQ`` = 0: n̄ held); returns whether every element is."""
     every = True
     for e in range(fixed.size):
-        fixed[e] = e >= ns or (dn[e] == 0.0 and not par[e, P_LIQ] > 0.0)
-        if not fixed[e]:
+        fixed[e] = 1.0 if e >= ns or (dn[e] == 0.0 and not par[e, P_LIQ] > 0.0) else 0.0
+        if fixed[e] == 0.0:
             every = False
     return every
 
@@ -255,7 +250,7 @@ def _prepare_kept(d, st, par, e, s, gr, cst, prep, fm_key, fm_val):
     fm = -1.0
     if fm_key[e, 0] == st[e, S_GM] and fm_key[e, 1] == gr[e] and fm_key[e, 2] == st[e, S_RG]:
         fm = fm_val[e]
-    q = _law._prepare_fm(d, st, par, e, s[e], gr[e], _law._constants_row(cst, e), fm)
+    q = _law._prepare(d, st, par, e, s[e], gr[e], _law._constants_row(cst, e), fm)
     _law._store(prep, e, q)
     if q[_law.Q_N] > 0.0:
         fm_key[e, 0] = st[e, S_GM]
@@ -352,7 +347,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _prepare_kept, _law._prepare_fm, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _prepare_kept, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
