@@ -20,7 +20,12 @@ and mixture viscosity η γ̇.
 The porosity of the saturated elements moves linearly over the vertical step from ``n`` by
 ``dn`` (the previous step's change: the vertical model's drainage, extrapolated), so P_s — and
 with it the strength — changes smoothly from sub-step to sub-step instead of jumping at every
-vertical step.
+vertical step. An element whose P_s cannot change over the call (:func:`_fixed_strength`: above the
+water table, or saturated with ``dn`` = 0 and no generation, as in the total-stress companion run)
+has its strength, G_max and viscosity computed at the first sub-step only, and with every element
+so the damping bands too; each element's MRDF factor is kept while what it depends on (γ_m, γ_r,
+r_g) is the same (:func:`_prepare_kept`). Both give the same numbers, bit for bit, as computing them
+at every sub-step.
 
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
