@@ -57,3 +57,54 @@ def test_a_wave_that_is_not_whole_steps_runs_step_by_step():
     t0, a0 = rl.total_stress_surface(c, one_call=False)
     np.testing.assert_array_equal(t1, t0)
     np.testing.assert_array_equal(a1, a0)
+
+
+def _companion_call(c):
+    """The companion's one call of the hysteretic sub-steps (plain Python): its outputs."""
+    from twofluid.models import hysteretic_kernel as hk
+
+    b = rl.total_stress_column(c)
+    b.column._hyst_run = hk._substeps  # (the column resolves its kernel once per run)
+    t, a = rl._whole_wave(b)
+    return np.concatenate([t, a])
+
+
+def test_strength_and_mrdf_factor_kept_over_the_call_are_those_of_every_substep(monkeypatch):
+    """In total stress nothing changes P_s over the call (no drainage, no generation), so the
+    sub-steps compute each element's strength, G_max, viscosity and the damping bands once, and keep
+    the MRDF factor F while the largest strain, γ_r and r_g are the same: the same numbers, bit for
+    bit, as computing them at every sub-step (the plain Python path, with both shortcuts off)."""
+    from twofluid.models import hysteretic_kernel as hk
+
+    c = _case("liquefaction-layered-site", 0.5)
+    kept = _companion_call(c)
+
+    def nothing_fixed(par, dn, ns, fixed):
+        fixed[:] = 0.0
+        return False
+
+    real = hk._prepare_kept
+
+    def always_computed(d, st, par, e, s, gr, cst, prep, fm_key, fm_val):
+        fm_key[:] = np.nan  # every F computed afresh
+        real(d, st, par, e, s, gr, cst, prep, fm_key, fm_val)
+
+    monkeypatch.setattr(hk, "_fixed_strength", nothing_fixed)
+    monkeypatch.setattr(hk, "_prepare_kept", always_computed)
+    every = _companion_call(c)
+    assert kept.size > 100
+    np.testing.assert_array_equal(kept, every)
+
+
+def test_the_companion_compiled_and_plain_alike():
+    """The companion's kernel compiled and as plain Python (``TWOFLUID_DISABLE_JIT``): 1e-12."""
+    from twofluid.models import hysteretic_kernel as hk
+
+    if hk.compiled() is None:
+        pytest.skip("numba not available: only the plain path runs")
+    c = _case("liquefaction-layered-site", 0.5)
+    plain = _companion_call(c)
+    t, a = rl.total_stress_surface(c)
+    n = t.size
+    np.testing.assert_allclose(t, plain[:n], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(a, plain[n:], rtol=0, atol=1e-12 * np.max(np.abs(a)))

@@ -178,16 +178,19 @@ __all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "d
            "commit", "commit_counted", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
 
 
-def _prepare(d, st, par, e, s, gr, c):
+def _prepare(d, st, par, e, s, gr, c, fm):
     """What element ``e``'s committed state and the direction ``d`` fix for a sub-step with strength
     ``s`` [Pa] and reference strain ``gr`` (``Q_*``): the open reversal points (:func:`_open_count`)
-    and the origins of the branches from them, the MRDF factor, the largest strain so far."""
+    and the origins of the branches from them, the MRDF factor, the largest strain so far. ``fm``:
+    the branches' F where the caller kept it (:func:`_mrdf` of the same state and ``gr``, from an
+    earlier sub-step: the same number); < 0: not known, computed here."""
     n, rev = _hm._open_count(d, st, e)
     virgin = 1.0 if st[e, S_DIR] == 0.0 else 0.0
     if n == 0:
         return (d, s, gr, virgin, 0.0, 0.0, st[e, S_GM], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    fm = _hm._mrdf(st, par, e, gr, c)
+    if fm < 0.0:
+        fm = _hm._mrdf(st, par, e, gr, c)
     g0, t0 = _hm._open_point(n - 1, n, rev, st, e)
     a = _hm._origin(g0, t0, d, s, gr, fm, c)
     b = a
@@ -268,7 +271,7 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     [14.7, 13.2, 14.8]
     """
     c = _hb._constants(st, par, e)
-    return _stress(g, _prepare(d, st, par, e, s, gr, c), c)[0]
+    return _stress(g, _prepare(d, st, par, e, s, gr, c, -1.0), c)[0]
 
 
 def commit(g, d, tau, st, par, e, s, t, gr):
@@ -346,7 +349,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
     """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given."""
     s, gmx = _hb.strength_modulus(ps, par, e)
     gr = s / gmx
-    q = _prepare(d, st, par, e, s, gr, c)
+    q = _prepare(d, st, par, e, s, gr, c, -1.0)
     tau = _stress(g, q, c)[0]
     fm = q[Q_FM] if q[Q_N] > 0.0 else -1.0
     r_old = st[e, S_RG]
@@ -376,7 +379,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
             st[e, k] = save[k]
         s, gmx = _hb.strength_modulus(ps * q, par, e)
         gr = s / gmx
-        qq = _prepare(d, st, par, e, s, gr, c)
+        qq = _prepare(d, st, par, e, s, gr, c, -1.0)
         tau = _stress(g, qq, c)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
         f = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old) - q

@@ -20,7 +20,12 @@ and mixture viscosity η γ̇.
 The porosity of the saturated elements moves linearly over the vertical step from ``n`` by
 ``dn`` (the previous step's change: the vertical model's drainage, extrapolated), so P_s — and
 with it the strength — changes smoothly from sub-step to sub-step instead of jumping at every
-vertical step.
+vertical step. An element whose P_s cannot change over the call (:func:`_fixed_strength`: above the
+water table, or saturated with ``dn`` = 0 and no generation, as in the total-stress companion run)
+has its strength, G_max and viscosity computed at the first sub-step only, and with every element
+so the damping bands too; each element's MRDF factor is kept while what it depends on (γ_m, γ_r,
+r_g) is the same (:func:`_prepare_kept`). Both give the same numbers, bit for bit, as computing them
+at every sub-step.
 
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
@@ -39,7 +44,7 @@ import numpy as np
 from ..closures import hysteretic as _law
 from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm, hysteretic_ratchet as _hr
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_GC, S_GD, S_RG
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_GC, S_GD, S_GM, S_RG
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
@@ -83,6 +88,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     psv = np.zeros(ne)
     flips = np.zeros(ne, dtype=np.int64)
     save = np.empty(st.shape[1])
+    fixed = np.zeros(ne)  # 1: P_s cannot change over the call (:func:`_fixed_strength`)
+    fm_key = np.empty((ne, 3))  # (γ_m, γ_r, r_g) of each element's last F (_mrdf; nan: none yet), and F
+    fm_val = np.empty(ne)
     cst = np.empty((ne, _law.NCONST))  # each element's constants and its prepared branches for the
     prep = np.empty((ne, _law.NPREP))  # sub-step's Newton iterations (closures.hysteretic._prepare)
     c0 = 1.0 / (nm_beta * dt * dt)
@@ -90,29 +98,37 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     ca = 0.5 / nm_beta - 1.0
     for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
         _law._store(cst, e, _hb._constants(st, par, e))
+        fm_key[e, 0] = math.nan
+    # an element whose P_s cannot change over the call (above the water table, or neither drained
+    # nor generating) has the same strength, G_max and viscosity at every sub-step: computed at the
+    # first only, the same numbers; with every element so, the damping bands too
+    all_fixed = _fixed_strength(par, dn, ns, fixed)
     for i in range(m):
         t = t0 + (i + 1) * dt
         frac = (i + 1.0) / m
-        for e in range(ne):
-            ps = 0.0
-            if e < ns:
-                nn[e] = n[e] + frac * dn[e]
-                one_m = 1.0 - nn[e]
-                if one_m > 0.0:
-                    ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
-            psv[e] = ps
-            se, ge = _hb.strength_modulus(ps, par, e)
-            if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
-                return 2
-            s[e] = se
-            gm[e] = ge
-            gr[e] = se / ge
+        if i == 0 or not all_fixed:
+            for e in range(ne):
+                if i > 0 and fixed[e] > 0.0:
+                    continue
+                ps = 0.0
+                if e < ns:
+                    nn[e] = n[e] + frac * dn[e]
+                    one_m = 1.0 - nn[e]
+                    if one_m > 0.0:
+                        ps = p_ref[e] * math.exp(min((1.0 - (1.0 - nb[e]) / one_m) / A[e], _MAX_EXPONENT))
+                psv[e] = ps
+                se, ge = _hb.strength_modulus(ps, par, e)
+                if not (math.isfinite(se) and math.isfinite(ge) and ge > 0.0 and se > 0.0):
+                    return 2
+                s[e] = se
+                gm[e] = ge
+                gr[e] = se / ge
+                visc[e] = eta[e] + a1 * gm[e]
         ag = a_in[i]
         if not math.isfinite(ag):
             return 2
-        for e in range(ne):
-            visc[e] = eta[e] + a1 * gm[e]
-        _nb.damping_bands(md, mo, a0, impedance, visc, h, cd, co)
+        if i == 0 or not all_fixed:
+            _nb.damping_bands(md, mo, a0, impedance, visc, h, cd, co)
         for j in range(nv):
             un[j] = u[j] + dt * v[j] + 0.5 * dt * dt * a[j]
         if first == 1:
@@ -126,7 +142,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = _hm.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
-            _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e)))
+            _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
         for sweep in range(4):
             # Newton's iterations with each element's branch fixed; then each element's branch is
             # checked against the direction its converged strain actually moved: an element whose
@@ -180,7 +196,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     changed += 1
                 else:
                     continue
-                _law._store(prep, e, _law._prepare(dirn[e], st, par, e, s[e], gr[e], _law._constants_row(cst, e)))
+                _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
             if changed == 0:
                 break
         if not converged:
@@ -189,7 +205,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         for e in range(ne):
             g = (un[e + 1] - un[e]) / h[e]
             virgin = st[e, S_DIR] == 0.0 and g == st[e, 0]
-            tv = (eta[e] + a1 * gm[e]) * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress
+            tv = visc[e] * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress (η + a1 G_max) γ̇
             c = _law._constants_row(cst, e)
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
                 te = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c)
@@ -216,6 +232,36 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             a[j] = acc[j]
         surface[i] = (ag if t <= shaking_end + 1e-12 else 0.0) + a[ne]
     return 0
+
+
+def _fixed_strength(par, dn, ns, fixed):
+    """Mark in ``fixed`` (1) the elements whose P_s cannot change over a call of :func:`_substeps`: those
+    above the water table (from ``ns`` on: P_s = 0) and the saturated ones that neither drain
+    (``dn`` = 0: the porosity n + frac·0 = n at every sub-step) nor generate pore pressure
+    (``P_LIQ`` = 0: n̄ held); returns whether every element is."""
+    every = True
+    for e in range(fixed.size):
+        fixed[e] = 1.0 if e >= ns or (dn[e] == 0.0 and not par[e, P_LIQ] > 0.0) else 0.0
+        if fixed[e] == 0.0:
+            every = False
+    return every
+
+
+def _prepare_kept(d, st, par, e, s, gr, cst, prep, fm_key, fm_val):
+    """Prepare element ``e``'s branches for the sub-step (``closures.hysteretic._prepare``) into row
+    ``e`` of ``prep``, with the MRDF factor F kept from the last time it was computed where what it
+    depends on is the same (the largest strain γ_m, γ_r and the generated r_g, the element's
+    parameters being fixed): the same number, without the backbone's power and the factor's."""
+    fm = -1.0
+    if fm_key[e, 0] == st[e, S_GM] and fm_key[e, 1] == gr[e] and fm_key[e, 2] == st[e, S_RG]:
+        fm = fm_val[e]
+    q = _law._prepare(d, st, par, e, s[e], gr[e], _law._constants_row(cst, e), fm)
+    _law._store(prep, e, q)
+    if q[_law.Q_N] > 0.0:
+        fm_key[e, 0] = st[e, S_GM]
+        fm_key[e, 1] = gr[e]
+        fm_key[e, 2] = st[e, S_RG]
+        fm_val[e] = q[_law.Q_FM]
 
 
 def _body_force(m1, body, first, res, h, ns, rho_b):
@@ -306,7 +352,7 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _prepare_kept, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
