@@ -16,7 +16,8 @@ user types it, its outputs in a temporary folder:
   cluster; the workers' CPU counted as the process's children).
 
 The case files are written once from the new version's bundled cases (``twofluid show``), with the
-edits above, and both versions run the same file (a key the older version does not know is then
+edits above, and both versions run the same file; ``PYTHONPATH`` is removed from the runs'
+environment, so that each runs its environment's own package (a key the older version does not know is then
 said by it on standard error: ``--check`` prints those lines). The CPU of a run is the user + system
 time of the process and its children (``resource.getrusage(RUSAGE_CHILDREN)`` around it, as
 ``bench_peers.py`` does). After one warm-up of each, every round runs each work on both versions, the
@@ -79,7 +80,8 @@ def command(env: Path, work: str, case_file: Path | None, out: Path, plots: bool
 
 def shown(env: Path, name: str) -> str:
     """The TOML of bundled case ``name`` as ``twofluid show`` of environment ``env`` prints it."""
-    return subprocess.run([console(env), "show", name], capture_output=True, text=True, check=True).stdout
+    return subprocess.run([console(env), "show", name], capture_output=True, text=True, check=True,
+                          env=installed_env()).stdout
 
 
 def case_files(show, folder: Path, works) -> dict[str, Path]:
@@ -88,11 +90,27 @@ def case_files(show, folder: Path, works) -> dict[str, Path]:
     return {w: _case_file(show(WORKS[w][1]), folder / f"{w}.toml", WORKS[w][2]) for w in works if WORKS[w][1]}
 
 
+def installed_env(**extra: str) -> dict:
+    """This process's environment without ``PYTHONPATH`` (which would put another source tree's twofluid
+    before the environment's own: a developer's shell sets it) and with ``extra``."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+    return {**env, **extra}
+
+
+def package_of(env: Path) -> str:
+    """The folder of the twofluid that environment ``env``'s interpreter imports, as the timed runs do."""
+    return subprocess.run([str(env / "bin" / "python"), "-c", "import twofluid, os; "
+                           "print(os.path.dirname(twofluid.__file__))"], capture_output=True, text=True,
+                          check=True, env=installed_env()).stdout.strip()
+
+
 def timed(cmd: list[str], env: dict | None = None) -> tuple[float, float, str]:
-    """(CPU [s] of ``cmd`` and its children, wall [s], standard error); fails if the command does."""
+    """(CPU [s] of ``cmd`` and its children, wall [s], standard error) run in ``env`` (default:
+    :func:`installed_env`); fails if the command does."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     w0 = time.perf_counter()
-    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
+    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                       env=installed_env() if env is None else env)
     wall = time.perf_counter() - w0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if r.returncode != 0:
@@ -145,7 +163,8 @@ def compare(base: Path, new: Path, works: list[str], rounds: int, check: bool) -
                     cpu[w][label].append(c)
                 print(f"round {r + 1} {w}: base {cpu[w]['base'][-1]:.2f} s, new {cpu[w]['new'][-1]:.2f} s, "
                       f"load {os.getloadavg()[0]:.2f}", file=sys.stderr, flush=True)
-    print(header(started, load0) + f"; base {base}, new {new}; {rounds} alternated rounds after a warm-up")
+    print(header(started, load0) + f"; base {package_of(base)}, new {package_of(new)}; {rounds} alternated "
+          "rounds after a warm-up")
     print("\n| work | base CPU [s], median (min–max) | new CPU [s], median (min–max) "
           "| base / new, median (min–max) | vertical steps, base / new |\n|---|---|---|---|---|")
     for w in works:
@@ -171,12 +190,12 @@ def readme(new: Path, rounds: int) -> int:
         timed(command(new, "bed", case, tmp / "warm"))
         for r in range(rounds):
             cache = tmp / f"cache-a{r}"
-            env = dict(os.environ, TWOFLUID_CACHE_DIR=str(cache), NUMBA_CACHE_DIR=str(cache / "numba"))
+            env = installed_env(TWOFLUID_CACHE_DIR=str(cache), NUMBA_CACHE_DIR=str(cache / "numba"))
             c, w, _ = timed([console(new), "build-kernels"], env)
             rows["build-kernels CPU"].append(c)
             rows["build-kernels wall"].append(w)
             cache = tmp / f"cache-b{r}"
-            env = dict(os.environ, TWOFLUID_CACHE_DIR=str(cache), NUMBA_CACHE_DIR=str(cache / "numba"))
+            env = installed_env(TWOFLUID_CACHE_DIR=str(cache), NUMBA_CACHE_DIR=str(cache / "numba"))
             first, _, _ = timed(command(new, "bed", case, tmp / f"first{r}"), env)
             warm, _, _ = timed(command(new, "bed", case, tmp / f"again{r}"), env)
             rows["first run (no plots) CPU"].append(first)
@@ -187,7 +206,7 @@ def readme(new: Path, rounds: int) -> int:
         for r in range(max(rounds, 5)):  # the installed cache, warm: with and without the plots, alternated
             rows["default case with plots CPU"].append(timed(command(new, "bed", case, tmp / f"p{r}", plots=True))[0])
             rows["default case --no-plots CPU"].append(timed(command(new, "bed", case, tmp / f"n{r}"))[0])
-    print(header(started, load0) + f"; {new}")
+    print(header(started, load0) + f"; {package_of(new)}")
     print("\n| what | median [s] (min–max) | runs |\n|---|---|---|")
     for k, v in rows.items():
         print(f"| {k} | {statistics.median(v):.2f} ({min(v):.2f}–{max(v):.2f}) | {len(v)} |")

@@ -51,3 +51,11 @@ def test_timed_counts_the_childrens_cpu(bench):
     assert cpu >= 0.3 and wall >= 0.3
     with pytest.raises(SystemExit):
         bench.timed([sys.executable, "-c", "raise SystemExit(3)"])
+
+
+def test_runs_import_their_environments_own_package(bench, monkeypatch):
+    # a developer's PYTHONPATH (a source tree) must not reach the timed runs
+    monkeypatch.setenv("PYTHONPATH", "/nowhere/src")
+    bench.timed([sys.executable, "-c", "import os, sys; sys.exit('PYTHONPATH' in os.environ)"])
+    assert "PYTHONPATH" not in bench.installed_env(TWOFLUID_CACHE_DIR="x")
+    assert bench.installed_env(TWOFLUID_CACHE_DIR="x")["TWOFLUID_CACHE_DIR"] == "x"
