@@ -16,9 +16,9 @@ user types it, its outputs in a temporary folder:
   cluster; the workers' CPU counted as the process's children).
 
 The case files are written once from the new version's bundled cases (``twofluid show``), with the
-edits above, and both versions run the same file; ``PYTHONPATH`` is removed from the runs'
-environment, so that each runs its environment's own package (a key the older version does not know is then
-said by it on standard error: ``--check`` prints those lines). The CPU of a run is the user + system
+edits above, and both versions run the same file (what either says on standard error, a warning or a
+key it ignores, ``--check`` prints). ``PYTHONPATH`` is removed from the runs' environment, so that each
+runs its environment's own package, not a developer's source tree; the header names the two. The CPU of a run is the user + system
 time of the process and its children (``resource.getrusage(RUSAGE_CHILDREN)`` around it, as
 ``bench_peers.py`` does). After one warm-up of each, every round runs each work on both versions, the
 order of the two swapped from one round to the next; the ratio of a round is base CPU / new CPU, and
@@ -28,8 +28,8 @@ version's run (``summary.json``: the same work takes the same steps unless the r
 ``--readme`` times, in the new environment, what the README and the build's aims quote: ``twofluid
 build-kernels`` in a fresh kernel cache (CPU and wall), the default case's first run in a fresh cache
 minus a warm run (the build it does itself), and the default case with its plots and with
-``--no-plots``. The build per kernel group is ``bench_build.py --together`` run by the new
-environment's interpreter.
+``--no-plots``. The build per kernel group is ``NEW/bin/python benchmarks/bench_build.py --families``.
+About 7 minutes for the comparison and 4 for ``--readme`` on the 2-core VM at load 3–4.
 
     python benchmarks/bench_versions.py --base /work/basevenv --new /path/to/venv --rounds 5
     python benchmarks/bench_versions.py --base B --new N --only bed layered --rounds 7
