@@ -3,6 +3,7 @@ own and a fresh cache folder (``twofluid.compiled.GROUPS``), with numba's own co
 function (type inference and lowering of each export and of each helper it calls).
 
     python benchmarks/bench_build.py [GROUP ...] [--events] [--together]
+    python benchmarks/bench_build.py --families
 
 Prints, per group, the process's CPU [s] (user + system, children included: the C compiler and
 linker), the CPU of importing numba, and with ``--events`` the numba compile time of each
@@ -11,7 +12,9 @@ C helper objects that every build of the first group compiles (the first group p
 ``--together`` builds the groups named in one process and one cache folder instead, as a run's
 first build or a worker of ``twofluid build-kernels`` does (helpers shared between groups then
 compiled once), and prints each group's CPU in the order built (a helper counted with the first
-group that calls it).
+group that calls it). ``--families`` builds each process's groups of ``twofluid build-kernels``
+(``compiled.FAMILIES``) in their order there, one process and fresh cache folder per family: the
+table per group of docs/benchmarks.md.
 """
 from __future__ import annotations
 
@@ -63,12 +66,17 @@ def main(argv=None) -> int:
     p.add_argument("--events", action="store_true")
     p.add_argument("--together", action="store_true",
                    help="build the groups in one process and cache folder, as a run or a build-kernels worker does")
+    p.add_argument("--families", action="store_true",
+                   help="each of build-kernels' processes (compiled.FAMILIES), its groups in its order")
     args = p.parse_args(argv)
     from twofluid import compiled
 
     groups = [g for g in compiled.GROUPS if not args.groups or g[0] in args.groups]
     total = 0.0
     batches = [groups] if args.together else [[g] for g in groups]
+    if args.families:
+        specs = dict(compiled.GROUPS)
+        batches = [[(n, specs[n]) for n in family] for family in compiled.FAMILIES]
     for batch in batches:
         name = "+".join(n for n, _ in batch)
         argv_groups = [a for n, spec in batch for a in (spec, n)]
