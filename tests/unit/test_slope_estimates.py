@@ -47,7 +47,7 @@ def test_newmark_slides_on_the_companion_motion_at_the_least_yield_depth(monkeyp
     amp, omega, t_on = 3.0 * a_y, math.pi, 1.5
     seen = []
 
-    def companion(case, polarity):  # the ground under the element accelerates upslope for polarity 1
+    def companion(case, polarity, **kw):  # the ground under the element accelerates upslope for polarity 1
         seen.append(polarity)
         t = np.arange(0.0, 4.0 + 5e-4, 1e-3)
         pulse = np.where((t >= t_on) & (t <= t_on + math.pi / omega), np.sin(omega * (t - t_on)), 0.0)
@@ -76,7 +76,7 @@ def test_newmark_before_triggering_does_not_slide(monkeypatch):
     loose, rec = _liquefied_loose_sand(b)
     rec.first[:] = np.where(rec.ever, 3.0, np.nan)
 
-    def companion(case, polarity):
+    def companion(case, polarity, **kw):
         t = np.arange(0.0, 4.0 + 5e-4, 1e-3)
         a = np.zeros((t.size, col.y_all.size))
         a[(t > 1.0) & (t < 2.0), :] = -5.0 * polarity

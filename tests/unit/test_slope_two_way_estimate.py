@@ -40,7 +40,7 @@ def test_two_way_block_beside_the_one_way_block(monkeypatch):
     a_y, a_yu = float(k_y.min()) * ls.G, float(k_up) * ls.G
     amp, omega, t_on = 1.5 * a_yu, 2.0 * math.pi, 1.5
 
-    def companion(case, polarity):  # the ground under the element accelerates upslope for polarity 1
+    def companion(case, polarity, **kw):  # the ground under the element accelerates upslope for polarity 1
         t = np.arange(0.0, 30.0 + 5e-4, 1e-3)  # long enough for the block to stop
         pulse = np.where((t >= t_on) & (t <= t_on + math.pi / omega), np.sin(omega * (t - t_on)), 0.0)
         a = np.zeros((t.size, col.y_all.size))

@@ -64,8 +64,7 @@ def _companion_call(c):
     from twofluid.models import hysteretic_kernel as hk
 
     b = rl.total_stress_column(c)
-    b.column._hyst_run = hk._substeps  # (the column resolves its kernel once per run)
-    t, a = rl._whole_wave(b)
+    t, a = rl._whole_wave(b, kernel=hk._substeps)
     return np.concatenate([t, a])
 
 

@@ -54,7 +54,9 @@ _MAX_EXPONENT = 700.0
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
               tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma, body, rho_b):
     """Advance len(a_in) sub-steps in place; returns 0, 1 (Newton did not converge: halve the
-    sub-step) or 2 (a non-finite value). ``body`` [m/s²]: the downslope body force per unit mass
+    sub-step) or 2 (a non-finite value). ``surface`` [m/s²]: the absolute acceleration (record while
+    it shakes plus the node's relative acceleration) of the surface node after each sub-step (size
+    m = len(a_in)), or of every node, bottom first, sub-step after sub-step (size m·(ne + 1)). ``body`` [m/s²]: the downslope body force per unit mass
     of an infinite slope, g sin α (0 on level ground; :func:`_body_force`); ``rho_b`` [kg/m³]: the
     density the saturated elements' driving weight leaves out (ρ_f under still open water, a
     submerged slope: the buoyant weight drives; 0 with slope-parallel seepage: the total weight)."""
@@ -230,7 +232,11 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             u[j] = un[j]
             v[j] = vel[j]
             a[j] = acc[j]
-        surface[i] = (ag if t <= shaking_end + 1e-12 else 0.0) + a[ne]
+        if surface.size == m:
+            surface[i] = (ag if t <= shaking_end + 1e-12 else 0.0) + a[ne]
+        else:  # every node's, bottom first (``surface`` of m·(ne + 1))
+            for j in range(nv):
+                surface[i * nv + j] = (ag if t <= shaking_end + 1e-12 else 0.0) + a[j]
     return 0
 
 

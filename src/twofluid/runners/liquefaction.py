@@ -59,6 +59,7 @@ from ..models.reduced_column import ReducedVerticalColumn
 from ..models.two_fluid_1d import Boundary
 from ..timestepping.backward_euler import PicardSettings, StepFailure
 from . import liquefaction_report as report
+from . import liquefaction_total_stress as total_stress
 from .liquefaction_damage import DamageRecord
 from .liquefaction_site import Site, crust_for, hysteretic_parameters, sand_for, site_arrays
 
@@ -192,59 +193,73 @@ def total_stress_column(case: dict, polarity: int | None = None) -> Built | None
     return b
 
 
-def total_stress_surface(case: dict, one_call: bool = True):
+class Surface(tuple):
+    """(t [s], absolute surface acceleration [m/s²]) of the total-stress companion
+    (:func:`total_stress_surface`); ``whole``: on a slope, where the wave ran in one call, every
+    node's accelerations of that call (:class:`~twofluid.runners.liquefaction_total_stress.WholeWave`,
+    the Newmark block's input for the same polarity where its steps give the same sub-steps), else None."""
+
+    whole = None
+
+
+def total_stress_surface(case: dict, one_call: bool = True, kernel=None):
     """(t [s], absolute surface acceleration [m/s²]) of the same column without pore-pressure
     generation (every layer ``liquefiable = false``: n̄ held, total stress), run to the end of the
-    shear wave; None without shaking. Its low-passed peak is the a_max of the simplified
-    procedure's "run" column, so that the procedure's CSR comes from the site's response as a
-    total-stress analysis gives it, as the procedure's r_d assumes.
+    shear wave (a :class:`Surface`); None without shaking. Its low-passed peak is the a_max of the
+    simplified procedure's "run" column, so that the procedure's CSR comes from the site's response
+    as a total-stress analysis gives it, as the procedure's r_d assumes.
 
     Nothing moves vertically in such a run (``LiquefactionColumn.shear_only``), so the column's
     vertical steps only cut the shear wave into pieces. With ``one_call`` (the default) the whole
-    shear wave is one step, one call of the compiled sub-steps, where that gives the same sub-steps
-    as the run's vertical steps (:func:`_whole_wave`): the same accelerations to round-off (the
-    sub-steps' times are summed differently; tests/unit/test_total_stress_surface.py). Otherwise, or
-    with ``one_call=False``, the column runs step by step as the two-fluid run does."""
+    shear wave is one call of the compiled sub-steps, where that gives the same sub-steps as the
+    run's vertical steps (:func:`_whole_wave`): the same accelerations to round-off (the sub-steps'
+    times are summed differently; tests/unit/test_total_stress_surface.py); on a slope that call
+    keeps every node's acceleration (``Surface.whole``). Otherwise, or with ``one_call=False``, the
+    column runs step by step as the two-fluid run does. ``kernel``: the hysteretic sub-steps' function
+    (:func:`twofluid.models.hysteretic_kernel.runner`'s by default)."""
     b = total_stress_column(case)
     if b is None:
         return None
     col = b.column
-    whole = _whole_wave(b) if one_call else None
+    nodes = col.hysteretic is not None and col.body != 0.0
+    whole = _whole_wave(b, nodes, kernel) if one_call else None
     if whole is not None:
-        return whole
+        t, a = whole
+        if not nodes:
+            return Surface((t, a))
+        out = Surface((t, np.ascontiguousarray(a[:, -1])))
+        out.whole = total_stress.WholeWave(t, a, int(case["ground_motion"]["polarity"]))
+        return out
     t, a = [], []
     for step in col.run(b.state, col.shear_end, b.dt, b.dt_after):
         for ti, ai in step.surface:
             t.append(ti)
             a.append(ai)
-    return np.array(t), np.array(a)
+    return Surface((np.array(t), np.array(a)))
 
 
-def _whole_wave(b: Built):
-    """The shear wave of a total-stress column (``b``, built with ``shear_only``) as one step of
-    ``LiquefactionColumn.step``, or None where that would not repeat the sub-steps of its run.
-
-    The run (:meth:`LiquefactionColumn.run`) takes steps of ``b.dt`` to the end of the shaking and
-    on to the end of the shear wave, each cut into m = ⌈Δt/shear_step⌉ sub-steps of Δt/m. Where both
-    stretches are whole numbers of steps, those are N·m equal sub-steps, which one step of the whole
-    wave with the sub-step Δt/m takes as well (the same sub-steps, their times summed from the start
-    instead of from each step's; no vertical model in between). Where they are not, or a sub-step
-    would be halved (a Newton failure: the run halves that step only), None."""
-    col, s0, dt = b.column, b.state, b.dt
-    if not (dt > 0.0 and s0.t == 0.0 and col.shear_end > 0.0):
+def _whole_wave(b: Built, nodes: bool = False, kernel=None):
+    """The shear wave of a total-stress column (``b``, built with ``shear_only``) in one call of its
+    sub-steps: (t, the surface's absolute acceleration, or with ``nodes`` every node's, bottom first,
+    one row per sub-step); None where that would not repeat the sub-steps of its run
+    (:func:`twofluid.runners.liquefaction_total_stress.plan`) or a sub-step would be halved (a Newton
+    failure: the run halves that step only). The hysteretic law's sub-steps are called directly
+    (:func:`~twofluid.runners.liquefaction_total_stress.one_call`), the thesis laws' as one step
+    of the whole wave (``LiquefactionColumn.step``; surface only)."""
+    col = b.column
+    plan = total_stress.plan(col, b.state, b.dt)
+    if plan is None:
         return None
-    for stretch in (col.shaking_end, col.shear_end - col.shaking_end):
-        k = round(stretch / dt)
-        if abs(k * dt - stretch) > 1e-9 * max(stretch, dt):
-            return None
-    steps = round(col.shear_end / dt)
-    per_step = max(1, math.ceil(dt / col.shear_step - 1e-9))
-    col.shear_step = dt / per_step
+    if col.hysteretic is not None:
+        return total_stress.one_call(col, b.state, plan[0], nodes, kernel)
+    if nodes:
+        return None
+    col.shear_step = plan[1]
     try:
-        step = col.step(s0, col.shear_end)
+        step = col.step(b.state, col.shear_end)
     except StepFailure:
         return None
-    if step.substeps != steps * per_step:
+    if step.substeps != plan[0]:
         return None
     t, a = zip(*step.surface)
     return np.array(t), np.array(a)
@@ -513,7 +528,8 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     if srec is not None:
         from .liquefaction_slope import slope_summary
 
-        summary["slope"] = slope_summary(case, col, b.site, rec, srec, last, extra["simplified_run"])
+        summary["slope"] = slope_summary(case, col, b.site, rec, srec, last, extra["simplified_run"],
+                                         getattr(total, "whole", None))
     write_json(out / "summary.json", summary)
     try:
         report.write_tables(out, summary, extra, rec)

@@ -96,8 +96,9 @@ GROUNDWATER = {
                  "effective stress normal to the slope); the inertia keeps the total mass"}
 
 
-def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_run) -> dict:
-    """The ``slope`` block of summary.json (docs/outputs.md)."""
+def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_run, companion=None) -> dict:
+    """The ``slope`` block of summary.json (docs/outputs.md); ``companion``: the run's total-stress
+    companion call where it kept every node (:func:`total_stress_node_motion`), or None."""
     par, ns = col.hysteretic, col.n_sat
     slope = case["site"]["slope"]
     n0 = col.n0
@@ -157,7 +158,7 @@ def slope_summary(case: dict, col, site, rec, srec: SlopeRecorder, last, simp_ru
         "flow_after_shaking": flow,
         "localisation": loc,
         "layers": layers,
-        "estimates": _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r),
+        "estimates": _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r, companion),
     }
     out["beyond_measured_spreads"] = _beyond_field(d_end, layers, out["estimates"][ZHANG_KEY]["displacement_m"])
     if out["still_moving_when_shear_wave_stopped"]:
@@ -217,12 +218,21 @@ ZHANG_KEY = "zhang_2004_ib_gamma_max"
 ZHANG_NAME = "Zhang 2004 with I&B gamma_max"
 
 
-def total_stress_node_motion(case: dict, polarity: int):
+def total_stress_node_motion(case: dict, polarity: int, one_call: bool = True, companion=None):
     """(t [s], absolute acceleration [m/s²] of every node, bottom first) of the total-stress
     companion of ``case`` (every layer ``liquefiable = false``, n̄ held: the column without
     pore-pressure generation, as :func:`twofluid.runners.liquefaction.total_stress_surface`) with
     the record's sign ``polarity``, run to the end of its shear wave in steps of the record's
-    sample interval (at least the shear sub-step), sampled after each step. None without shaking."""
+    sample interval (at least the shear sub-step), sampled after each step. None without shaking.
+
+    With ``one_call`` (the default) the whole wave is one call of the compiled sub-steps where that
+    repeats the steps' sub-steps (:mod:`twofluid.runners.liquefaction_total_stress`): the same
+    accelerations to round-off (the sub-steps' times summed from the start instead of from each
+    step's; tests/unit/test_total_stress_nodes.py); ``companion``, the run's own companion call
+    (:class:`~twofluid.runners.liquefaction_total_stress.WholeWave`), serves where it is that call
+    (the same polarity and count of sub-steps). Otherwise, or with ``one_call=False``, the column
+    runs step by step."""
+    from . import liquefaction_total_stress as ts
     from .liquefaction import total_stress_column
 
     b = total_stress_column(case, polarity)
@@ -230,6 +240,14 @@ def total_stress_node_motion(case: dict, polarity: int):
         return None
     col = b.column
     dt = max(col.shear_step, float(b.motion.dt) if b.motion.dt else b.dt)
+    plan = ts.plan(col, b.state, dt) if one_call and col.hysteretic is not None else None
+    if plan is not None:
+        w = companion
+        if w is None or w.polarity != int(polarity) or w.times.size != plan[0]:
+            r = ts.one_call(col, b.state, plan[0], True)
+            w = None if r is None else ts.WholeWave(*r, int(polarity))
+        if w is not None:
+            return w.rows(round(col.shear_end / dt))
     s = b.state
     t, a = [s.t], [np.zeros(len(s.wave.a))]
     for step in col.run(s, col.shear_end, dt, dt):
@@ -245,7 +263,7 @@ TWO_WAY_METHOD = ("two-way rigid block, a diagnostic beside newmark: the same de
                   "k_y_up = (S_r + tau_static)/(sigma_v cos^2 a); displacements signed, positive downslope")
 
 
-def _newmark(case, col, rec, s_r) -> dict:
+def _newmark(case, col, rec, s_r, companion=None) -> dict:
     """The Newmark block on S_r at the liquefied element of least k_y, driven by the total-stress
     companion's absolute acceleration at that element's base, for both polarities of the record;
     beside it (a diagnostic, under the key ``_two_way``) the two-way block on the same depth and drive."""
@@ -287,7 +305,7 @@ def _newmark(case, col, rec, s_r) -> dict:
     by, by2, k_up = {}, {}, None
     for p in (pol, -pol):
         try:
-            t, a = total_stress_node_motion(case, p)
+            t, a = total_stress_node_motion(case, p, companion=companion)
         except (ArithmeticError, ValueError, RuntimeError) as exc:  # StepFailure is a RuntimeError
             note = f"not evaluated: the total-stress companion failed ({exc})"
             return dict(out, displacement_m=None, note=note, _two_way=dict(two, displacement_m=None, note=note))
@@ -312,7 +330,7 @@ def _newmark(case, col, rec, s_r) -> dict:
                 _two_way=two)
 
 
-def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
+def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r, companion=None) -> dict:
     """Zhang et al.'s (2004) LD with I&B's γ_max on the simplified table, the Newmark block on the
     total-stress companion's motion, and Youd et al. (2002) where M and R apply."""
     slope = case["site"]["slope"]
@@ -325,7 +343,7 @@ def _estimates(case, col, site, rec, srec, simp_run, e_loc, tau_s, s_r) -> dict:
              "method": "a second estimate: Zhang et al.'s (2004) LD = (S + 0.2) LDI, LDI = sum gamma_max(FS, Dr) h "
                        "over the simplified procedure's rows (FS of the 'run' table: level-ground CRR, no K_alpha), "
                        "with gamma_max(FS, Dr) of Idriss & Boulanger (2008), not Zhang et al.'s own curves"}
-    one_way = _newmark(case, col, rec, s_r)
+    one_way = _newmark(case, col, rec, s_r, companion)
     two_way = one_way.pop("_two_way")
     return {ZHANG_KEY: zhang, "newmark": one_way, "newmark_two_way": two_way, "youd_2002": _youd(case, site, simp_run)}
 
