@@ -21,7 +21,7 @@ from twofluid.models.reduced_column import ReducedVerticalColumn
 from twofluid.runners.liquefaction import build_column
 
 
-_FAST_STEP = ReducedVerticalColumn.fast_step
+_FAST_DONE = ReducedVerticalColumn.fast_done
 
 
 def _column(name: str, duration: float = 1.5):
@@ -39,14 +39,14 @@ def _run(name: str, fast: bool, t_end: float = 6.0, monkeypatch=None, newton_tes
     col.v.fast_steps = fast
     col.settings = replace(col.settings, newton_test=newton_test)
     made = {"fast": 0, "back": 0}
-    real = _FAST_STEP
+    real = _FAST_DONE
 
-    def counted(self, *a):
+    def counted(self, *a):  # (after the compiled call, alone or in the split step: made or handed back)
         out = real(self, *a)
         made["fast" if out is not None else "back"] += 1
         return out
 
-    monkeypatch.setattr(ReducedVerticalColumn, "fast_step", counted)
+    monkeypatch.setattr(ReducedVerticalColumn, "fast_done", counted)
     rows = []
     for step in col.run(b.state, t_end, b.dt, b.dt_after):
         v = step.state.vertical

@@ -41,9 +41,10 @@ from ..timestepping import newton as _nt
 from . import extrapolation as _ex
 from . import reduced_kernel as _rk
 
-__all__ = ["vertical_step", "compiled", "SIGNATURE", "OK", "NOT_CONVERGED", "NOT_FINITE", "NOT_ADMISSIBLE"]
+__all__ = ["vertical_step", "split_step", "compiled", "compiled_split", "SIGNATURE", "SPLIT_SIGNATURE", "OK",
+           "NOT_CONVERGED", "NOT_FINITE", "NOT_ADMISSIBLE", "NOT_FINITE_SHEAR"]
 
-OK, NOT_CONVERGED, NOT_FINITE, NOT_ADMISSIBLE = 0, 1, 2, 3
+OK, NOT_CONVERGED, NOT_FINITE, NOT_ADMISSIBLE, NOT_FINITE_SHEAR = 0, 1, 2, 3, 4
 _CLEAR = 1e-6  # the models' floor of 1 − n (two_fluid_1d._CLEAR)
 
 
@@ -71,6 +72,62 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
                   A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                   fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
                   newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
+    """One backward-Euler step (:func:`_vertical`, which :func:`split_step` calls too)."""
+    return _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
+                     A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
+                     fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
+                     newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info)
+
+
+def split_step(check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
+               t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
+               A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
+               fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
+               newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
+    """The liquefaction column's split step after its shear sub-steps, in one call (module docstring):
+    with ``check``, the test that the new n̄ ``onb`` and the displacements ``u`` are finite
+    (:data:`NOT_FINITE_SHEAR` if not, nothing done); the vertical step (:func:`vertical_step`, its
+    arguments after ``eta_s``); then, on success only, the solids outflow through the ends
+    (``out_s[0]`` [m³/s], the nodes ``node0``, ``node1``: ``diagnostics_1d.solids_outflow`` with the
+    Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s], and with ``props`` the next shear step's
+    mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity ``weta`` =
+    μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
+    element-wise arithmetic. Returns :data:`OK` or why not (nothing the caller keeps written)."""
+    if check:
+        for i in range(onb.size):
+            x = onb[i]
+            if not x - x == 0.0:  # NaN or ±inf (np.isfinite)
+                return NOT_FINITE_SHEAR
+        for i in range(u.size):
+            x = u[i]
+            if not x - x == 0.0:
+                return NOT_FINITE_SHEAR
+    code = _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
+                     A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
+                     fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
+                     newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info)
+    if code != OK:
+        return code
+    ne = on.size
+    nv = ne + 1
+    f0 = 0.5 * (a_out[node0] - a_out[nv + node0])
+    f1 = 0.5 * (a_out[node1] - a_out[nv + node1])
+    out_s[0] = f1 * area[nv - 1] - f0 * area[0]
+    for i in range(ne):
+        ndot[i] = (a_out[2 * nv + i] - on[i]) / dt_step
+    if props:
+        n = a_out[2 * nv:]
+        laws._viscosity(n, rho[3], vpar[0], vpar[1], vpar[2], vpar[3], vpar[4], vpar[5], False, weta)
+        for i in range(ne):
+            wrho[i] = n[i] * mix[0] + (1.0 - n[i]) * mix[1]
+            weta[i] = weta[i] + eta_s[i]
+    return OK
+
+
+def _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
+              A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
+              fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
+              newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
     """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
     n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
     (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
@@ -274,8 +331,9 @@ SIGNATURE = ("i8(" + ",".join(
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
      "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1]) + ")")
+SPLIT_SIGNATURE = "i8(b1," + ",".join([C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1]) + "," + SIGNATURE[3:]
 
-_HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
+_HELPERS = (_vertical, _scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
             _rk._whole_iterate, _rk._shift_law_points, _rk._shift_with_laws, _rk._first_iterate,
             banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, _nt._accept,
@@ -283,20 +341,29 @@ _HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system,
             laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
 
 _COMPILED = None
+_SPLIT = None
 _TRIED = False
 
 
 def compiled():
     """:func:`vertical_step` compiled (:mod:`twofluid.compiled`, group ``column_step``; the plain function
     where the JIT is disabled), or None where it cannot be (no numba and nothing built)."""
-    global _COMPILED, _TRIED
+    global _COMPILED, _SPLIT, _TRIED
     if not _TRIED:
         _TRIED = True
         from ..compiled import group
 
         try:
-            out = group("column_step", {"vertical_step": (vertical_step, SIGNATURE)}, helpers=_HELPERS)
+            out = group("column_step", {"vertical_step": (vertical_step, SIGNATURE),
+                                        "split_step": (split_step, SPLIT_SIGNATURE)}, helpers=_HELPERS)
         except ImportError:
             out = None
         _COMPILED = None if out is None else out["vertical_step"]
+        _SPLIT = None if out is None else out["split_step"]
     return _COMPILED
+
+
+def compiled_split():
+    """:func:`split_step` from the same group as :func:`compiled` (None where that is None)."""
+    compiled()
+    return _SPLIT

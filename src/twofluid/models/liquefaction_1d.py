@@ -114,6 +114,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
+from contextlib import nullcontext
 from typing import Callable, Iterator
 
 import numpy as np
@@ -126,6 +127,7 @@ from ..closures.viscosity import mooney_pringle
 from ..geotech.settlement import max_shear_strain
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
 from ..closures import hysteretic as _hyst_law
+from . import column_step_kernel as _column_step
 from . import hysteretic_kernel as _hyst_kernel
 from . import shear_kernel as _shear_kernel
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
@@ -133,6 +135,8 @@ from .two_fluid_1d import State, TwoFluid1D
 
 __all__ = ["Sand", "Crust", "VerticalColumn", "ColumnState", "LiquefactionColumn", "ColumnStep",
            "FlowStop", "VISCOSITY_MAX"]
+
+_QUIET = nullcontext()  # (reusable: a compiled call needs no NumPy error-state context)
 
 #: Largest liquefied-soil viscosity the shear wave takes [Pa·s] (the power law is capped here).
 VISCOSITY_MAX = 1e5
@@ -373,6 +377,7 @@ class LiquefactionColumn:
         if self.hysteretic is not None and self.hysteretic.shape[0] != nt:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
+        self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
         #: skip the vertical model (a total-stress run: no layer generates pore pressure, so the
@@ -595,7 +600,11 @@ class LiquefactionColumn:
         a sub-step whose Newton iterations fail is retried at half the size (four times at most)."""
         v, wave, ns = self.v, self.wave, self.n_sat
         n = np.ascontiguousarray(s.vertical.n, dtype=float)
-        self._wave_properties(s)
+        props = self._props
+        if props is not None and props[0] is s.vertical.n:  # set by the compiled split step that made this state
+            wave.rho[:ns], wave.eta[:ns] = props[1], props[2]
+        else:
+            self._wave_properties(s)
         w = s.wave
         span = t_new - s.t
         dn = np.ascontiguousarray(self._ndot * span)
@@ -803,20 +812,26 @@ class LiquefactionColumn:
         t0 = s.t
         t_new = t0 + dt
         wave, n_bar, hist, m, surface = s.wave, s.vertical.n_bar, s.shear, 0, ()
+        # the vertical step and what follows it in one compiled call (:meth:`_split_step`) where it covers it
+        fused = self.hysteretic is not None and dt > 0.0 and not self.shear_only and self._split_args() is not None
+        check = False  # the finite test of the shear's results left to that call
         if t0 < self.shear_end - 1e-12:
             try:
                 wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(t0, dt, str(exc), s) from None
-            if not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
-                raise StepFailure(t0, dt, "shear sub-steps gave a non-finite reference porosity or "
-                                  "displacement", s)
+            # (not where the shear wave stops: the floor comes first; a flowing slope decides first)
+            check = fused and self.flow is None and not self.shear_end - 1e-12 <= t_new
+            if not check and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
+                raise self._not_finite(t0, dt, s)
             if self.flow is not None and not self.shear_only:
                 if self._flowing_phase(t0):
                     surface = ()  # the surface motion (spectra, a_max) covers the shaking and free_vibration
                 self._flow_decide(t_new, wave)
-        if self.hysteretic is not None and t0 < self.shear_end - 1e-12 <= t_new:
-            n_bar = self._apply_floor(s, n_bar, hist)  # the shear wave stops: the reconsolidation floor
+        floor = self.hysteretic is not None and t0 < self.shear_end - 1e-12 <= t_new  # the shear wave stops
+        if floor:
+            n_bar = self._apply_floor(s, n_bar, hist)  # the reconsolidation floor
+            fused = False
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
             return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface))
@@ -825,23 +840,83 @@ class LiquefactionColumn:
         vert = State(v0.t, v0.V, v0.W, v0.P, v0.n, n_bar) if type(v0) is State else v0.copy(n_bar=n_bar)
         if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
             self.v.continue_from(v0, vert)
-        its, inflow, made = 0, 0.0, None
+        its, inflow, made, split = 0, 0.0, None, False
         eps = 1e-9 * max(dt, 1e-12)  # (integrate's)
         fast = getattr(self.v, "fast_step", None)
         if fast is not None and vert.t < t_new - eps:  # the stepper's first try in one compiled call
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
-            made = fast(vert, h, self.settings)
-            if made is not None:
-                vert, its = made
-                inflow -= h * self.v.solids_outflow(vert)
+            if fused:
+                made = self._split_step(vert, h, dt, wave.u, check)
+                if made is not None:
+                    vert, its, outflow = made
+                    inflow -= h * outflow
+                    split = True
+            else:
+                made = fast(vert, h, self.settings)
+                if made is not None:
+                    vert, its = made
+                    inflow -= h * self.v.solids_outflow(vert)
+        if check and made is None and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
+            raise self._not_finite(t0, dt, s)
         if made is None or vert.t < t_new - eps:  # the stepper (all of the step, or the rest)
+            split = False
             for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
                 vert, its = st.state, st.iterations
                 inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
-        if self.hysteretic is not None and dt > 0.0:
+        if self.hysteretic is not None and dt > 0.0 and not split:
             self._ndot = (vert.n - s.vertical.n) / dt
+            self._props = None
         return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface))
+
+    @staticmethod
+    def _not_finite(t0: float, dt: float, s: ColumnState) -> StepFailure:
+        return StepFailure(t0, dt, "shear sub-steps gave a non-finite reference porosity or displacement", s)
+
+    def _split_args(self):
+        """The fixed arguments of :func:`~twofluid.models.column_step_kernel.split_step` besides the
+        vertical step's (the compiled call, the ends' nodes, its outputs and the next shear step's wave
+        properties), or None where it does not cover the column (kept while the closures are the same)."""
+        v = self.v
+        hit = self.__dict__.get("_split")
+        if hit is not None and hit[0] is v.clo:
+            return hit[1]
+        ker = _column_step.compiled_split() if hasattr(v, "fast_call") and v.solids_flux != "upwind" else None
+        out = None
+        if ker is not None:
+            ns = self.n_sat
+            laws = v.compiled_laws()
+            props = self._eta_s is not None and laws is not None and not v.clo.viscosity_params
+            node = v.vert_node
+            out = (ker, int(node[0]), int(node[-1]), np.zeros(1), props,
+                   np.array([v.mat.rho_f, v.mat.rho_s], dtype=float), np.empty(ns), np.empty(ns),
+                   np.ascontiguousarray(self._eta_s if props else np.zeros(ns), dtype=float))
+        self._split = (v.clo, out)
+        return out
+
+    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool):
+        """The vertical step of ``h`` [s] from ``vert`` with what follows it in one compiled call
+        (:func:`~twofluid.models.column_step_kernel.split_step`): (the new state, its iterations, the
+        solids outflow [m³/s]), with ``_ndot`` and the next shear step's wave properties set; None where
+        the call does not cover it or cannot make the step (nothing changed: the caller takes the stepper)."""
+        fixed = self._split_args()
+        call = None if fixed is None else self.v.fast_call(vert, h, self.settings)
+        if call is None:
+            return None
+        ker, node0, node1, out_s, props, mix, wrho, weta, eta_s = fixed
+        args, ctx = call[1], call[2]
+        ndot = np.empty(vert.n.size)
+        try:
+            with np.errstate(all="ignore") if ker is _column_step.split_step else _QUIET:
+                code = ker(check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, *args)
+        except (ZeroDivisionError, TypeError):  # (as fast_step: the stepper meets it and says so)
+            code = -1
+        made = self.v.fast_done(ctx, code)
+        if made is None:
+            return None
+        self._ndot = ndot
+        self._props = (made[0].n, wrho, weta) if props else None
+        return made[0], made[1], float(out_s[0])
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:
