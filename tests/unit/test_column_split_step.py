@@ -11,6 +11,7 @@ round-off; a non-finite shear result is refused before anything is written.
 from __future__ import annotations
 
 import copy
+import inspect
 
 import numpy as np
 import pytest
@@ -18,7 +19,7 @@ import pytest
 from twofluid.casefile.loader import load_case
 from twofluid.models import column_step_kernel as csk
 from twofluid.models.liquefaction_1d import LiquefactionColumn
-from twofluid.runners.liquefaction import build_column
+from twofluid.runners.liquefaction import _Recorder, build_column
 
 _SPLIT_ARGS = LiquefactionColumn._split_args
 
@@ -108,20 +109,26 @@ def test_plain_and_compiled_split_steps_agree(monkeypatch):
             mine = copy.deepcopy(args)
             code = ker(*args)
             assert csk.split_step(*mine) == code
-            if code == csk.OK:  # the outflow, dn/dt, ρ, η; the vertical step's [V, W, n] and P
-                for i in (5, 6, 9, 10, -5, -4):
+            if code == csk.OK:  # the outflow, dn/dt, ρ, η, the record's; the vertical step's [V, W, n] and P
+                for i in (*range(5, 7), *range(9, 11), *range(21, 34), -5, -4):
                     a, b = args[i], mine[i]
-                    scale = max(float(np.abs(a).max()), 1e-300)
-                    assert np.all(np.abs(a - b) <= 1e-12 * scale)
+                    if a.dtype == bool:
+                        np.testing.assert_array_equal(a, b)
+                        continue
+                    scale = max(float(np.nanmax(np.abs(a))), 1e-300) if not np.isnan(a).all() else 0.0
+                    np.testing.assert_allclose(a, b, rtol=0.0, atol=1e-12 * scale)  # (NaN where NaN: first)
                 checked[0] += 1
             return code
         return (both, *fixed[1:])
 
     monkeypatch.setattr(LiquefactionColumn, "_split_args", split_args)
     b = _column(duration=0.3, free_vibration=0.2)
-    for _ in b.column.run(b.state, 0.8, b.dt, b.dt_after):
-        pass
+    rec = b.column.recorder = _Recorder(b.column, [1.0, 4.0, 9.0], 0.01)
+    rec.record(b.state, True)
+    for step in b.column.run(b.state, 0.8, b.dt, b.dt_after):
+        rec.record(step.state, False)
     assert checked[0] > 20
+    assert np.isfinite(rec.first).any()  # (something liquefied: the first times compared too)
 
 
 @pytest.mark.parametrize("where", ["n_bar", "u"])
@@ -146,7 +153,7 @@ def test_a_non_finite_shear_result_is_refused_before_anything_is_written(where, 
     next(iter(col.run(b.state, 0.2, b.dt, b.dt_after)))
     args = list(captured["args"])
     assert args[0] is True  # (level ground, no flow rule: the check is the call's)
-    i = 16 if where == "n_bar" else 1  # onb, u
+    i = list(inspect.signature(csk.split_step).parameters).index("onb" if where == "n_bar" else "u")
     args[i] = args[i].copy()
     args[i][args[i].size // 2] = np.nan
     before = copy.deepcopy(args)
@@ -154,3 +161,66 @@ def test_a_non_finite_shear_result_is_refused_before_anything_is_written(where, 
     for a, b0 in zip(args, before):
         if isinstance(a, np.ndarray):
             np.testing.assert_array_equal(a, b0)
+
+
+def _outputs(monkeypatch, tmp_path, fused: bool, name: str) -> dict:
+    """Every output file of a short run of the layered site (``summary.json`` without its wall times)."""
+    import json
+
+    from twofluid.runners.liquefaction import run_liquefaction
+
+    if not fused:
+        monkeypatch.setattr(LiquefactionColumn, "_split_args", lambda self: None)
+    recorders = []
+    init = _Recorder.__init__
+
+    def kept(self, *a):
+        init(self, *a)
+        recorders.append(self)
+
+    monkeypatch.setattr(_Recorder, "__init__", kept)
+    c = load_case("liquefaction-layered-site")
+    c["output"]["plots"], c["ground_motion"]["duration"] = False, 1.0
+    c["shear_wave"]["free_vibration"], c["time"]["end"] = 1.0, 6.0
+    c["output"]["times"] = [1.0, 3.0]
+    res = run_liquefaction(c, tmp_path / name)
+    monkeypatch.undo()
+    files = {}
+    for f in sorted((tmp_path / name).iterdir()):
+        if f.name == "summary.json":
+            files[f.name] = {k: v for k, v in json.loads(f.read_text()).items() if "wall" not in k}
+        elif not f.name.startswith("."):
+            files[f.name] = f.read_bytes()
+    r = recorders[0]  # and what the run kept in memory, exactly (the files' numbers have 10 digits)
+    files["record"] = [np.array(getattr(r, k), dtype=float) for k in (
+        "t", "ru", "sig", "settle", "pbase", "ru_top", "flux_top", "field", "peak", "t_peak", "first", "ever",
+        "peak_strain", "max_contribution", "ps", "last_contribution")]
+    return files, res
+
+
+def test_the_run_records_the_split_steps_as_it_records_the_others(monkeypatch, tmp_path):
+    """The record of each state made by the split step (r_u, its peaks and first times, σ′_v, the
+    settlement, the strains' peaks, the damage snapshots) is made in that call: every output of the
+    run is the same, byte for byte, as the run's whose record is made in its own call."""
+    if csk.compiled_split() is None:
+        pytest.skip("no compiled kernels here")
+    made = [0]
+    real = LiquefactionColumn._split_step
+
+    def counted(self, *a):
+        out = real(self, *a)
+        made[0] += out is not None and self.recorder is not None
+        return out
+
+    ref, res_ref = _outputs(monkeypatch, tmp_path, False, "ref")
+    monkeypatch.setattr(LiquefactionColumn, "_split_step", counted)
+    got, res = _outputs(monkeypatch, tmp_path, True, "got")
+    assert made[0] > 100  # (every step but the floor's and those the stepper halves)
+    assert res.status == res_ref.status == "completed"
+    assert set(got) == set(ref) and "probes.csv" in got
+    for k in ref:
+        if k == "record":
+            for a, b in zip(ref[k], got[k]):
+                np.testing.assert_array_equal(a, b)
+        else:
+            assert got[k] == ref[k], k

@@ -39,6 +39,7 @@ from ..closures import kernels as laws
 from ..fem import banded
 from ..timestepping import newton as _nt
 from . import extrapolation as _ex
+from . import record_kernel as _rec
 from . import reduced_kernel as _rk
 
 __all__ = ["vertical_step", "split_step", "compiled", "compiled_split", "SIGNATURE", "SPLIT_SIGNATURE", "OK",
@@ -80,6 +81,8 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
 
 
 def split_step(check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
+               rec, gamma, p_hydro, sigma_v0, n0, lengths, elem, sig0_elem, ru_liq, peak, t_peak, first, ever, liq,
+               peak_strain, max_contribution, ru, contribution, ru_elem, sig_elem, scalars, ps, dps,
                t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
                A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
@@ -92,7 +95,10 @@ def split_step(check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, w
     Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s], and with ``props`` the next shear step's
     mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity ``weta`` =
     μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
-    element-wise arithmetic. Returns :data:`OK` or why not (nothing the caller keeps written)."""
+    element-wise arithmetic; with ``rec``, the run's record of the new state: σ′_v = P_s(n, n̄) in ``ps``
+    (``dps`` its scratch) and :func:`~twofluid.models.record_kernel.record_step` with the shear strain
+    ``gamma`` and the arguments from ``p_hydro`` to ``scalars`` (``runners.liquefaction._Recorder``).
+    Returns :data:`OK` or why not (nothing the caller keeps written)."""
     if check:
         for i in range(onb.size):
             x = onb[i]
@@ -121,6 +127,12 @@ def split_step(check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, w
         for i in range(ne):
             wrho[i] = n[i] * mix[0] + (1.0 - n[i]) * mix[1]
             weta[i] = weta[i] + eta_s[i]
+    if rec:
+        n = a_out[2 * nv:]
+        laws._solids_pressure(n, onb, A, p_ref, modulus, fluidized, ps, dps)
+        _rec.record_step(t_old + dt, P_out, p_hydro, sigma_v0, n, n0, lengths, gamma, ps, elem, sig0_elem, ru_liq,
+                         a_out[nv - 1], a_out[2 * nv - 1], peak, t_peak, first, ever, liq, peak_strain,
+                         max_contribution, ru, contribution, ru_elem, sig_elem, scalars)
     return OK
 
 
@@ -331,14 +343,17 @@ SIGNATURE = ("i8(" + ",".join(
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
      "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1]) + ")")
-SPLIT_SIGNATURE = "i8(b1," + ",".join([C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1]) + "," + SIGNATURE[3:]
+B1 = "b1[::1]"
+SPLIT_SIGNATURE = "i8(b1," + ",".join([C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, "b1", C1, C1, C1, C1, C1, I1, C1,
+                                       "f8", C1, C1, C1, B1, B1, C1, C1, C1, C1, C1, C1, C1, C1, C1]) + "," + SIGNATURE[3:]
 
 _HELPERS = (_vertical, _scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
             _rk._whole_iterate, _rk._shift_law_points, _rk._shift_with_laws, _rk._first_iterate,
             banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, _nt._accept,
             laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
-            laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
+            laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney,
+            _rec.record_step, _rec._block_sum, _rec._pairwise_sum, _rec._np_sum)
 
 _COMPILED = None
 _SPLIT = None

@@ -378,6 +378,10 @@ class LiquefactionColumn:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
+        #: the run's record of each step made in that call, or None (``runners.liquefaction._Recorder``: its
+        #: ``fused_args(gamma)``, the record's arguments of :func:`~twofluid.models.column_step_kernel.split_step`,
+        #: and ``fused_done(state)``, told which vertical state they recorded)
+        self.recorder = None
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
         #: skip the vertical model (a total-stress run: no layer generates pore pressure, so the
@@ -847,7 +851,7 @@ class LiquefactionColumn:
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
             if fused:
-                made = self._split_step(vert, h, dt, wave.u, check)
+                made = self._split_step(vert, h, dt, wave.u, wave.gamma, check)
                 if made is not None:
                     vert, its, outflow = made
                     inflow -= h * outflow
@@ -888,27 +892,33 @@ class LiquefactionColumn:
             laws = v.compiled_laws()
             props = self._eta_s is not None and laws is not None and not v.clo.viscosity_params
             node = v.vert_node
+            f, i, b = np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
+            no_record = (False, f, f, f, f, f, i, f, 0.0, f, f, f, b, b, f, f, f, f, f, f, f, f, f)
             out = (ker, int(node[0]), int(node[-1]), np.zeros(1), props,
                    np.array([v.mat.rho_f, v.mat.rho_s], dtype=float), np.empty(ns), np.empty(ns),
-                   np.ascontiguousarray(self._eta_s if props else np.zeros(ns), dtype=float))
+                   np.ascontiguousarray(self._eta_s if props else np.zeros(ns), dtype=float), no_record)
         self._split = (v.clo, out)
         return out
 
-    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool):
+    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, gamma: np.ndarray, check: bool):
         """The vertical step of ``h`` [s] from ``vert`` with what follows it in one compiled call
         (:func:`~twofluid.models.column_step_kernel.split_step`): (the new state, its iterations, the
-        solids outflow [m³/s]), with ``_ndot`` and the next shear step's wave properties set; None where
+        solids outflow [m³/s]), with ``_ndot``, the next shear step's wave properties and the :attr:`recorder`'s
+        record of the new state (shear strain ``gamma``) made; None where
         the call does not cover it or cannot make the step (nothing changed: the caller takes the stepper)."""
         fixed = self._split_args()
         call = None if fixed is None else self.v.fast_call(vert, h, self.settings)
         if call is None:
             return None
-        ker, node0, node1, out_s, props, mix, wrho, weta, eta_s = fixed
+        ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, no_record = fixed
         args, ctx = call[1], call[2]
         ndot = np.empty(vert.n.size)
+        rec = self.recorder
+        record = no_record if rec is None else rec.fused_args(gamma)
         try:
             with np.errstate(all="ignore") if ker is _column_step.split_step else _QUIET:
-                code = ker(check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, *args)
+                code = ker(check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, *record,
+                           *args)
         except (ZeroDivisionError, TypeError):  # (as fast_step: the stepper meets it and says so)
             code = -1
         made = self.v.fast_done(ctx, code)
@@ -916,6 +926,8 @@ class LiquefactionColumn:
             return None
         self._ndot = ndot
         self._props = (made[0].n, wrho, weta) if props else None
+        if rec is not None:
+            rec.fused_done(made[0])
         return made[0], made[1], float(out_s[0])
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
