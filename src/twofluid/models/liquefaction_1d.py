@@ -378,6 +378,8 @@ class LiquefactionColumn:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
+        self._aranges = {}  # m -> [1, ..., m] (the sub-steps' times)
+        self._a_last = (None, 0.0)  # (t, the record at t) of the last sub-step
         #: the run's record of each step made in that call, or None (``runners.liquefaction._Recorder``: its
         #: ``fused_args(gamma)``, the record's arguments of :func:`~twofluid.models.column_step_kernel.split_step`,
         #: and ``fused_done(state)``, told which vertical state they recorded)
@@ -512,7 +514,8 @@ class LiquefactionColumn:
 
     def accelerations(self, s: ColumnState) -> tuple[float, float]:
         """(:meth:`base_acceleration`, :meth:`surface_acceleration`) [m/s²], the record read once."""
-        a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
+        t, last = s.t, self._a_last
+        a_in = (last[1] if last[0] == t else self.a_g(t)) if t <= self.shaking_end else 0.0
         running = s.t <= self.shear_end + 1e-12
         surface = a_in + float(s.wave.a[-1]) if running else 0.0
         if self.wave.base_impedance is None:
@@ -611,7 +614,7 @@ class LiquefactionColumn:
             self._wave_properties(s)
         w = s.wave
         span = t_new - s.t
-        dn = np.ascontiguousarray(self._ndot * span)
+        dn = self._ndot * span  # (a new C-contiguous float64 array)
         m = max(1, math.ceil(span / self._substep(s.t) - 1e-9))
         ne = wave.h.size
         A, p_ref = self._skeleton_arrays()
@@ -620,8 +623,12 @@ class LiquefactionColumn:
             run = self._hyst_run = _hyst_kernel.runner()
         for attempt in range(5):
             dt = span / m
-            times = s.t + np.arange(1.0, m + 1.0) * dt
+            steps = self._aranges.get(m)
+            if steps is None:
+                steps = self._aranges[m] = np.arange(1.0, m + 1.0)
+            times = s.t + steps * dt
             a_in = self._record_at(times)
+            self._a_last = (float(times[-1]), float(a_in[-1]))  # (the record at the step's end: :meth:`accelerations`)
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
             st = np.array(s.shear, dtype=float)
             nb = np.array(s.vertical.n_bar, dtype=float)
@@ -943,11 +950,16 @@ class LiquefactionColumn:
         eps = 1e-9 * max(dt, 1e-12)
         flow_h = dt if self.flow is None else max(dt, self.flow.step)
         t = s.t
+        k = 0  # fixed[k]: the first fixed mark after t (t only grows)
         while t < t_end - eps:
             # the next time to land on: the fixed marks and the shear wave's end, which a sloping column
             # that still flows moves on (:meth:`_flow_decide`)
             end = self.shear_end
-            mark = min([x for x in fixed if x > t + eps] + ([end] if t + eps < end <= t_end else []))
+            while not fixed[k] > t + eps:  # (t_end is one, after t)
+                k += 1
+            mark = fixed[k]
+            if t + eps < end <= t_end and end < mark:
+                mark = end
             if t < end - eps:  # the shear wave runs: the shaking step, growing while the column flows
                 target = min(flow_h, 1.5 * h) if self._flowing_phase(t) else dt
             else:

@@ -393,7 +393,10 @@ def _at_mark(marks: list, t: float) -> bool:
     nearest marks either side only (one farther away is farther from ``t``: it could match only
     where marks lie within 1e-9 of each other)."""
     i = bisect.bisect_left(marks, t)
-    return any(abs(t - m) < 1e-9 * max(1.0, m) for m in marks[max(i - 2, 0):i + 2])
+    for m in marks[max(i - 2, 0):i + 2]:
+        if abs(t - m) < 1e-9 * max(1.0, m):
+            return True
+    return False
 
 
 def _c(a) -> np.ndarray:
