@@ -613,32 +613,37 @@ class LiquefactionColumn:
         else:
             self._wave_properties(s)
         w = s.wave
-        span = t_new - s.t
+        t0 = s.vertical.t
+        span = t_new - t0
         dn = self._ndot * span  # (a new C-contiguous float64 array)
-        m = max(1, math.ceil(span / self._substep(s.t) - 1e-9))
+        m = max(1, math.ceil(span / self._substep(t0) - 1e-9))
         ne = wave.h.size
         A, p_ref = self._skeleton_arrays()
-        run = self.__dict__.get("_hyst_run")
-        if run is None:  # the kernel (or its plain Python) resolved once per run, not per step
-            run = self._hyst_run = _hyst_kernel.runner()
+        fixed = self.__dict__.get("_hyst_fixed")
+        if fixed is None:  # the kernel (or its plain Python) and its fixed arguments, once per run
+            fixed = self._hyst_fixed = (
+                _hyst_kernel.runner(), (wave.rho, wave.eta, wave.h, ns, wave.a0, wave.a1,
+                                        0.0 if wave.base_impedance is None else wave.base_impedance,
+                                        0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter),
+                (self.newmark[0], self.newmark[1], float(self.body), float(self.rho_b)))
+        run, mid, tail = fixed
+        shear, n_bar = s.shear, s.vertical.n_bar
+        copy_st = type(shear) is np.ndarray and shear.dtype == np.float64  # (np.array(x, dtype=float) of them)
+        copy_nb = type(n_bar) is np.ndarray and n_bar.dtype == np.float64
         for attempt in range(5):
             dt = span / m
             steps = self._aranges.get(m)
             if steps is None:
                 steps = self._aranges[m] = np.arange(1.0, m + 1.0)
-            times = s.t + steps * dt
+            times = t0 + steps * dt
             a_in = self._record_at(times)
             self._a_last = (float(times[-1]), float(a_in[-1]))  # (the record at the step's end: :meth:`accelerations`)
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
-            st = np.array(s.shear, dtype=float)
-            nb = np.array(s.vertical.n_bar, dtype=float)
+            st = shear.copy() if copy_st else np.array(shear, dtype=float)
+            nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
             surface, tau = np.empty(m), np.empty(ne)
-            code = int(run(
-                u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
-                wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
-                0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
-                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1], float(self.body),
-                float(self.rho_b)))
+            code = int(run(u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, *mid, t0, dt, a_in, self.shaking_end,
+                           surface, tau, *tail))
             if code != 1:
                 break
             m *= 2
@@ -646,7 +651,7 @@ class LiquefactionColumn:
             raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: "
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
         out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / wave.h, tau)  # (np.diff's arithmetic)
-        return out, nb, st, m, list(zip(times.tolist(), surface.tolist()))
+        return out, nb, st, m, tuple(zip(times.tolist(), surface.tolist()))
 
     def _skeleton_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """The skeleton law's A and p_ref per saturated element as the kernel takes them (contiguous
