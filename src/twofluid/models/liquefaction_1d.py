@@ -287,7 +287,7 @@ class ColumnState:
         return self.vertical.t
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class ColumnStep:
     state: ColumnState
     dt: float  # vertical step [s]
@@ -295,6 +295,12 @@ class ColumnStep:
     iterations: int  # Picard iterations of the vertical step (last sub-step)
     solids_inflow: float  # solids volume that entered through the ends during the step [m³]
     surface: tuple = ()  # (t [s], absolute surface acceleration [m/s²]) after each shear sub-step
+
+    def __init__(self, state: ColumnState, dt: float, substeps: int, iterations: int, solids_inflow: float,
+                 surface: tuple = ()):
+        # (a frozen dataclass's own __init__ sets each field through object.__setattr__: 1 µs more a step)
+        self.__dict__.update(state=state, dt=dt, substeps=substeps, iterations=iterations,
+                             solids_inflow=solids_inflow, surface=surface)
 
 
 class LiquefactionColumn:

@@ -309,16 +309,21 @@ class _Recorder:
         self._last_ru = None  # the r_u of the last :meth:`record` (its report depths: self.ru[-1])
         self._dps = np.empty(ne)  # (the compiled split step's scratch)
         self._fused = self._pre = None  # the outputs of a record made in the column's split step, and its state
+        self._fused_of = self._fused_fixed = None  # (fused_args: its arguments that stay, and of which constants)
 
     def fused_args(self, gamma) -> tuple:
         """The record's arguments of the column's compiled split step
         (:func:`~twofluid.models.column_step_kernel.split_step`, which makes :meth:`record`'s reductions
         for the state it makes, the shear strain ``gamma``); :meth:`fused_done` is then told the state."""
         ne, k = self._sizes
-        out = self._fused = (np.empty(ne), np.empty(ne), np.empty(k), np.empty(k), np.empty(ne))  # ru, contribution, at the depths, σ′_v
-        return (True, _c(gamma), *self._constants(), self._elem, self._sig0_elem, self._ru_liq,
-                self.peak, self.t_peak, self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, *out[:4],
-                self._scalars, out[4], self._dps)
+        ru, contribution, ru_elem, sig_elem, ps = out = (np.empty(ne), np.empty(ne), np.empty(k), np.empty(k), np.empty(ne))
+        self._fused = out
+        fixed = self._constants()
+        if self._fused_of is not fixed:  # (the arguments that stay, gathered again with the constants)
+            self._fused_of = fixed
+            self._fused_fixed = (*fixed, self._elem, self._sig0_elem, self._ru_liq, self.peak, self.t_peak, self.first,
+                                 self.ever, self._liq, self.peak_strain, self.max_contribution)
+        return (True, _c(gamma), *self._fused_fixed, ru, contribution, ru_elem, sig_elem, self._scalars, ps, self._dps)
 
     def fused_done(self, vertical) -> None:
         """The split step has recorded the state whose vertical state is ``vertical`` (:meth:`fused_args`)."""
