@@ -1,5 +1,6 @@
 """The liquefaction column's split step after its shear sub-steps in one compiled call
-(models.column_step_kernel.split_step, through LiquefactionColumn._split_step).
+(models.column_step_kernel.vertical_step with its arguments from ``check`` on, through
+models.column_split and LiquefactionColumn._split_step).
 
 The call makes the vertical step (the same as ReducedVerticalColumn.fast_step) and then what the
 column's Python did after it: the solids outflow, dn/dt for the next shear step's interpolation and
@@ -22,6 +23,7 @@ from twofluid.models.liquefaction_1d import LiquefactionColumn
 from twofluid.runners.liquefaction import _Recorder, build_column
 
 _SPLIT_ARGS = LiquefactionColumn._split_args
+_ARG = {name: i for i, name in enumerate(inspect.signature(csk.vertical_step).parameters)}  # argument positions
 
 
 def _column(duration: float = 1.0, free_vibration: float = 1.0):
@@ -74,7 +76,7 @@ def _same(ref, got):
 
 
 def test_the_split_step_makes_the_same_run_bit_for_bit(monkeypatch):
-    if csk.compiled_split() is None:
+    if csk.compiled() is None:
         pytest.skip("no compiled kernels here")
     ref, off = _run(monkeypatch, fused=False)
     got, on = _run(monkeypatch, fused=True)
@@ -86,7 +88,7 @@ def test_the_split_step_makes_the_same_run_bit_for_bit(monkeypatch):
 def test_a_split_step_the_call_cannot_make_goes_back_to_the_python_path(monkeypatch):
     """Told it did not converge on every seventh call, the column takes the stepper and its own
     NumPy for those steps (and the wave properties of the step after), and makes the same run."""
-    if csk.compiled_split() is None:
+    if csk.compiled() is None:
         pytest.skip("no compiled kernels here")
     ref, _ = _run(monkeypatch, fused=False)
     got, counts = _run(monkeypatch, fused=True, fail_every=7)
@@ -97,8 +99,8 @@ def test_a_split_step_the_call_cannot_make_goes_back_to_the_python_path(monkeypa
 def test_plain_and_compiled_split_steps_agree(monkeypatch):
     """Each compiled call of a short run repeated by the plain Python function on copies of its
     arguments: the same code and outputs to 1e-12 (relative to each output's largest entry)."""
-    ker = csk.compiled_split()
-    if ker is None or ker is csk.split_step:
+    ker = csk.compiled()
+    if ker is None or ker is csk.vertical_step:
         pytest.skip("no compiled kernel here (or the JIT is disabled: the plain function is the kernel)")
     checked = [0]
 
@@ -108,10 +110,12 @@ def test_plain_and_compiled_split_steps_agree(monkeypatch):
         def both(*args):
             mine = copy.deepcopy(args)
             code = ker(*args)
-            assert csk.split_step(*mine) == code
+            assert csk.vertical_step(*mine) == code
             if code == csk.OK:  # the outflow, dn/dt, ρ, η, the record's; the vertical step's [V, W, n] and P
-                for i in (*range(5, 7), *range(9, 11), *range(21, 34), -5, -4):
-                    a, b = args[i], mine[i]
+                for name in ("out_s", "ndot", "wrho", "weta", "peak", "t_peak", "t_first", "ever", "liq", "peak_strain",
+                             "max_contribution", "ru", "contribution", "ru_elem", "sig_elem", "scalars", "ps",
+                             "a_out", "P_out"):
+                    a, b = args[_ARG[name]], mine[_ARG[name]]
                     if a.dtype == bool:
                         np.testing.assert_array_equal(a, b)
                         continue
@@ -152,12 +156,12 @@ def test_a_non_finite_shear_result_is_refused_before_anything_is_written(where, 
     monkeypatch.setattr(LiquefactionColumn, "_split_args", split_args)
     next(iter(col.run(b.state, 0.2, b.dt, b.dt_after)))
     args = list(captured["args"])
-    assert args[0] is True  # (level ground, no flow rule: the check is the call's)
-    i = list(inspect.signature(csk.split_step).parameters).index("onb" if where == "n_bar" else "u")
+    assert args[_ARG["check"]] is True  # (level ground, no flow rule: the check is the call's)
+    i = _ARG["onb" if where == "n_bar" else "u"]
     args[i] = args[i].copy()
     args[i][args[i].size // 2] = np.nan
     before = copy.deepcopy(args)
-    assert csk.split_step(*args) == csk.NOT_FINITE_SHEAR
+    assert csk.vertical_step(*args) == csk.NOT_FINITE_SHEAR
     for a, b0 in zip(args, before):
         if isinstance(a, np.ndarray):
             np.testing.assert_array_equal(a, b0)
@@ -202,7 +206,7 @@ def test_the_run_records_the_split_steps_as_it_records_the_others(monkeypatch, t
     """The record of each state made by the split step (r_u, its peaks and first times, σ′_v, the
     settlement, the strains' peaks, the damage snapshots) is made in that call: every output of the
     run is the same, byte for byte, as the run's whose record is made in its own call."""
-    if csk.compiled_split() is None:
+    if csk.compiled() is None:
         pytest.skip("no compiled kernels here")
     made = [0]
     real = LiquefactionColumn._split_step

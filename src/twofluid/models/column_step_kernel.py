@@ -28,6 +28,17 @@ A step it cannot make as the Python path would at its first try (a rejected iter
 outside (0, 1], no convergence) returns a code, changes nothing the caller keeps, and the caller
 takes the Python path for that step (which halves the step, says why, and so on).
 
+With the hysteretic law the column's split step calls it once after its shear sub-steps
+(:mod:`~twofluid.models.column_split`), with the arguments from ``check`` on, to do in the same call
+what the column's and the run's Python did around the step, each with NumPy's element-wise arithmetic
+in the same order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the
+shear's results before it; after it the solids outflow, dn/dt, the next shear step's mixture density
+and viscosity (:func:`~twofluid.closures.kernels._viscosity`), σ′_v and the run's record of the new
+state (:func:`~twofluid.models.record_kernel.record_step`). One function: as a second export calling
+the step as a helper it cost the build 3 s of CPU more (its body optimised twice). The shear
+sub-steps stay a call of their own (:mod:`~twofluid.models.hysteretic_kernel`): compiled into this
+group as well they would add their build, about 6 s of CPU, to ``twofluid build-kernels``.
+
 >>> callable(compiled()) or compiled() is None
 True
 """
@@ -42,7 +53,7 @@ from . import extrapolation as _ex
 from . import record_kernel as _rec
 from . import reduced_kernel as _rk
 
-__all__ = ["vertical_step", "split_step", "compiled", "compiled_split", "SIGNATURE", "SPLIT_SIGNATURE", "OK",
+__all__ = ["vertical_step", "compiled", "ALONE", "SIGNATURE", "OK",
            "NOT_CONVERGED", "NOT_FINITE", "NOT_ADMISSIBLE", "NOT_FINITE_SHEAR"]
 
 OK, NOT_CONVERGED, NOT_FINITE, NOT_ADMISSIBLE, NOT_FINITE_SHEAR = 0, 1, 2, 3, 4
@@ -72,74 +83,10 @@ def _scale(V, W, floor):
 def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
                   A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                   fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
-                  newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
-    """One backward-Euler step (:func:`_vertical`, which :func:`split_step` calls too)."""
-    return _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
-                     A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
-                     fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
-                     newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info)
-
-
-def split_step(check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
-               rec, gamma, p_hydro, sigma_v0, n0, lengths, elem, sig0_elem, ru_liq, peak, t_peak, first, ever, liq,
-               peak_strain, max_contribution, ru, contribution, ru_elem, sig_elem, scalars, ps, dps,
-               t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
-               A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
-               fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
-               newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
-    """The liquefaction column's split step after its shear sub-steps, in one call (module docstring):
-    with ``check``, the test that the new n̄ ``onb`` and the displacements ``u`` are finite
-    (:data:`NOT_FINITE_SHEAR` if not, nothing done); the vertical step (:func:`vertical_step`, its
-    arguments after ``eta_s``); then, on success only, the solids outflow through the ends
-    (``out_s[0]`` [m³/s], the nodes ``node0``, ``node1``: ``diagnostics_1d.solids_outflow`` with the
-    Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s], and with ``props`` the next shear step's
-    mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity ``weta`` =
-    μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
-    element-wise arithmetic; with ``rec``, the run's record of the new state: σ′_v = P_s(n, n̄) in ``ps``
-    (``dps`` its scratch) and :func:`~twofluid.models.record_kernel.record_step` with the shear strain
-    ``gamma`` and the arguments from ``p_hydro`` to ``scalars`` (``runners.liquefaction._Recorder``).
-    Returns :data:`OK` or why not (nothing the caller keeps written)."""
-    if check:
-        for i in range(onb.size):
-            x = onb[i]
-            if not x - x == 0.0:  # NaN or ±inf (np.isfinite)
-                return NOT_FINITE_SHEAR
-        for i in range(u.size):
-            x = u[i]
-            if not x - x == 0.0:
-                return NOT_FINITE_SHEAR
-    code = _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
-                     A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
-                     fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
-                     newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info)
-    if code != OK:
-        return code
-    ne = on.size
-    nv = ne + 1
-    f0 = 0.5 * (a_out[node0] - a_out[nv + node0])
-    f1 = 0.5 * (a_out[node1] - a_out[nv + node1])
-    out_s[0] = f1 * area[nv - 1] - f0 * area[0]
-    for i in range(ne):
-        ndot[i] = (a_out[2 * nv + i] - on[i]) / dt_step
-    if props:
-        n = a_out[2 * nv:]
-        laws._viscosity(n, rho[3], vpar[0], vpar[1], vpar[2], vpar[3], vpar[4], vpar[5], False, weta)
-        for i in range(ne):
-            wrho[i] = n[i] * mix[0] + (1.0 - n[i]) * mix[1]
-            weta[i] = weta[i] + eta_s[i]
-    if rec:
-        n = a_out[2 * nv:]
-        laws._solids_pressure(n, onb, A, p_ref, modulus, fluidized, ps, dps)
-        _rec.record_step(t_old + dt, P_out, p_hydro, sigma_v0, n, n0, lengths, gamma, ps, elem, sig0_elem, ru_liq,
-                         a_out[nv - 1], a_out[2 * nv - 1], peak, t_peak, first, ever, liq, peak_strain,
-                         max_contribution, ru, contribution, ru_elem, sig_elem, scalars)
-    return OK
-
-
-def _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
-              A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
-              fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
-              newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
+                  newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info,
+                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
+                  rec, gamma, p_hydro, sigma_v0, n0, lengths, elem, sig0_elem, ru_liq, peak, t_peak, t_first, ever, liq,
+                  peak_strain, max_contribution, ru, contribution, ru_elem, sig_elem, scalars, ps, dps):
     """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
     n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
     (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
@@ -149,9 +96,31 @@ def _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, 
     the last accepted state (``lV``, ``lW``, ``ln``, ``last_t``, ``has_last``), its samples (``s_idx``,
     ``s_c``, ``meta`` = (count, steps)). Written on success: ``a_out`` = [V, W, n], ``P_out``, the new
     table ``DWo``, ``Dno`` (``info[2]`` rows), the samples, and ``info`` = (iterations, accepted on a
-    prediction, rows); returns :data:`OK` or why not (nothing the caller keeps written)."""
+    prediction, rows); returns :data:`OK` or why not (nothing the caller keeps written).
+
+    What the hysteretic column's split step does after its shear sub-steps besides (the arguments from
+    ``check`` on; :data:`ALONE` for none of it, :mod:`~twofluid.models.column_split`): with ``check``, first
+    the test that the new n̄ ``onb`` and the displacements ``u`` are finite (:data:`NOT_FINITE_SHEAR` if
+    not, nothing done); after the step, on success only, the solids outflow through the ends (``out_s[0]``
+    [m³/s] unless ``out_s`` is empty; the nodes ``node0``, ``node1``: ``diagnostics_1d.solids_outflow``
+    with the Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s] unless empty, with ``props`` the next
+    shear step's mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity
+    ``weta`` = μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
+    element-wise arithmetic; with ``rec``, the run's record of the new state: σ′_v = P_s(n, n̄) in ``ps``
+    (``dps`` its scratch) and :func:`~twofluid.models.record_kernel.record_step` with the shear strain
+    ``gamma`` and the arguments from ``p_hydro`` to ``scalars`` (``t_first``: its ``first``;
+    ``runners.liquefaction._Recorder``)."""
     ne = on.size
     nv = ne + 1
+    if check:
+        for i in range(onb.size):
+            xi = onb[i]
+            if not xi - xi == 0.0:  # NaN or ±inf (np.isfinite)
+                return NOT_FINITE_SHEAR
+        for i in range(u.size):
+            xi = u[i]
+            if not xi - xi == 0.0:
+                return NOT_FINITE_SHEAR
     t_new = t_old + dt
     # the bed-force shift at the old state (Reduced1D._force_shift_at) and the step's constants
     alpha = np.zeros(ne)
@@ -334,6 +303,25 @@ def _vertical(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, 
     info[0] = it
     info[1] = 0 if plain else 1
     info[2] = rows
+    if out_s.size > 0:
+        f0 = 0.5 * (a_out[node0] - a_out[nv + node0])
+        f1 = 0.5 * (a_out[node1] - a_out[nv + node1])
+        out_s[0] = f1 * area[nv - 1] - f0 * area[0]
+    if ndot.size > 0:
+        for i in range(ne):
+            ndot[i] = (a_out[2 * nv + i] - on[i]) / dt_step
+    if props:
+        n_end = a_out[2 * nv:]
+        laws._viscosity(n_end, rho[3], vpar[0], vpar[1], vpar[2], vpar[3], vpar[4], vpar[5], False, weta)
+        for i in range(ne):
+            wrho[i] = n_end[i] * mix[0] + (1.0 - n_end[i]) * mix[1]
+            weta[i] = weta[i] + eta_s[i]
+    if rec:
+        n_end = a_out[2 * nv:]
+        laws._solids_pressure(n_end, onb, A, p_ref, modulus, fluidized, ps, dps)
+        _rec.record_step(t_old + dt, P_out, p_hydro, sigma_v0, n_end, n0, lengths, gamma, ps, elem, sig0_elem, ru_liq,
+                         a_out[nv - 1], a_out[2 * nv - 1], peak, t_peak, t_first, ever, liq, peak_strain,
+                         max_contribution, ru, contribution, ru_elem, sig_elem, scalars)
     return OK
 
 
@@ -342,12 +330,11 @@ SIGNATURE = ("i8(" + ",".join(
     ["f8", C1, C1, C1, C1, "f8", C1, C1, C2, C1, C2, C1, C1, C1, C1, C1, "i8", C1, C1,
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
-     "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1]) + ")")
-B1 = "b1[::1]"
-SPLIT_SIGNATURE = "i8(b1," + ",".join([C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, "b1", C1, C1, C1, C1, C1, I1, C1,
-                                       "f8", C1, C1, C1, B1, B1, C1, C1, C1, C1, C1, C1, C1, C1, C1]) + "," + SIGNATURE[3:]
+     "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1,
+     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, "b1", C1, C1, C1, C1, C1, I1, C1, "f8", C1, C1, C1,
+     "b1[::1]", "b1[::1]", C1, C1, C1, C1, C1, C1, C1, C1, C1]) + ")")
 
-_HELPERS = (_vertical, _scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
+_HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
             _rk._whole_iterate, _rk._shift_law_points, _rk._shift_with_laws, _rk._first_iterate,
             banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, _nt._accept,
@@ -355,30 +342,27 @@ _HELPERS = (_vertical, _scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._b
             laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney,
             _rec.record_step, _rec._block_sum, _rec._pairwise_sum, _rec._np_sum)
 
+_E, _I, _B = np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
+#: the arguments of :func:`vertical_step` from ``check`` on for the vertical step alone (nothing tested,
+#: written or recorded besides)
+ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, False, _E, _E, _E, _E, _E, _I, _E, 0.0, _E, _E, _E, _B,
+         _B, _E, _E, _E, _E, _E, _E, _E, _E, _E)
+
 _COMPILED = None
-_SPLIT = None
 _TRIED = False
 
 
 def compiled():
     """:func:`vertical_step` compiled (:mod:`twofluid.compiled`, group ``column_step``; the plain function
     where the JIT is disabled), or None where it cannot be (no numba and nothing built)."""
-    global _COMPILED, _SPLIT, _TRIED
+    global _COMPILED, _TRIED
     if not _TRIED:
         _TRIED = True
         from ..compiled import group
 
         try:
-            out = group("column_step", {"vertical_step": (vertical_step, SIGNATURE),
-                                        "split_step": (split_step, SPLIT_SIGNATURE)}, helpers=_HELPERS)
+            out = group("column_step", {"vertical_step": (vertical_step, SIGNATURE)}, helpers=_HELPERS)
         except ImportError:
             out = None
         _COMPILED = None if out is None else out["vertical_step"]
-        _SPLIT = None if out is None else out["split_step"]
     return _COMPILED
-
-
-def compiled_split():
-    """:func:`split_step` from the same group as :func:`compiled` (None where that is None)."""
-    compiled()
-    return _SPLIT

@@ -114,7 +114,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
-from contextlib import nullcontext
 from typing import Callable, Iterator
 
 import numpy as np
@@ -127,7 +126,7 @@ from ..closures.viscosity import mooney_pringle
 from ..geotech.settlement import max_shear_strain
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
 from ..closures import hysteretic as _hyst_law
-from . import column_step_kernel as _column_step
+from . import column_split as _split
 from . import hysteretic_kernel as _hyst_kernel
 from . import shear_kernel as _shear_kernel
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
@@ -135,8 +134,6 @@ from .two_fluid_1d import State, TwoFluid1D
 
 __all__ = ["Sand", "Crust", "VerticalColumn", "ColumnState", "LiquefactionColumn", "ColumnStep",
            "FlowStop", "VISCOSITY_MAX"]
-
-_QUIET = nullcontext()  # (reusable: a compiled call needs no NumPy error-state context)
 
 #: Largest liquefied-soil viscosity the shear wave takes [Pa·s] (the power law is capped here).
 VISCOSITY_MAX = 1e5
@@ -387,7 +384,7 @@ class LiquefactionColumn:
         self._aranges = {}  # m -> [1, ..., m] (the sub-steps' times)
         self._a_last = (None, 0.0)  # (t, the record at t) of the last sub-step
         #: the run's record of each step made in that call, or None (``runners.liquefaction._Recorder``: its
-        #: ``fused_args(gamma)``, the record's arguments of :func:`~twofluid.models.column_step_kernel.split_step`,
+        #: ``fused_args(gamma)``, the record's arguments of :func:`~twofluid.models.column_step_kernel.vertical_step`,
         #: and ``fused_done(state)``, told which vertical state they recorded)
         self.recorder = None
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
@@ -896,57 +893,13 @@ class LiquefactionColumn:
         return StepFailure(t0, dt, "shear sub-steps gave a non-finite reference porosity or displacement", s)
 
     def _split_args(self):
-        """The fixed arguments of :func:`~twofluid.models.column_step_kernel.split_step` besides the
-        vertical step's (the compiled call, the ends' nodes, its outputs and the next shear step's wave
-        properties), or None where it does not cover the column (kept while the closures are the same)."""
-        v = self.v
-        hit = self.__dict__.get("_split")
-        if hit is not None and hit[0] is v.clo:
-            return hit[1]
-        ker = _column_step.compiled_split() if hasattr(v, "fast_call") and v.solids_flux != "upwind" else None
-        out = None
-        if ker is not None:
-            ns = self.n_sat
-            laws = v.compiled_laws()
-            props = self._eta_s is not None and laws is not None and not v.clo.viscosity_params
-            node = v.vert_node
-            f, i, b = np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
-            no_record = (False, f, f, f, f, f, i, f, 0.0, f, f, f, b, b, f, f, f, f, f, f, f, f, f)
-            out = (ker, int(node[0]), int(node[-1]), np.zeros(1), props,
-                   np.array([v.mat.rho_f, v.mat.rho_s], dtype=float), np.empty(ns), np.empty(ns),
-                   np.ascontiguousarray(self._eta_s if props else np.zeros(ns), dtype=float), no_record)
-        self._split = (v.clo, out)
-        return out
+        """The fixed arguments of the compiled split step, or None (:func:`.column_split.split_args`)."""
+        return _split.split_args(self)
 
     def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, gamma: np.ndarray, check: bool):
-        """The vertical step of ``h`` [s] from ``vert`` with what follows it in one compiled call
-        (:func:`~twofluid.models.column_step_kernel.split_step`): (the new state, its iterations, the
-        solids outflow [m³/s]), with ``_ndot``, the next shear step's wave properties and the :attr:`recorder`'s
-        record of the new state (shear strain ``gamma``) made; None where
-        the call does not cover it or cannot make the step (nothing changed: the caller takes the stepper)."""
-        fixed = self._split_args()
-        call = None if fixed is None else self.v.fast_call(vert, h, self.settings)
-        if call is None:
-            return None
-        ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, no_record = fixed
-        args, ctx = call[1], call[2]
-        ndot = np.empty(vert.n.size)
-        rec = self.recorder
-        record = no_record if rec is None else rec.fused_args(gamma)
-        try:
-            with np.errstate(all="ignore") if ker is _column_step.split_step else _QUIET:
-                code = ker(check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, *record,
-                           *args)
-        except (ZeroDivisionError, TypeError):  # (as fast_step: the stepper meets it and says so)
-            code = -1
-        made = self.v.fast_done(ctx, code)
-        if made is None:
-            return None
-        self._ndot = ndot
-        self._props = (made[0].n, wrho, weta) if props else None
-        if rec is not None:
-            rec.fused_done(made[0])
-        return made[0], made[1], float(out_s[0])
+        """The vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None
+        (:func:`.column_split.split_step`)."""
+        return _split.split_step(self, vert, h, dt, u, gamma, check)
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:

@@ -140,7 +140,7 @@ class ReducedVerticalColumn(Reduced1D):
             # a diverging iterate is the stepper's to report, as in its own path (compiled code sets no
             # NumPy error state: only the plain Python of the un-jitted run needs it quiet)
             with np.errstate(all="ignore") if ker is column_step_kernel.vertical_step else _QUIET:
-                code = ker(*args)
+                code = ker(*args, *column_step_kernel.ALONE)  # (the vertical step alone)
         except ZeroDivisionError:  # a diverging iterate: the stepper's Python path meets it and says so
             code = -1
         except TypeError:  # an array not as the compiled call takes it (not C-contiguous float64)
@@ -148,9 +148,9 @@ class ReducedVerticalColumn(Reduced1D):
         return self.fast_done(ctx, code)
 
     def fast_call(self, old: State, dt: float, settings) -> tuple | None:
-        """What :meth:`fast_step` calls: (the compiled vertical step, its arguments, what :meth:`fast_done`
-        takes after the call), or None where the call does not cover the step (the stepper's then). A
-        caller may pass the arguments to :func:`~twofluid.models.column_step_kernel.split_step` instead."""
+        """What :meth:`fast_step` calls: (the compiled :func:`~twofluid.models.column_step_kernel.vertical_step`,
+        its arguments up to ``info``, what :meth:`fast_done` takes after the call), or None where the call
+        does not cover the step (the stepper's then)."""
         static = self._fast_static(old) if type(old) is State and self.fast_steps else None
         if static is None or not (old.n_bar.flags.c_contiguous and old.n.flags.c_contiguous):
             self._fast_release()

@@ -313,7 +313,7 @@ class _Recorder:
 
     def fused_args(self, gamma) -> tuple:
         """The record's arguments of the column's compiled split step
-        (:func:`~twofluid.models.column_step_kernel.split_step`, which makes :meth:`record`'s reductions
+        (:func:`~twofluid.models.column_step_kernel.vertical_step`, which makes :meth:`record`'s reductions
         for the state it makes, the shear strain ``gamma``); :meth:`fused_done` is then told the state."""
         ne, k = self._sizes
         ru, contribution, ru_elem, sig_elem, ps = out = (np.empty(ne), np.empty(ne), np.empty(k), np.empty(k), np.empty(ne))
