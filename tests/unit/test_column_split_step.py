@@ -20,7 +20,7 @@ import pytest
 from twofluid.casefile.loader import load_case
 from twofluid.models import column_step_kernel as csk
 from twofluid.models.liquefaction_1d import LiquefactionColumn
-from twofluid.runners.liquefaction import _Recorder, build_column
+from twofluid.runners.liquefaction import _Recorder, build_column  # (_Recorder: what a run keeps)
 
 _SPLIT_ARGS = LiquefactionColumn._split_args
 _ARG = {name: i for i, name in enumerate(inspect.signature(csk.vertical_step).parameters)}  # argument positions
@@ -111,28 +111,20 @@ def test_plain_and_compiled_split_steps_agree(monkeypatch):
             mine = copy.deepcopy(args)
             code = ker(*args)
             assert csk.vertical_step(*mine) == code
-            if code == csk.OK:  # the outflow, dn/dt, ρ, η, the record's; the vertical step's [V, W, n] and P
-                for name in ("out_s", "ndot", "wrho", "weta", "peak", "t_peak", "t_first", "ever", "liq", "peak_strain",
-                             "max_contribution", "ru", "contribution", "ru_elem", "sig_elem", "scalars", "ps",
-                             "a_out", "P_out"):
+            if code == csk.OK:  # the outflow, dn/dt, ρ, η; the vertical step's [V, W, n] and P
+                for name in ("out_s", "ndot", "wrho", "weta", "a_out", "P_out"):
                     a, b = args[_ARG[name]], mine[_ARG[name]]
-                    if a.dtype == bool:
-                        np.testing.assert_array_equal(a, b)
-                        continue
-                    scale = max(float(np.nanmax(np.abs(a))), 1e-300) if not np.isnan(a).all() else 0.0
-                    np.testing.assert_allclose(a, b, rtol=0.0, atol=1e-12 * scale)  # (NaN where NaN: first)
+                    scale = max(float(np.abs(a).max()), 1e-300)
+                    assert np.all(np.abs(a - b) <= 1e-12 * scale)
                 checked[0] += 1
             return code
         return (both, *fixed[1:])
 
     monkeypatch.setattr(LiquefactionColumn, "_split_args", split_args)
     b = _column(duration=0.3, free_vibration=0.2)
-    rec = b.column.recorder = _Recorder(b.column, [1.0, 4.0, 9.0], 0.01)
-    rec.record(b.state, True)
-    for step in b.column.run(b.state, 0.8, b.dt, b.dt_after):
-        rec.record(step.state, False)
+    for _ in b.column.run(b.state, 0.8, b.dt, b.dt_after):
+        pass
     assert checked[0] > 20
-    assert np.isfinite(rec.first).any()  # (something liquefied: the first times compared too)
 
 
 @pytest.mark.parametrize("where", ["n_bar", "u"])
@@ -202,10 +194,10 @@ def _outputs(monkeypatch, tmp_path, fused: bool, name: str) -> dict:
     return files, res
 
 
-def test_the_run_records_the_split_steps_as_it_records_the_others(monkeypatch, tmp_path):
-    """The record of each state made by the split step (r_u, its peaks and first times, σ′_v, the
-    settlement, the strains' peaks, the damage snapshots) is made in that call: every output of the
-    run is the same, byte for byte, as the run's whose record is made in its own call."""
+def test_a_runs_outputs_are_the_same_with_and_without_the_split_step(monkeypatch, tmp_path):
+    """Every output file of a run (and what it keeps in memory for the summary and figures: r_u, its
+    peaks and first times, σ′_v, the settlement, the strains' peaks) is the same, byte for byte, as
+    the run's without the compiled split step."""
     if csk.compiled() is None:
         pytest.skip("no compiled kernels here")
     made = [0]
@@ -213,7 +205,7 @@ def test_the_run_records_the_split_steps_as_it_records_the_others(monkeypatch, t
 
     def counted(self, *a):
         out = real(self, *a)
-        made[0] += out is not None and self.recorder is not None
+        made[0] += out is not None
         return out
 
     ref, res_ref = _outputs(monkeypatch, tmp_path, False, "ref")

@@ -5,9 +5,7 @@ shear sub-steps (:mod:`~twofluid.models.hysteretic_kernel`), then :func:`split_s
 :func:`~twofluid.models.column_step_kernel.vertical_step` with the vertical step's arguments
 (:meth:`ReducedVerticalColumn.fast_call <twofluid.models.reduced_column.ReducedVerticalColumn.fast_call>`)
 and those from ``check`` on makes the finite test of the shear's results, the vertical step, the solids outflow, dn/dt (the next
-sub-steps' interpolation of n), the next shear step's mixture density and viscosity and, where the
-runner has attached its recorder (``LiquefactionColumn.recorder``:
-``runners.liquefaction._Recorder``), the run's record of the new state. The numbers are those of the
+sub-steps' interpolation of n) and the next shear step's mixture density and viscosity. The numbers are those of the
 Python path bit for bit (``tests/unit/test_column_split_step.py``); a step the call cannot make
 changes nothing, and the column takes the Python path for it whole.
 """
@@ -27,7 +25,7 @@ _QUIET = nullcontext()  # (reusable: a compiled call needs no NumPy error-state 
 def split_args(col):
     """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
     (besides the vertical step's: (the compiled call, the ends' nodes, its outputs and the next shear step's wave
-    properties, the record's arguments when there is no recorder)), or None where it does not cover
+    properties)), or None where it does not cover
     the column ``col`` (a vertical model without the compiled step, an upwind solids flux); kept while
     the closures are the same objects."""
     v = col.v
@@ -42,34 +40,30 @@ def split_args(col):
         # the wave properties as LiquefactionColumn._wave_properties sets them with a Newtonian η_s
         props = col._eta_s is not None and laws is not None and not v.clo.viscosity_params
         node = v.vert_node
-        f, i, b = np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
-        no_record = (False, f, f, f, f, f, i, f, 0.0, f, f, f, b, b, f, f, f, f, f, f, f, f, f)
         out = (ker, int(node[0]), int(node[-1]), np.zeros(1), props,
                np.array([v.mat.rho_f, v.mat.rho_s], dtype=float), np.empty(ns), np.empty(ns),
-               np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float), no_record)
+               np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float))
     col._split = (v.clo, out)
     return out
 
 
-def split_step(col, vert, h: float, dt: float, u: np.ndarray, gamma: np.ndarray, check: bool):
+def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
     """The vertical step of ``h`` [s] from ``vert`` (the state with the shear's new n̄) of the column
     ``col``'s split step of ``dt`` [s], and what follows it, in one compiled call (module docstring;
-    ``u``, ``gamma``: the shear's displacements and strains; ``check``: the call tests that n̄ and
-    ``u`` are finite): (the new state, its iterations, the solids outflow [m³/s]), with ``col._ndot``,
-    the next shear step's wave properties (``col._props``) and the recorder's record of the new state
-    made; None where the call does not cover it or cannot make the step (nothing changed)."""
+    ``u``: the shear's displacements; ``check``: the call tests that n̄ and ``u`` are finite): (the new
+    state, its iterations, the solids outflow [m³/s]), with ``col._ndot`` and the next shear step's wave
+    properties (``col._props``) set; None where the call does not cover it or cannot make the step
+    (nothing changed)."""
     fixed = col._split_args()
     call = None if fixed is None else col.v.fast_call(vert, h, col.settings)
     if call is None:
         return None
-    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, no_record = fixed
+    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s = fixed
     args, ctx = call[1], call[2]
     ndot = np.empty(vert.n.size)
-    rec = col.recorder
-    record = no_record if rec is None else rec.fused_args(gamma)
     try:
         with np.errstate(all="ignore") if ker is _kernel.vertical_step else _QUIET:
-            code = ker(*args, check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, *record)
+            code = ker(*args, check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s)
     except (ZeroDivisionError, TypeError):  # (as fast_step: the stepper meets it and says so)
         code = -1
     made = col.v.fast_done(ctx, code)
@@ -77,6 +71,4 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, gamma: np.ndarray,
         return None
     col._ndot = ndot
     col._props = (made[0].n, wrho, weta) if props else None
-    if rec is not None:
-        rec.fused_done(made[0])
     return made[0], made[1], float(out_s[0])

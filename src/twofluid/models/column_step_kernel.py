@@ -30,14 +30,15 @@ takes the Python path for that step (which halves the step, says why, and so on)
 
 With the hysteretic law the column's split step calls it once after its shear sub-steps
 (:mod:`~twofluid.models.column_split`), with the arguments from ``check`` on, to do in the same call
-what the column's and the run's Python did around the step, each with NumPy's element-wise arithmetic
-in the same order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the
-shear's results before it; after it the solids outflow, dn/dt, the next shear step's mixture density
-and viscosity (:func:`~twofluid.closures.kernels._viscosity`), σ′_v and the run's record of the new
-state (:func:`~twofluid.models.record_kernel.record_step`). One function: as a second export calling
-the step as a helper it cost the build 3 s of CPU more (its body optimised twice). The shear
-sub-steps stay a call of their own (:mod:`~twofluid.models.hysteretic_kernel`): compiled into this
-group as well they would add their build, about 6 s of CPU, to ``twofluid build-kernels``.
+what the column's Python did around the step, each with NumPy's element-wise arithmetic in the same
+order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the shear's results
+before it; after it the solids outflow, dn/dt and the next shear step's mixture density and viscosity
+(:func:`~twofluid.closures.kernels._viscosity`). One function: as a second export calling the step
+as a helper it cost the build 3 s of CPU more (its body optimised twice). The run's record of the
+new state stays a call of its own (:mod:`~twofluid.models.record_kernel`): made here too it saved
+about 6 µs a step and cost the build 1.5 s of CPU (its pairwise sum compiled a second time); the
+shear sub-steps too (:mod:`~twofluid.models.hysteretic_kernel`): compiled into this group as well
+they would add their build, about 6 s of CPU.
 
 >>> callable(compiled()) or compiled() is None
 True
@@ -50,7 +51,6 @@ from ..closures import kernels as laws
 from ..fem import banded
 from ..timestepping import newton as _nt
 from . import extrapolation as _ex
-from . import record_kernel as _rec
 from . import reduced_kernel as _rk
 
 __all__ = ["vertical_step", "compiled", "ALONE", "SIGNATURE", "OK",
@@ -84,9 +84,7 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
                   A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                   fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
                   newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info,
-                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
-                  rec, gamma, p_hydro, sigma_v0, n0, lengths, elem, sig0_elem, ru_liq, peak, t_peak, t_first, ever, liq,
-                  peak_strain, max_contribution, ru, contribution, ru_elem, sig_elem, scalars, ps, dps):
+                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s):
     """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
     n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
     (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
@@ -106,10 +104,7 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     with the Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s] unless empty, with ``props`` the next
     shear step's mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity
     ``weta`` = μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
-    element-wise arithmetic; with ``rec``, the run's record of the new state: σ′_v = P_s(n, n̄) in ``ps``
-    (``dps`` its scratch) and :func:`~twofluid.models.record_kernel.record_step` with the shear strain
-    ``gamma`` and the arguments from ``p_hydro`` to ``scalars`` (``t_first``: its ``first``;
-    ``runners.liquefaction._Recorder``)."""
+    element-wise arithmetic."""
     ne = on.size
     nv = ne + 1
     if check:
@@ -316,12 +311,6 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
         for i in range(ne):
             wrho[i] = n_end[i] * mix[0] + (1.0 - n_end[i]) * mix[1]
             weta[i] = weta[i] + eta_s[i]
-    if rec:
-        n_end = a_out[2 * nv:]
-        laws._solids_pressure(n_end, onb, A, p_ref, modulus, fluidized, ps, dps)
-        _rec.record_step(t_old + dt, P_out, p_hydro, sigma_v0, n_end, n0, lengths, gamma, ps, elem, sig0_elem, ru_liq,
-                         a_out[nv - 1], a_out[2 * nv - 1], peak, t_peak, t_first, ever, liq, peak_strain,
-                         max_contribution, ru, contribution, ru_elem, sig_elem, scalars)
     return OK
 
 
@@ -331,22 +320,19 @@ SIGNATURE = ("i8(" + ",".join(
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
      "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1,
-     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, "b1", C1, C1, C1, C1, C1, I1, C1, "f8", C1, C1, C1,
-     "b1[::1]", "b1[::1]", C1, C1, C1, C1, C1, C1, C1, C1, C1]) + ")")
+     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1]) + ")")
 
 _HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
             _rk._whole_iterate, _rk._shift_law_points, _rk._shift_with_laws, _rk._first_iterate,
             banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, _nt._accept,
             laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
-            laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney,
-            _rec.record_step, _rec._block_sum, _rec._pairwise_sum, _rec._np_sum)
+            laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
 
-_E, _I, _B = np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool)
+_E = np.zeros(0)
 #: the arguments of :func:`vertical_step` from ``check`` on for the vertical step alone (nothing tested,
 #: written or recorded besides)
-ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, False, _E, _E, _E, _E, _E, _I, _E, 0.0, _E, _E, _E, _B,
-         _B, _E, _E, _E, _E, _E, _E, _E, _E, _E)
+ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E)
 
 _COMPILED = None
 _TRIED = False

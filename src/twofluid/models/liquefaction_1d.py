@@ -383,10 +383,6 @@ class LiquefactionColumn:
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
         self._aranges = {}  # m -> [1, ..., m] (the sub-steps' times)
         self._a_last = (None, 0.0)  # (t, the record at t) of the last sub-step
-        #: the run's record of each step made in that call, or None (``runners.liquefaction._Recorder``: its
-        #: ``fused_args(gamma)``, the record's arguments of :func:`~twofluid.models.column_step_kernel.vertical_step`,
-        #: and ``fused_done(state)``, told which vertical state they recorded)
-        self.recorder = None
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
         #: skip the vertical model (a total-stress run: no layer generates pore pressure, so the
@@ -866,7 +862,7 @@ class LiquefactionColumn:
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
             if fused:
-                made = self._split_step(vert, h, dt, wave.u, wave.gamma, check)
+                made = self._split_step(vert, h, dt, wave.u, check)
                 if made is not None:
                     vert, its, outflow = made
                     inflow -= h * outflow
@@ -896,10 +892,10 @@ class LiquefactionColumn:
         """The fixed arguments of the compiled split step, or None (:func:`.column_split.split_args`)."""
         return _split.split_args(self)
 
-    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, gamma: np.ndarray, check: bool):
+    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool):
         """The vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None
         (:func:`.column_split.split_step`)."""
-        return _split.split_step(self, vert, h, dt, u, gamma, check)
+        return _split.split_step(self, vert, h, dt, u, check)
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:

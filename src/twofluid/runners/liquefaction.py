@@ -307,27 +307,6 @@ class _Recorder:
         self._sizes = (ne, self._elem.size)
         self._fixed, self._fixed_of = (), None  # the column's constant arrays as the kernel takes them
         self._last_ru = None  # the r_u of the last :meth:`record` (its report depths: self.ru[-1])
-        self._dps = np.empty(ne)  # (the compiled split step's scratch)
-        self._fused = self._pre = None  # the outputs of a record made in the column's split step, and its state
-        self._fused_of = self._fused_fixed = None  # (fused_args: its arguments that stay, and of which constants)
-
-    def fused_args(self, gamma) -> tuple:
-        """The record's arguments of the column's compiled split step
-        (:func:`~twofluid.models.column_step_kernel.vertical_step`, which makes :meth:`record`'s reductions
-        for the state it makes, the shear strain ``gamma``); :meth:`fused_done` is then told the state."""
-        ne, k = self._sizes
-        ru, contribution, ru_elem, sig_elem, ps = out = (np.empty(ne), np.empty(ne), np.empty(k), np.empty(k), np.empty(ne))
-        self._fused = out
-        fixed = self._constants()
-        if self._fused_of is not fixed:  # (the arguments that stay, gathered again with the constants)
-            self._fused_of = fixed
-            self._fused_fixed = (*fixed, self._elem, self._sig0_elem, self._ru_liq, self.peak, self.t_peak, self.first,
-                                 self.ever, self._liq, self.peak_strain, self.max_contribution)
-        return (True, _c(gamma), *self._fused_fixed, ru, contribution, ru_elem, sig_elem, self._scalars, ps, self._dps)
-
-    def fused_done(self, vertical) -> None:
-        """The split step has recorded the state whose vertical state is ``vertical`` (:meth:`fused_args`)."""
-        self._pre = vertical
 
     def _constants(self) -> tuple:
         """(P_hydrostatic, σ′_v0, n0, element lengths) as contiguous float64, converted again only if
@@ -341,21 +320,16 @@ class _Recorder:
 
     def record(self, s: ColumnState, field: bool, surface=()):
         col, v = self.col, s.vertical
-        if self._pre is v:  # made in the column's compiled split step (:meth:`fused_args`)
-            ru, contribution, ru_elem, sig_elem, self.ps = self._fused
-            settle, pbase, ru_top, flux_top = self._scalars.tolist()
-            self._pre = None
-        else:
-            ne, k = self._sizes
-            ru, contribution = np.empty(ne), np.empty(ne)
-            ru_elem, sig_elem = np.empty(k), np.empty(k)
-            self.ps = col.granular_pressure(s)  # the probes' σ′_v too
-            p_hydro, sigma_v0, n0, lengths = self._constants()
-            settle, pbase, ru_top, flux_top = self._step(
-                float(s.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
-                self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
-                self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
-                ru_elem, sig_elem, self._scalars).tolist()
+        ne, k = self._sizes
+        ru, contribution = np.empty(ne), np.empty(ne)
+        ru_elem, sig_elem = np.empty(k), np.empty(k)
+        self.ps = col.granular_pressure(s)  # the probes' σ′_v too
+        p_hydro, sigma_v0, n0, lengths = self._constants()
+        settle, pbase, ru_top, flux_top = self._step(
+            float(v.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
+            self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
+            self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
+            ru_elem, sig_elem, self._scalars).tolist()
         self.damage.record(s, self._liq)
         self.last_contribution = contribution
         self.t.append(v.t)
@@ -456,7 +430,6 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     depths = sorted(set(schema_liquefaction.report_depths(case)) | {H - y for y in case["output"]["probes"]})  # y above the base
     rec = _Recorder(col, depths, rep["ru_liquefied"])
     ru0 = rec.record(state, True)
-    col.recorder = rec  # the steps the column makes in one compiled call are recorded in it too
     # rows every step: written in blocks (io.results), flushed at the loop's end and on every way out of it
     writer = ResultWriter(out, PROFILE_COLUMNS, rec.probe_names(), block=True)
     ffile = CsvStream(out / "ru_field.csv", ["time_s"] + [f"r_u@{z:.6g}m" for z in col.depth], block=True)
