@@ -111,8 +111,8 @@ def test_plain_and_compiled_split_steps_agree(monkeypatch):
             mine = copy.deepcopy(args)
             code = ker(*args)
             assert csk.vertical_step(*mine) == code
-            if code == csk.OK:  # the outflow, dn/dt, ρ, η; the vertical step's [V, W, n] and P
-                for name in ("out_s", "ndot", "wrho", "weta", "a_out", "P_out"):
+            if code == csk.OK:  # the outflow, dn/dt, ρ, η, σ′_v; the vertical step's [V, W, n] and P
+                for name in ("out_s", "ndot", "wrho", "weta", "ps", "a_out", "P_out"):
                     a, b = args[_ARG[name]], mine[_ARG[name]]
                     scale = max(float(np.abs(a).max()), 1e-300)
                     assert np.all(np.abs(a - b) <= 1e-12 * scale)

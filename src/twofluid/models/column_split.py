@@ -5,7 +5,8 @@ shear sub-steps (:mod:`~twofluid.models.hysteretic_kernel`), then :func:`split_s
 :func:`~twofluid.models.column_step_kernel.vertical_step` with the vertical step's arguments
 (:meth:`ReducedVerticalColumn.fast_call <twofluid.models.reduced_column.ReducedVerticalColumn.fast_call>`)
 and those from ``check`` on makes the finite test of the shear's results, the vertical step, the solids outflow, dn/dt (the next
-sub-steps' interpolation of n) and the next shear step's mixture density and viscosity. The numbers are those of the
+sub-steps' interpolation of n), the next shear step's mixture density and viscosity and σ′_v of the
+new state. The numbers are those of the
 Python path bit for bit (``tests/unit/test_column_split_step.py``); a step the call cannot make
 changes nothing, and the column takes the Python path for it whole.
 """
@@ -52,7 +53,8 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
     ``col``'s split step of ``dt`` [s], and what follows it, in one compiled call (module docstring;
     ``u``: the shear's displacements; ``check``: the call tests that n̄ and ``u`` are finite): (the new
     state, its iterations, the solids outflow [m³/s]), with ``col._ndot`` and the next shear step's wave
-    properties (``col._props``) set; None where the call does not cover it or cannot make the step
+    properties (``col._props``) and σ′_v of the new state (``col._ps``, what
+    ``LiquefactionColumn.granular_pressure`` gives for it) set; None where the call does not cover it or cannot make the step
     (nothing changed)."""
     fixed = col._split_args()
     call = None if fixed is None else col.v.fast_call(vert, h, col.settings)
@@ -60,10 +62,12 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
         return None
     ker, node0, node1, out_s, props, mix, wrho, weta, eta_s = fixed
     args, ctx = call[1], call[2]
-    ndot = np.empty(vert.n.size)
+    ne = vert.n.size
+    ndot, ps = np.empty(ne), np.empty(ne)
     try:
         with np.errstate(all="ignore") if ker is _kernel.vertical_step else _QUIET:
-            code = ker(*args, check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s)
+            code = ker(*args, check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps,
+                       np.empty(ne))
     except (ZeroDivisionError, TypeError):  # (as fast_step: the stepper meets it and says so)
         code = -1
     made = col.v.fast_done(ctx, code)
@@ -71,4 +75,5 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
         return None
     col._ndot = ndot
     col._props = (made[0].n, wrho, weta) if props else None
+    col._ps = (made[0], ps)
     return made[0], made[1], float(out_s[0])

@@ -32,8 +32,8 @@ With the hysteretic law the column's split step calls it once after its shear su
 (:mod:`~twofluid.models.column_split`), with the arguments from ``check`` on, to do in the same call
 what the column's Python did around the step, each with NumPy's element-wise arithmetic in the same
 order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the shear's results
-before it; after it the solids outflow, dn/dt and the next shear step's mixture density and viscosity
-(:func:`~twofluid.closures.kernels._viscosity`). One function: as a second export calling the step
+before it; after it the solids outflow, dn/dt, the next shear step's mixture density and viscosity
+(:func:`~twofluid.closures.kernels._viscosity`) and σ′_v of the new state, which the run's record reads. One function: as a second export calling the step
 as a helper it cost the build 3 s of CPU more (its body optimised twice). The run's record of the
 new state stays a call of its own (:mod:`~twofluid.models.record_kernel`): made here too it saved
 about 6 µs a step and cost the build 1.5 s of CPU (its pairwise sum compiled a second time); the
@@ -84,7 +84,7 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
                   A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                   fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
                   newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info,
-                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s):
+                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, dps):
     """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
     n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
     (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
@@ -104,7 +104,8 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     with the Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s] unless empty, with ``props`` the next
     shear step's mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity
     ``weta`` = μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
-    element-wise arithmetic."""
+    element-wise arithmetic, and unless ``ps`` is empty σ′_v = P_s(n, n̄) of the new state in ``ps`` (``dps``
+    its slope; ``LiquefactionColumn.granular_pressure``, which the run's record reads)."""
     ne = on.size
     nv = ne + 1
     if check:
@@ -311,6 +312,8 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
         for i in range(ne):
             wrho[i] = n_end[i] * mix[0] + (1.0 - n_end[i]) * mix[1]
             weta[i] = weta[i] + eta_s[i]
+    if ps.size > 0:
+        laws._solids_pressure(a_out[2 * nv:], onb, A, p_ref, modulus, fluidized, ps, dps)
     return OK
 
 
@@ -320,7 +323,7 @@ SIGNATURE = ("i8(" + ",".join(
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
      "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1,
-     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1]) + ")")
+     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, C1, C1]) + ")")
 
 _HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
@@ -332,7 +335,7 @@ _HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system,
 _E = np.zeros(0)
 #: the arguments of :func:`vertical_step` from ``check`` on for the vertical step alone (nothing tested,
 #: written or recorded besides)
-ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E)
+ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, _E, _E)
 
 _COMPILED = None
 _TRIED = False

@@ -381,6 +381,7 @@ class LiquefactionColumn:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
+        self._ps = None  # (vertical state, its σ′_v) made by the compiled split step
         self._aranges = {}  # m -> [1, ..., m] (the sub-steps' times)
         self._a_last = (None, 0.0)  # (t, the record at t) of the last sub-step
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
@@ -479,6 +480,9 @@ class LiquefactionColumn:
     # ------------------------------------------------------- diagnostics
     def granular_pressure(self, s: ColumnState) -> np.ndarray:
         """P_s = σ′_v per element [Pa]."""
+        done = self._ps  # (the compiled split step's, for the state it made)
+        if done is not None and done[0] is s.vertical:
+            return done[1]
         return self.v.solids_pressure(s.vertical.n, s.vertical.n_bar)
 
     def excess_pressure(self, s: ColumnState) -> np.ndarray:
