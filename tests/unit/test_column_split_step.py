@@ -3,8 +3,8 @@
 models.column_split and LiquefactionColumn._split_step).
 
 The call makes the vertical step (the same as ReducedVerticalColumn.fast_step) and then what the
-column's Python did after it: the solids outflow, dn/dt for the next shear step's interpolation and
-the next shear step's mixture density and viscosity. The run must be the same, bit for bit, as the
+column's Python did after it: the solids outflow, dn/dt for the next shear step's interpolation, the
+next shear step's mixture density and viscosity and σ′_v of the new state. The run must be the same, bit for bit, as the
 one without the call (the vertical step alone compiled, the rest in NumPy), also where the call
 hands steps back; its plain Python (``TWOFLUID_DISABLE_JIT=1``) and its compiled form agree to
 round-off; a non-finite shear result is refused before anything is written.
@@ -62,7 +62,7 @@ def _run(monkeypatch, fused: bool, fail_every: int = 0, t_end: float = 5.0):
         v, w = s.vertical, s.wave
         rows.append(((v.t, step.iterations, step.substeps, step.solids_inflow, step.surface),
                      (v.V, v.W, v.n, v.P, v.n_bar, w.u, w.v, w.a, w.gamma, w.tau, s.shear, col._ndot,
-                      col.wave.rho.copy(), col.wave.eta.copy())))
+                      col.wave.rho.copy(), col.wave.eta.copy(), col.granular_pressure(s))))
     assert col.shear_end < t_end  # (the run went past the floor's step)
     return rows, counts
 
