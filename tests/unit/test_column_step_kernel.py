@@ -21,7 +21,7 @@ from twofluid.models.reduced_column import ReducedVerticalColumn
 from twofluid.runners.liquefaction import build_column
 
 
-_FAST_STEP = ReducedVerticalColumn.fast_step
+_FAST_DONE = ReducedVerticalColumn.fast_done
 
 
 def _column(name: str, duration: float = 1.5):
@@ -39,14 +39,14 @@ def _run(name: str, fast: bool, t_end: float = 6.0, monkeypatch=None, newton_tes
     col.v.fast_steps = fast
     col.settings = replace(col.settings, newton_test=newton_test)
     made = {"fast": 0, "back": 0}
-    real = _FAST_STEP
+    real = _FAST_DONE
 
-    def counted(self, *a):
+    def counted(self, *a):  # (after the compiled call, alone or in the split step: made or handed back)
         out = real(self, *a)
         made["fast" if out is not None else "back"] += 1
         return out
 
-    monkeypatch.setattr(ReducedVerticalColumn, "fast_step", counted)
+    monkeypatch.setattr(ReducedVerticalColumn, "fast_done", counted)
     rows = []
     for step in col.run(b.state, t_end, b.dt, b.dt_after):
         v = step.state.vertical
@@ -115,10 +115,11 @@ def test_plain_and_compiled_steps_agree(monkeypatch):
         code = ker(*args)
         assert column_step_kernel.vertical_step(*mine) == code
         if code == column_step_kernel.OK:
-            for a, b in zip(args[-8:], mine[-8:]):  # the samples, [V, W, n], P, the table, info
+            k = len(args) - len(column_step_kernel.ALONE)  # (the arguments after info: nothing besides the step)
+            for a, b in zip(args[k - 8:k], mine[k - 8:k]):  # the samples, [V, W, n], P, the table, info
                 scale = max(float(np.abs(a).max()), 1e-300) if a.dtype == float else 0
                 if a.dtype == float and a.ndim == 2:  # the table: the rows it wrote
-                    a, b = a[:args[-1][2]], b[:args[-1][2]]
+                    a, b = a[:args[k - 1][2]], b[:args[k - 1][2]]
                     scale = max(float(np.abs(a).max()), 1e-300)
                 assert np.all(np.abs(a - b) <= 1e-12 * scale) if scale else np.array_equal(a, b)
             checked[0] += 1

@@ -28,6 +28,18 @@ A step it cannot make as the Python path would at its first try (a rejected iter
 outside (0, 1], no convergence) returns a code, changes nothing the caller keeps, and the caller
 takes the Python path for that step (which halves the step, says why, and so on).
 
+With the hysteretic law the column's split step calls it once after its shear sub-steps
+(:mod:`~twofluid.models.column_split`), with the arguments from ``check`` on, to do in the same call
+what the column's Python did around the step, each with NumPy's element-wise arithmetic in the same
+order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the shear's results
+before it; after it the solids outflow, dn/dt, the next shear step's mixture density and viscosity
+(:func:`~twofluid.closures.kernels._viscosity`) and σ′_v of the new state, which the run's record reads. One function: as a second export calling the step
+as a helper it cost the build 3 s of CPU more (its body optimised twice). The run's record of the
+new state stays a call of its own (:mod:`~twofluid.models.record_kernel`): made here too it saved
+about 6 µs a step and cost the build 1.5 s of CPU (its pairwise sum compiled a second time); the
+shear sub-steps too (:mod:`~twofluid.models.hysteretic_kernel`): compiled into this group as well
+they would add their build, about 6 s of CPU.
+
 >>> callable(compiled()) or compiled() is None
 True
 """
@@ -41,9 +53,10 @@ from ..timestepping import newton as _nt
 from . import extrapolation as _ex
 from . import reduced_kernel as _rk
 
-__all__ = ["vertical_step", "compiled", "SIGNATURE", "OK", "NOT_CONVERGED", "NOT_FINITE", "NOT_ADMISSIBLE"]
+__all__ = ["vertical_step", "compiled", "ALONE", "SIGNATURE", "OK",
+           "NOT_CONVERGED", "NOT_FINITE", "NOT_ADMISSIBLE", "NOT_FINITE_SHEAR"]
 
-OK, NOT_CONVERGED, NOT_FINITE, NOT_ADMISSIBLE = 0, 1, 2, 3
+OK, NOT_CONVERGED, NOT_FINITE, NOT_ADMISSIBLE, NOT_FINITE_SHEAR = 0, 1, 2, 3, 4
 _CLEAR = 1e-6  # the models' floor of 1 − n (two_fluid_1d._CLEAR)
 
 
@@ -70,7 +83,8 @@ def _scale(V, W, floor):
 def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
                   A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                   fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
-                  newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info):
+                  newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info,
+                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, dps):
     """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
     n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
     (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
@@ -80,9 +94,29 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     the last accepted state (``lV``, ``lW``, ``ln``, ``last_t``, ``has_last``), its samples (``s_idx``,
     ``s_c``, ``meta`` = (count, steps)). Written on success: ``a_out`` = [V, W, n], ``P_out``, the new
     table ``DWo``, ``Dno`` (``info[2]`` rows), the samples, and ``info`` = (iterations, accepted on a
-    prediction, rows); returns :data:`OK` or why not (nothing the caller keeps written)."""
+    prediction, rows); returns :data:`OK` or why not (nothing the caller keeps written).
+
+    What the hysteretic column's split step does after its shear sub-steps besides (the arguments from
+    ``check`` on; :data:`ALONE` for none of it, :mod:`~twofluid.models.column_split`): with ``check``, first
+    the test that the new n̄ ``onb`` and the displacements ``u`` are finite (:data:`NOT_FINITE_SHEAR` if
+    not, nothing done); after the step, on success only, the solids outflow through the ends (``out_s[0]``
+    [m³/s] unless ``out_s`` is empty; the nodes ``node0``, ``node1``: ``diagnostics_1d.solids_outflow``
+    with the Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s] unless empty, with ``props`` the next
+    shear step's mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity
+    ``weta`` = μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
+    element-wise arithmetic, and unless ``ps`` is empty σ′_v = P_s(n, n̄) of the new state in ``ps`` (``dps``
+    its slope; ``LiquefactionColumn.granular_pressure``, which the run's record reads)."""
     ne = on.size
     nv = ne + 1
+    if check:
+        for i in range(onb.size):
+            xi = onb[i]
+            if not xi - xi == 0.0:  # NaN or ±inf (np.isfinite)
+                return NOT_FINITE_SHEAR
+        for i in range(u.size):
+            xi = u[i]
+            if not xi - xi == 0.0:
+                return NOT_FINITE_SHEAR
     t_new = t_old + dt
     # the bed-force shift at the old state (Reduced1D._force_shift_at) and the step's constants
     alpha = np.zeros(ne)
@@ -265,6 +299,21 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     info[0] = it
     info[1] = 0 if plain else 1
     info[2] = rows
+    if out_s.size > 0:
+        f0 = 0.5 * (a_out[node0] - a_out[nv + node0])
+        f1 = 0.5 * (a_out[node1] - a_out[nv + node1])
+        out_s[0] = f1 * area[nv - 1] - f0 * area[0]
+    if ndot.size > 0:
+        for i in range(ne):
+            ndot[i] = (a_out[2 * nv + i] - on[i]) / dt_step
+    if props:
+        n_end = a_out[2 * nv:]
+        laws._viscosity(n_end, rho[3], vpar[0], vpar[1], vpar[2], vpar[3], vpar[4], vpar[5], False, weta)
+        for i in range(ne):
+            wrho[i] = n_end[i] * mix[0] + (1.0 - n_end[i]) * mix[1]
+            weta[i] = weta[i] + eta_s[i]
+    if ps.size > 0:
+        laws._solids_pressure(a_out[2 * nv:], onb, A, p_ref, modulus, fluidized, ps, dps)
     return OK
 
 
@@ -273,7 +322,8 @@ SIGNATURE = ("i8(" + ",".join(
     ["f8", C1, C1, C1, C1, "f8", C1, C1, C2, C1, C2, C1, C1, C1, C1, C1, "i8", C1, C1,
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
-     "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1]) + ")")
+     "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1,
+     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, C1, C1]) + ")")
 
 _HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
@@ -281,6 +331,11 @@ _HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system,
             banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, _nt._accept,
             laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
             laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
+
+_E = np.zeros(0)
+#: the arguments of :func:`vertical_step` from ``check`` on for the vertical step alone (nothing tested,
+#: written or recorded besides)
+ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, _E, _E)
 
 _COMPILED = None
 _TRIED = False

@@ -126,6 +126,7 @@ from ..closures.viscosity import mooney_pringle
 from ..geotech.settlement import max_shear_strain
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
 from ..closures import hysteretic as _hyst_law
+from . import column_split as _split
 from . import hysteretic_kernel as _hyst_kernel
 from . import shear_kernel as _shear_kernel
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
@@ -283,7 +284,7 @@ class ColumnState:
         return self.vertical.t
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class ColumnStep:
     state: ColumnState
     dt: float  # vertical step [s]
@@ -291,6 +292,12 @@ class ColumnStep:
     iterations: int  # Picard iterations of the vertical step (last sub-step)
     solids_inflow: float  # solids volume that entered through the ends during the step [m³]
     surface: tuple = ()  # (t [s], absolute surface acceleration [m/s²]) after each shear sub-step
+
+    def __init__(self, state: ColumnState, dt: float, substeps: int, iterations: int, solids_inflow: float,
+                 surface: tuple = ()):
+        # (a frozen dataclass's own __init__ sets each field through object.__setattr__: 1 µs more a step)
+        self.__dict__.update(state=state, dt=dt, substeps=substeps, iterations=iterations,
+                             solids_inflow=solids_inflow, surface=surface)
 
 
 class LiquefactionColumn:
@@ -373,6 +380,10 @@ class LiquefactionColumn:
         if self.hysteretic is not None and self.hysteretic.shape[0] != nt:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
+        self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
+        self._ps = None  # (vertical state, its σ′_v) made by the compiled split step
+        self._aranges = {}  # m -> [1, ..., m] (the sub-steps' times)
+        self._a_last = (None, 0.0)  # (t, the record at t) of the last sub-step
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
         #: skip the vertical model (a total-stress run: no layer generates pore pressure, so the
@@ -469,6 +480,9 @@ class LiquefactionColumn:
     # ------------------------------------------------------- diagnostics
     def granular_pressure(self, s: ColumnState) -> np.ndarray:
         """P_s = σ′_v per element [Pa]."""
+        done = self._ps  # (the compiled split step's, for the state it made)
+        if done is not None and done[0] is s.vertical:
+            return done[1]
         return self.v.solids_pressure(s.vertical.n, s.vertical.n_bar)
 
     def excess_pressure(self, s: ColumnState) -> np.ndarray:
@@ -503,7 +517,8 @@ class LiquefactionColumn:
 
     def accelerations(self, s: ColumnState) -> tuple[float, float]:
         """(:meth:`base_acceleration`, :meth:`surface_acceleration`) [m/s²], the record read once."""
-        a_in = self.a_g(s.t) if s.t <= self.shaking_end else 0.0
+        t, last = s.t, self._a_last
+        a_in = (last[1] if last[0] == t else self.a_g(t)) if t <= self.shaking_end else 0.0
         running = s.t <= self.shear_end + 1e-12
         surface = a_in + float(s.wave.a[-1]) if running else 0.0
         if self.wave.base_impedance is None:
@@ -595,30 +610,43 @@ class LiquefactionColumn:
         a sub-step whose Newton iterations fail is retried at half the size (four times at most)."""
         v, wave, ns = self.v, self.wave, self.n_sat
         n = np.ascontiguousarray(s.vertical.n, dtype=float)
-        self._wave_properties(s)
+        props = self._props
+        if props is not None and props[0] is s.vertical.n:  # set by the compiled split step that made this state
+            wave.rho[:ns], wave.eta[:ns] = props[1], props[2]
+        else:
+            self._wave_properties(s)
         w = s.wave
-        span = t_new - s.t
-        dn = np.ascontiguousarray(self._ndot * span)
-        m = max(1, math.ceil(span / self._substep(s.t) - 1e-9))
+        t0 = s.vertical.t
+        span = t_new - t0
+        dn = self._ndot * span  # (a new C-contiguous float64 array)
+        m = max(1, math.ceil(span / self._substep(t0) - 1e-9))
         ne = wave.h.size
         A, p_ref = self._skeleton_arrays()
-        run = self.__dict__.get("_hyst_run")
-        if run is None:  # the kernel (or its plain Python) resolved once per run, not per step
-            run = self._hyst_run = _hyst_kernel.runner()
+        fixed = self.__dict__.get("_hyst_fixed")
+        if fixed is None:  # the kernel (or its plain Python) and its fixed arguments, once per run
+            fixed = self._hyst_fixed = (
+                _hyst_kernel.runner(), (wave.rho, wave.eta, wave.h, ns, wave.a0, wave.a1,
+                                        0.0 if wave.base_impedance is None else wave.base_impedance,
+                                        0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter),
+                (self.newmark[0], self.newmark[1], float(self.body), float(self.rho_b)))
+        run, mid, tail = fixed
+        shear, n_bar = s.shear, s.vertical.n_bar
+        copy_st = type(shear) is np.ndarray and shear.dtype == np.float64  # (np.array(x, dtype=float) of them)
+        copy_nb = type(n_bar) is np.ndarray and n_bar.dtype == np.float64
         for attempt in range(5):
             dt = span / m
-            times = s.t + np.arange(1.0, m + 1.0) * dt
+            steps = self._aranges.get(m)
+            if steps is None:
+                steps = self._aranges[m] = np.arange(1.0, m + 1.0)
+            times = t0 + steps * dt
             a_in = self._record_at(times)
+            self._a_last = (float(times[-1]), float(a_in[-1]))  # (the record at the step's end: :meth:`accelerations`)
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
-            st = np.array(s.shear, dtype=float)
-            nb = np.array(s.vertical.n_bar, dtype=float)
+            st = shear.copy() if copy_st else np.array(shear, dtype=float)
+            nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
             surface, tau = np.empty(m), np.empty(ne)
-            code = int(run(
-                u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, wave.rho, wave.eta, wave.h, ns,
-                wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
-                0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s.t, dt, a_in,
-                self.shaking_end, surface, tau, self.newmark[0], self.newmark[1], float(self.body),
-                float(self.rho_b)))
+            code = int(run(u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, *mid, t0, dt, a_in, self.shaking_end,
+                           surface, tau, *tail))
             if code != 1:
                 break
             m *= 2
@@ -626,7 +654,7 @@ class LiquefactionColumn:
             raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: "
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
         out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / wave.h, tau)  # (np.diff's arithmetic)
-        return out, nb, st, m, list(zip(times.tolist(), surface.tolist()))
+        return out, nb, st, m, tuple(zip(times.tolist(), surface.tolist()))
 
     def _skeleton_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """The skeleton law's A and p_ref per saturated element as the kernel takes them (contiguous
@@ -803,20 +831,26 @@ class LiquefactionColumn:
         t0 = s.t
         t_new = t0 + dt
         wave, n_bar, hist, m, surface = s.wave, s.vertical.n_bar, s.shear, 0, ()
+        # the vertical step and what follows it in one compiled call (:meth:`_split_step`) where it covers it
+        fused = self.hysteretic is not None and dt > 0.0 and not self.shear_only and self._split_args() is not None
+        check = False  # the finite test of the shear's results left to that call
         if t0 < self.shear_end - 1e-12:
             try:
                 wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(t0, dt, str(exc), s) from None
-            if not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
-                raise StepFailure(t0, dt, "shear sub-steps gave a non-finite reference porosity or "
-                                  "displacement", s)
+            # (not where the shear wave stops: the floor comes first; a flowing slope decides first)
+            check = fused and self.flow is None and not self.shear_end - 1e-12 <= t_new
+            if not check and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
+                raise self._not_finite(t0, dt, s)
             if self.flow is not None and not self.shear_only:
                 if self._flowing_phase(t0):
                     surface = ()  # the surface motion (spectra, a_max) covers the shaking and free_vibration
                 self._flow_decide(t_new, wave)
-        if self.hysteretic is not None and t0 < self.shear_end - 1e-12 <= t_new:
-            n_bar = self._apply_floor(s, n_bar, hist)  # the shear wave stops: the reconsolidation floor
+        floor = self.hysteretic is not None and t0 < self.shear_end - 1e-12 <= t_new  # the shear wave stops
+        if floor:
+            n_bar = self._apply_floor(s, n_bar, hist)  # the reconsolidation floor
+            fused = False
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
             return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface))
@@ -825,23 +859,47 @@ class LiquefactionColumn:
         vert = State(v0.t, v0.V, v0.W, v0.P, v0.n, n_bar) if type(v0) is State else v0.copy(n_bar=n_bar)
         if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
             self.v.continue_from(v0, vert)
-        its, inflow, made = 0, 0.0, None
+        its, inflow, made, split = 0, 0.0, None, False
         eps = 1e-9 * max(dt, 1e-12)  # (integrate's)
         fast = getattr(self.v, "fast_step", None)
         if fast is not None and vert.t < t_new - eps:  # the stepper's first try in one compiled call
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
-            made = fast(vert, h, self.settings)
-            if made is not None:
-                vert, its = made
-                inflow -= h * self.v.solids_outflow(vert)
+            if fused:
+                made = self._split_step(vert, h, dt, wave.u, check)
+                if made is not None:
+                    vert, its, outflow = made
+                    inflow -= h * outflow
+                    split = True
+            else:
+                made = fast(vert, h, self.settings)
+                if made is not None:
+                    vert, its = made
+                    inflow -= h * self.v.solids_outflow(vert)
+        if check and made is None and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
+            raise self._not_finite(t0, dt, s)
         if made is None or vert.t < t_new - eps:  # the stepper (all of the step, or the rest)
+            split = False
             for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
                 vert, its = st.state, st.iterations
                 inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
-        if self.hysteretic is not None and dt > 0.0:
+        if self.hysteretic is not None and dt > 0.0 and not split:
             self._ndot = (vert.n - s.vertical.n) / dt
+            self._props = None
         return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface))
+
+    @staticmethod
+    def _not_finite(t0: float, dt: float, s: ColumnState) -> StepFailure:
+        return StepFailure(t0, dt, "shear sub-steps gave a non-finite reference porosity or displacement", s)
+
+    def _split_args(self):
+        """The fixed arguments of the compiled split step, or None (:func:`.column_split.split_args`)."""
+        return _split.split_args(self)
+
+    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool):
+        """The vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None
+        (:func:`.column_split.split_step`)."""
+        return _split.split_step(self, vert, h, dt, u, check)
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:
@@ -856,11 +914,16 @@ class LiquefactionColumn:
         eps = 1e-9 * max(dt, 1e-12)
         flow_h = dt if self.flow is None else max(dt, self.flow.step)
         t = s.t
+        k = 0  # fixed[k]: the first fixed mark after t (t only grows)
         while t < t_end - eps:
             # the next time to land on: the fixed marks and the shear wave's end, which a sloping column
             # that still flows moves on (:meth:`_flow_decide`)
             end = self.shear_end
-            mark = min([x for x in fixed if x > t + eps] + ([end] if t + eps < end <= t_end else []))
+            while not fixed[k] > t + eps:  # (t_end is one, after t)
+                k += 1
+            mark = fixed[k]
+            if t + eps < end <= t_end and end < mark:
+                mark = end
             if t < end - eps:  # the shear wave runs: the shaking step, growing while the column flows
                 target = min(flow_h, 1.5 * h) if self._flowing_phase(t) else dt
             else:

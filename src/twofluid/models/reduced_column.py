@@ -132,6 +132,25 @@ class ReducedVerticalColumn(Reduced1D):
         (:func:`~twofluid.timestepping.backward_euler.integrate` to ``old.t + dt``), in one compiled call
         (:mod:`~twofluid.models.column_step_kernel`): (the new state, its iterations), or None where the
         call cannot make it (the caller then takes the stepper, which starts the step again)."""
+        call = self.fast_call(old, dt, settings)
+        if call is None:
+            return None
+        ker, args, ctx = call
+        try:
+            # a diverging iterate is the stepper's to report, as in its own path (compiled code sets no
+            # NumPy error state: only the plain Python of the un-jitted run needs it quiet)
+            with np.errstate(all="ignore") if ker is column_step_kernel.vertical_step else _QUIET:
+                code = ker(*args, *column_step_kernel.ALONE)  # (the vertical step alone)
+        except ZeroDivisionError:  # a diverging iterate: the stepper's Python path meets it and says so
+            code = -1
+        except TypeError:  # an array not as the compiled call takes it (not C-contiguous float64)
+            code = -1
+        return self.fast_done(ctx, code)
+
+    def fast_call(self, old: State, dt: float, settings) -> tuple | None:
+        """What :meth:`fast_step` calls: (the compiled :func:`~twofluid.models.column_step_kernel.vertical_step`,
+        its arguments up to ``info``, what :meth:`fast_done` takes after the call), or None where the call
+        does not cover the step (the stepper's then)."""
         static = self._fast_static(old) if type(old) is State and self.fast_steps else None
         if static is None or not (old.n_bar.flags.c_contiguous and old.n.flags.c_contiguous):
             self._fast_release()
@@ -159,21 +178,20 @@ class ReducedVerticalColumn(Reduced1D):
         cont = ex.state is old and ex.t == old.t
         has_last = last is not None
         lt = last if has_last else old
-        try:
-            # a diverging iterate is the stepper's to report, as in its own path (compiled code sets no
-            # NumPy error state: only the plain Python of the un-jitted run needs it quiet)
-            with np.errstate(all="ignore") if ker is column_step_kernel.vertical_step else _QUIET:
-                code = ker(float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:],
-                           DW, Dn, order, float(ex_t or 0.0), float(ex_h), cont, float(settings.tol),
-                           int(settings.max_iter), newton, lt.V, lt.W, lt.n, float(lt.t), has_last,
-                           idx, c, meta, a, P, DWo, Dno, info)
-        except ZeroDivisionError:  # a diverging iterate: the stepper's Python path meets it and says so
-            code = -1
-        except TypeError:  # an array not as the compiled call takes it (not C-contiguous float64)
-            code = -1
+        args = (float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:], DW, Dn, order,
+                float(ex_t or 0.0), float(ex_h), cont, float(settings.tol), int(settings.max_iter), newton, lt.V,
+                lt.W, lt.n, float(lt.t), has_last, idx, c, meta, a, P, DWo, Dno, info)
+        return ker, args, (old, t_new, a, P, info, DWo, Dno, cont, newton)
+
+    def fast_done(self, ctx: tuple, code: int) -> tuple | None:
+        """After the call of :meth:`fast_call`'s arguments returned ``code``: (the new state, its iterations)
+        where it made the step, else None (the Newton test's samples handed back to the stepper)."""
         if code != column_step_kernel.OK:
             self._fast_release()
             return None
+        old, t_new, a, P, info, DWo, Dno, cont, newton = ctx
+        ex = self._extrap
+        nv = old.V.size
         new = State(t_new, a[:nv], a[nv:2 * nv], P, a[2 * nv:], old.n_bar.copy())
         rows = int(info[2])
         if rows == 2:

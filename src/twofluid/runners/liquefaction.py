@@ -341,13 +341,13 @@ class _Recorder:
         self.ps = col.granular_pressure(s)  # the probes' σ′_v too
         p_hydro, sigma_v0, n0, lengths = self._constants()
         settle, pbase, ru_top, flux_top = self._step(
-            float(s.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
+            float(v.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
             self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
             self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
             ru_elem, sig_elem, self._scalars).tolist()
         self.damage.record(s, self._liq)
         self.last_contribution = contribution
-        self.t.append(s.t)
+        self.t.append(v.t)
         self.ru.append(ru_elem)
         self.sig.append(sig_elem)
         self.settle.append(settle)  # = col.settlement(s)
@@ -359,7 +359,7 @@ class _Recorder:
             self.surface_t.extend(times)
             self.surface_a.extend(acc)
         if field:
-            self.field_t.append(s.t)
+            self.field_t.append(v.t)
             self.field.append(ru)
         self._last_ru = ru
         return ru
@@ -387,7 +387,10 @@ def _at_mark(marks: list, t: float) -> bool:
     nearest marks either side only (one farther away is farther from ``t``: it could match only
     where marks lie within 1e-9 of each other)."""
     i = bisect.bisect_left(marks, t)
-    return any(abs(t - m) < 1e-9 * max(1.0, m) for m in marks[max(i - 2, 0):i + 2])
+    for m in marks[max(i - 2, 0):i + 2]:
+        if abs(t - m) < 1e-9 * max(1.0, m):
+            return True
+    return False
 
 
 def _c(a) -> np.ndarray:
@@ -474,15 +477,16 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     stop = None if ru_done == 0.0 else (lambda s: float(np.max(col.excess_ratio(s))) < ru_done)
     wall0 = time.perf_counter()
     with run_guard(b.t_end, progress, writer, ffile, *(() if srec is None else (srec,))) as run:
+        record, bar = rec.record, run.bar
         for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times, stop=stop):
             s = last = step.state
-            t = s.t
+            t = s.vertical.t
             n_steps += 1
             n_sub += step.substeps
             inflow += step.solids_inflow
             at_mark = _at_mark(out_times, t)
             field = t >= next_field - 1e-12 or at_mark
-            ru = rec.record(s, field, step.surface)
+            ru = record(s, field, step.surface)
             if srec is not None:
                 srec.record(s)
                 if at_mark or abs(t - col.shear_end) < 1e-9 * max(1.0, t):
@@ -500,7 +504,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             if at_mark:
                 profiles[round(t, 9)] = _profile(col, s, rec.peak)
                 writer.profile(t, profiles[round(t, 9)])
-            run.bar.update(t - run.bar.n)
+            bar.update(t - bar.n)
         if run.status == "completed" and round(last.t, 9) not in profiles:  # ended by dissipation
             profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
             writer.profile(last.t, profiles[round(last.t, 9)])

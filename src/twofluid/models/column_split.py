@@ -1,0 +1,79 @@
+"""The hysteretic liquefaction column's split step after its shear sub-steps in one compiled call.
+
+:meth:`LiquefactionColumn.step <twofluid.models.liquefaction_1d.LiquefactionColumn.step>` runs the
+shear sub-steps (:mod:`~twofluid.models.hysteretic_kernel`), then :func:`split_step` here: one call of
+:func:`~twofluid.models.column_step_kernel.vertical_step` with the vertical step's arguments
+(:meth:`ReducedVerticalColumn.fast_call <twofluid.models.reduced_column.ReducedVerticalColumn.fast_call>`)
+and those from ``check`` on makes the finite test of the shear's results, the vertical step, the solids outflow, dn/dt (the next
+sub-steps' interpolation of n), the next shear step's mixture density and viscosity and σ′_v of the
+new state. The numbers are those of the
+Python path bit for bit (``tests/unit/test_column_split_step.py``); a step the call cannot make
+changes nothing, and the column takes the Python path for it whole.
+"""
+from __future__ import annotations
+
+from contextlib import nullcontext
+
+import numpy as np
+
+from . import column_step_kernel as _kernel
+
+__all__ = ["split_args", "split_step"]
+
+_QUIET = nullcontext()  # (reusable: a compiled call needs no NumPy error-state context)
+
+
+def split_args(col):
+    """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
+    (besides the vertical step's: (the compiled call, the ends' nodes, its outputs and the next shear step's wave
+    properties)), or None where it does not cover
+    the column ``col`` (a vertical model without the compiled step, an upwind solids flux); kept while
+    the closures are the same objects."""
+    v = col.v
+    hit = col.__dict__.get("_split")
+    if hit is not None and hit[0] is v.clo:
+        return hit[1]
+    ker = _kernel.compiled() if hasattr(v, "fast_call") and v.solids_flux != "upwind" else None
+    out = None
+    if ker is not None:
+        ns = col.n_sat
+        laws = v.compiled_laws()
+        # the wave properties as LiquefactionColumn._wave_properties sets them with a Newtonian η_s
+        props = col._eta_s is not None and laws is not None and not v.clo.viscosity_params
+        node = v.vert_node
+        out = (ker, int(node[0]), int(node[-1]), np.zeros(1), props,
+               np.array([v.mat.rho_f, v.mat.rho_s], dtype=float), np.empty(ns), np.empty(ns),
+               np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float))
+    col._split = (v.clo, out)
+    return out
+
+
+def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
+    """The vertical step of ``h`` [s] from ``vert`` (the state with the shear's new n̄) of the column
+    ``col``'s split step of ``dt`` [s], and what follows it, in one compiled call (module docstring;
+    ``u``: the shear's displacements; ``check``: the call tests that n̄ and ``u`` are finite): (the new
+    state, its iterations, the solids outflow [m³/s]), with ``col._ndot`` and the next shear step's wave
+    properties (``col._props``) and σ′_v of the new state (``col._ps``, what
+    ``LiquefactionColumn.granular_pressure`` gives for it) set; None where the call does not cover it or cannot make the step
+    (nothing changed)."""
+    fixed = col._split_args()
+    call = None if fixed is None else col.v.fast_call(vert, h, col.settings)
+    if call is None:
+        return None
+    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s = fixed
+    args, ctx = call[1], call[2]
+    ne = vert.n.size
+    ndot, ps = np.empty(ne), np.empty(ne)
+    try:
+        with np.errstate(all="ignore") if ker is _kernel.vertical_step else _QUIET:
+            code = ker(*args, check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps,
+                       np.empty(ne))
+    except (ZeroDivisionError, TypeError):  # (as fast_step: the stepper meets it and says so)
+        code = -1
+    made = col.v.fast_done(ctx, code)
+    if made is None:
+        return None
+    col._ndot = ndot
+    col._props = (made[0].n, wrho, weta) if props else None
+    col._ps = (made[0], ps)
+    return made[0], made[1], float(out_s[0])
