@@ -624,11 +624,7 @@ class LiquefactionColumn:
         A, p_ref = self._skeleton_arrays()
         fixed = self.__dict__.get("_hyst_fixed")
         if fixed is None:  # the kernel (or its plain Python) and its fixed arguments, once per run
-            fixed = self._hyst_fixed = (
-                _hyst_kernel.runner(), (wave.rho, wave.eta, wave.h, ns, wave.a0, wave.a1,
-                                        0.0 if wave.base_impedance is None else wave.base_impedance,
-                                        0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter),
-                (self.newmark[0], self.newmark[1], float(self.body), float(self.rho_b)))
+            fixed = self._hyst_fixed = (_hyst_kernel.runner(), *self.hysteretic_arguments())
         run, mid, tail = fixed
         shear, n_bar = s.shear, s.vertical.n_bar
         copy_st = type(shear) is np.ndarray and shear.dtype == np.float64  # (np.array(x, dtype=float) of them)
@@ -655,6 +651,18 @@ class LiquefactionColumn:
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
         out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / wave.h, tau)  # (np.diff's arithmetic)
         return out, nb, st, m, tuple(zip(times.tolist(), surface.tolist()))
+
+    def hysteretic_arguments(self) -> tuple[tuple, tuple]:
+        """The fixed arguments of the hysteretic sub-steps (:func:`twofluid.models.hysteretic_kernel._substeps`)
+        that do not change over a run: those after ``p_ref`` up to ``t0`` (the wave's ρ, η and element
+        lengths, which :meth:`_wave_properties` updates in place, the saturated count, the Rayleigh
+        coefficients, the base, Newton's tolerance and iterations), and those after ``tau_out`` (Newmark's
+        β and γ, the slope's body force and the density it leaves out)."""
+        wave = self.wave
+        return ((wave.rho, wave.eta, wave.h, self.n_sat, wave.a0, wave.a1,
+                 0.0 if wave.base_impedance is None else wave.base_impedance,
+                 0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter),
+                (self.newmark[0], self.newmark[1], float(self.body), float(self.rho_b)))
 
     def _skeleton_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """The skeleton law's A and p_ref per saturated element as the kernel takes them (contiguous

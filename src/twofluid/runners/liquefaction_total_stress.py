@@ -81,12 +81,10 @@ def one_call(col, s0, total: int, nodes: bool, kernel=None):
     nb = np.array(s0.vertical.n_bar, dtype=float)
     out, tau = np.empty(total * (ne + 1) if nodes else total), np.empty(ne)
     run = hk.runner() if kernel is None else kernel
+    mid, tail = col.hysteretic_arguments()
     code = int(run(u, vel, acc, st, col.hysteretic, nb, np.ascontiguousarray(s0.vertical.n, dtype=float),
-                   np.ascontiguousarray(col._ndot * span), A, p_ref, wave.rho, wave.eta, wave.h, col.n_sat,
-                   wave.a0, wave.a1, 0.0 if wave.base_impedance is None else wave.base_impedance,
-                   0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter, s0.t, h,
-                   col._record_at(times), col.shaking_end, out, tau, col.newmark[0], col.newmark[1],
-                   float(col.body), float(col.rho_b)))
+                   np.ascontiguousarray(col._ndot * span), A, p_ref, *mid, s0.t, h,
+                   col._record_at(times), col.shaking_end, out, tau, *tail))
     if code != 0:
         return None
     return times, (out.reshape(total, ne + 1) if nodes else out)
