@@ -77,7 +77,7 @@ from ..fem.banded import BandSolver
 from ..fem.line import LINE1, LINE2, element_values
 from ..mesh.line import LineMesh
 from ..timestepping.backward_euler import relative_change
-from . import full_kernel, reduced_kernel
+from . import full_iterate, full_kernel, reduced_kernel
 from .bed_forces_1d import _CLEAR, UpwindBedForces
 from .data_1d import Boundary, Closures, Materials, State, _times
 from .diagnostics_1d import LineDiagnostics
@@ -327,6 +327,18 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         self._liquid_pressure(S, n, k.P)
         self._solids_flux(S, k)
         return S
+
+    def iterate(self, k: State, old: State, dt: float, t_new: float):
+        """The whole iterate where the kernels of :mod:`~twofluid.models.full_kernel` assemble it:
+        :meth:`assemble`, :meth:`solve`, :meth:`unpack` and :meth:`iterate_change` in one call, the
+        same calls (:mod:`~twofluid.models.full_iterate`); (the new iterate, whether the solve's output
+        is finite, max |Δn|, the velocity change), or None where the stepper makes them one by one."""
+        ker = self._full_kernels()
+        if ker is None or type(self).iterate_change is not TwoFluid1D.iterate_change \
+                or type(self).velocity_scale is not TwoFluid1D.velocity_scale \
+                or any(f in self.__dict__ for f in ("assemble", "solve", "unpack", "iterate_change")):
+            return None
+        return full_iterate.iterate(self, ker, k, old, dt, t_new)
 
     def _step_terms(self, old: State, dt: float, t_new: float) -> BlockSystem:
         """The terms of a step that do not depend on the iterate (assembled once per step)."""

@@ -1,0 +1,94 @@
+"""The full 1D model's whole Newton iterate in one Python call around the compiled kernels.
+
+:meth:`TwoFluid1D.iterate <twofluid.models.two_fluid_1d.TwoFluid1D.iterate>` (the stepper's hook for
+an iterate in one call) comes here where the kernels of :mod:`~twofluid.models.full_kernel` assemble
+the iterate. It makes the calls of :func:`full_kernel.assemble <twofluid.models.full_kernel.assemble>`,
+:func:`full_kernel.solve <twofluid.models.full_kernel.solve>`, :meth:`TwoFluid1D.unpack` and
+:meth:`TwoFluid1D.iterate_change` with the same arguments in the same order, so the iterates are
+the same bit for bit (``tests/unit/test_full_iterate.py``), without what the stepper's four calls
+spend between the kernels: the :class:`~twofluid.models.full_kernel.BandIterate`, the work arrays
+allocated afresh, the laws and the materials looked up per iterate. The work arrays and the
+run's constants are kept per model (:func:`_run_args`, replaced, never changed in place, so a
+shallow copy of the model keeps its own).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import full_kernel, reduced_kernel
+from .data_1d import State
+
+__all__ = ["iterate"]
+
+
+def _run_args(model, ne: int):
+    """(the model's materials and closures it was made for, the work arrays, the scalar arguments of
+    ``band_system``), kept on the model while its ``mat``, ``clo``, ``bottom`` and ``top`` are the same."""
+    mat, clo, bot, top = model.mat, model.clo, model.bottom, model.top
+    hit = model.__dict__.get("_fi_run")
+    if hit is not None and hit[0] is mat and hit[1] is clo and hit[2] is bot and hit[3] is top and hit[4] == ne:
+        return hit
+    N = 2 * model.nv + 2 * ne
+    work = (np.empty(3 * ne), np.empty(3 * ne), np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(N),
+            np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(3))
+    scalars = (bool(clo.viscous), model.solids_flux == "upwind", float(mat.rho_f), float(mat.rho_s),
+               float(mat.mu_f), float(model.g_y))
+    ends = (bot.kind == "outlet", float(bot.pressure), top.kind == "outlet", float(top.pressure))
+    hit = model._fi_run = (mat, clo, bot, top, ne, N, work, scalars, ends)
+    return hit
+
+
+def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
+    """One whole iterate (:meth:`TwoFluid1D.iterate`): (the new iterate, whether the solve's output is
+    finite, max |Δn|, the velocity change), or None where the compiled laws or the common kernels
+    are not there (the stepper then makes the calls one by one)."""
+    laws = model.compiled_laws()
+    common = reduced_kernel.common_kernels()
+    n, V, W = k.n, k.V, k.W
+    nb = k.n_bar
+    ne = n.size
+    if laws is None or common is None or type(nb) is not np.ndarray or nb.ndim != 1 or nb.shape != n.shape:
+        return None
+    _, _, _, _, _, N, work, scalars, ends = _run_args(model, ne)
+    x3, s3, ab, f, Aa, abo, b, change = work
+    viscous, upwind, rho_f, rho_s, mu_f, g_y = scalars
+    mc, vc = model._fk_constants
+    st = model._fk_step  # full_kernel.assemble's per-step cache: the shift α at the old state
+    if st is None or st[0] is not old or st[1] != dt or st[2] != t_new:
+        st = model._fk_step = (old, dt, t_new, full_kernel._vector(model.bed_force_shift(old), ne))
+    # ---- full_kernel.assemble
+    ker["closure_points"](n, V, W, mc[14], mc[15], x3, s3)
+    ps, dps = laws.solids_pressure(n, nb)
+    K3 = laws.beta_per_solids(x3, s3)
+    mu2 = laws.solid_viscosity(x3[ne:]) if viscous else K3
+    below = getattr(model, "_below", None)
+    if below is not None:
+        cached = model._fk_below
+        if cached is None or cached[0] is not below:
+            cached = model._fk_below = (below, below.astype(float))
+        belf = cached[1]
+    else:
+        belf = vc[0]  # not read
+    ker["band_system"](n, V, W, k.P, old.V, old.W, old.n, st[3], K3, mu2, ps, dps, mc, vc, belf, below is not None,
+                       viscous, upwind, rho_f, rho_s, mu_f, g_y, float(dt), *ends, ab, f, Aa)
+    # ---- full_kernel.solve
+    idx, val = model.dirichlet(t_new)
+    cached = model._fk_fixed
+    if cached is None or cached[0] is not idx:
+        cached = model._fk_fixed = (idx, np.ascontiguousarray(model._band.pos[idx], dtype=np.int64),
+                                    np.ascontiguousarray(val, dtype=float))
+    fixed, vals = cached[1], cached[2]
+    out = np.empty(N)
+    if ker["residual"](ab, f, Aa, V, W, n, fixed, vals, abo, b) != 0 or ker["band_lu"](abo, b, full_kernel.KL,
+                                                                                      full_kernel.KU) != 0:
+        out.fill(np.nan)
+    else:
+        ker["unpack"](V, W, k.P, n, b, fixed, vals, out)
+    # ---- TwoFluid1D.unpack and iterate_change
+    nv, np_ = model.nv, model.np
+    if type(k) is State:
+        new = State(t_new, out[:nv], out[nv:2 * nv], out[2 * nv:2 * nv + np_], out[2 * nv + np_:], nb)
+    else:
+        new = k.copy(t=t_new, V=out[:nv], W=out[nv:2 * nv], P=out[2 * nv:2 * nv + np_], n=out[2 * nv + np_:])
+    common["iterate_change"](out, new.V, new.W, new.n, V, W, n, float(model.velocity_floor), change)
+    return new, change[0] != 0.0, float(change[1]), float(change[2])
