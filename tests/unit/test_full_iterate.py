@@ -73,3 +73,38 @@ def test_one_call_iterate_declines_where_the_calls_are_replaced():
 
     m2 = Scaled(m.mesh, m.mat, m.clo, m.bottom, m.top)
     assert m2.iterate(k, s, b.dt, k.t) is None
+
+
+@requires_numba
+@pytest.mark.parametrize("name", (CASES[0], CASES[2], CASES[3]))
+def test_the_one_call_shift_is_the_models_bit_for_bit(name):
+    """The bed-force shift the one call makes at the start of a step is the model's own
+    (``bed_force_shift`` through ``full_kernel.force_shift``), on a state with moving V, W and n."""
+    from twofluid.models import full_iterate, reduced_kernel
+
+    b = model_of(name, "two_fluid_1d")
+    m = b.model
+    states = [step.state for step in integrate(m, b.state, 10 * b.dt, b.dt, settings=b.settings)]
+    s = states[-1]
+    ne = s.n.size
+    mine = full_iterate._shift(m, s, m.compiled_laws(), reduced_kernel.common_kernels(),
+                               (np.empty(2 * ne), np.empty(2 * ne)), m._fk_constants[0])
+    ref = m._force_shift_at(s)
+    assert np.abs(ref).max() > 0.0  # (a shift that is not zero everywhere: a real comparison)
+    assert np.array_equal(mine, ref)
+
+
+def test_the_first_iterate_is_the_extrapolators_prediction():
+    """TwoFluid1D._first_iterate writes Extrapolator.predict's fields (n clipped to (0, 1]) straight into
+    the iterate: the same numbers as the prediction, at the table's step and after a shorter one."""
+    b = model_of("fluidized-bed-step", "two_fluid_1d")
+    m = b.model
+    s = [step.state for step in integrate(m, b.state, 12 * b.dt, b.dt, settings=b.settings)][-1]
+    assert m._extrap.order >= 3
+    for h in (b.dt, 0.3 * b.dt):
+        k = s.copy(t=s.t + h)
+        m._first_iterate(k)
+        V, W, n = m._extrap.predict(k.t)
+        assert not np.array_equal(k.n, s.n)
+        assert np.array_equal(k.V, V) and np.array_equal(k.W, W)
+        assert np.array_equal(k.n, np.clip(n, 1e-6, 1.0))

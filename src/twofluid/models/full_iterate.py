@@ -20,6 +20,10 @@ from .data_1d import State
 
 __all__ = ["iterate"]
 
+# the methods whose calls ``iterate`` makes at once: a subclass or an instance replacing one gets them one by one
+_ONE_CALL_METHODS = frozenset(("assemble", "solve", "unpack", "iterate_change", "velocity_scale"))
+_ONE_CALL: dict = {}  # class -> whether it keeps them all
+
 
 def _run_args(model, ne: int):
     """(the model's materials and closures it was made for, the work arrays, the scalar arguments of
@@ -30,18 +34,61 @@ def _run_args(model, ne: int):
         return hit
     N = 2 * model.nv + 2 * ne
     work = (np.empty(3 * ne), np.empty(3 * ne), np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(N),
-            np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(3))
+            np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(3), np.empty(2 * ne), np.empty(2 * ne))
     scalars = (bool(clo.viscous), model.solids_flux == "upwind", float(mat.rho_f), float(mat.rho_s),
                float(mat.mu_f), float(model.g_y))
     ends = (bot.kind == "outlet", float(bot.pressure), top.kind == "outlet", float(top.pressure))
-    hit = model._fi_run = (mat, clo, bot, top, ne, N, work, scalars, ends)
+    # the shift made here where the model's is UpwindBedForces' through full_kernel.force_shift
+    from .two_fluid_1d import TwoFluid1D  # (the module that imports this one)
+
+    cls = type(model)
+    shift_own = (model.BN is not None and model.bed_forces != "galerkin"
+                 and all(getattr(cls, m) is getattr(TwoFluid1D, m) for m in _SHIFT_METHODS)
+                 and not set(_SHIFT_METHODS) & model.__dict__.keys())
+    hit = model._fi_run = (mat, clo, bot, top, ne, N, work, scalars, ends, shift_own)
     return hit
+
+
+#: the methods the bed-force shift of a step goes through (:meth:`UpwindBedForces.bed_force_shift`)
+_SHIFT_METHODS = ("bed_force_shift", "_force_shift_at", "force_shift", "solids_pressure", "compiled_laws",
+                  "_full_kernels")
+
+
+def _shift(model, s: State, laws, common: dict, xs, mc) -> np.ndarray | None:
+    """:meth:`UpwindBedForces.bed_force_shift` at ``s`` as :func:`full_kernel.force_shift
+    <twofluid.models.full_kernel.force_shift>` makes it (the same calls), without the cache of the
+    state's copies that the model keeps for a step tried again (the shift is a function of ``s``)."""
+    n, nb = s.n, s.n_bar
+    if type(nb) is not np.ndarray or nb.ndim != 1 or nb.shape != n.shape:
+        return None
+    shift_mc = model.__dict__.get("_fk_shift_mc")
+    if shift_mc is None:
+        shift_mc = model._fk_shift_mc = np.zeros((19, mc.shape[1]))
+        shift_mc[10:14] = mc[0:4]
+    x, s_abs = xs
+    common["shift_points"](n, s.V, s.W, mc[14], mc[15], x, s_abs)
+    K = laws.beta_per_solids(x, s_abs)
+    _, dps = laws.solids_pressure(n, nb)
+    alpha = np.empty(n.size)
+    mat = model.mat
+    common["shift"](n, s.V, s.W, x, K, dps, shift_mc, mc[16], model.mesh.lengths, float(mat.rho_s - mat.rho_f),
+                    float(model.g_y), float(mat.g), alpha)
+    return alpha
 
 
 def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     """One whole iterate (:meth:`TwoFluid1D.iterate`): (the new iterate, whether the solve's output is
     finite, max |Δn|, the velocity change), or None where the compiled laws or the common kernels
     are not there (the stepper then makes the calls one by one)."""
+    cls = type(model)
+    if _ONE_CALL.get(cls) is False or not _ONE_CALL_METHODS.isdisjoint(model.__dict__):
+        return None
+    if cls not in _ONE_CALL:
+        from .two_fluid_1d import TwoFluid1D  # (the module that imports this one)
+
+        ok = _ONE_CALL[cls] = all(getattr(cls, f) is getattr(TwoFluid1D, f) for f in _ONE_CALL_METHODS)
+        if not ok:
+            return None
     laws = model.compiled_laws()
     common = reduced_kernel.common_kernels()
     n, V, W = k.n, k.V, k.W
@@ -49,13 +96,16 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     ne = n.size
     if laws is None or common is None or type(nb) is not np.ndarray or nb.ndim != 1 or nb.shape != n.shape:
         return None
-    _, _, _, _, _, N, work, scalars, ends = _run_args(model, ne)
-    x3, s3, ab, f, Aa, abo, b, change = work
+    _, _, _, _, _, N, work, scalars, ends, shift_own = _run_args(model, ne)
+    x3, s3, ab, f, Aa, abo, b, change = work[:8]
     viscous, upwind, rho_f, rho_s, mu_f, g_y = scalars
     mc, vc = model._fk_constants
     st = model._fk_step  # full_kernel.assemble's per-step cache: the shift α at the old state
     if st is None or st[0] is not old or st[1] != dt or st[2] != t_new:
-        st = model._fk_step = (old, dt, t_new, full_kernel._vector(model.bed_force_shift(old), ne))
+        alpha = _shift(model, old, laws, common, work[8:], mc) if shift_own else None
+        if alpha is None:
+            alpha = full_kernel._vector(model.bed_force_shift(old), ne)
+        st = model._fk_step = (old, dt, t_new, alpha)
     # ---- full_kernel.assemble
     ker["closure_points"](n, V, W, mc[14], mc[15], x3, s3)
     ps, dps = laws.solids_pressure(n, nb)
