@@ -88,7 +88,7 @@ def test_the_one_call_shift_is_the_models_bit_for_bit(name):
     s = states[-1]
     ne = s.n.size
     mine = full_iterate._shift(m, s, m.compiled_laws(), reduced_kernel.common_kernels(),
-                               (np.empty(2 * ne), np.empty(2 * ne)), m._fk_constants[0])
+                               (np.empty(2 * ne), np.empty(2 * ne)), m._fk_constants[0], m.mesh.lengths)
     ref = m._force_shift_at(s)
     assert np.abs(ref).max() > 0.0  # (a shift that is not zero everywhere: a real comparison)
     assert np.array_equal(mine, ref)

@@ -30,7 +30,9 @@ def _run_args(model, ne: int):
     ``band_system``), kept on the model while its ``mat``, ``clo``, ``bottom`` and ``top`` are the same."""
     mat, clo, bot, top = model.mat, model.clo, model.bottom, model.top
     hit = model.__dict__.get("_fi_run")
-    if hit is not None and hit[0] is mat and hit[1] is clo and hit[2] is bot and hit[3] is top and hit[4] == ne:
+    mesh = model.mesh
+    if hit is not None and hit[0] is mat and hit[1] is clo and hit[2] is bot and hit[3] is top and hit[4] is mesh \
+            and hit[5] is mesh.y:
         return hit
     N = 2 * model.nv + 2 * ne
     work = (np.empty(3 * ne), np.empty(3 * ne), np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(N),
@@ -45,7 +47,7 @@ def _run_args(model, ne: int):
     shift_own = (model.BN is not None and model.bed_forces != "galerkin"
                  and all(getattr(cls, m) is getattr(TwoFluid1D, m) for m in _SHIFT_METHODS)
                  and not set(_SHIFT_METHODS) & model.__dict__.keys())
-    hit = model._fi_run = (mat, clo, bot, top, ne, N, work, scalars, ends, shift_own)
+    hit = model._fi_run = (mat, clo, bot, top, mesh, mesh.y, N, work, scalars, ends, shift_own, mesh.lengths)
     return hit
 
 
@@ -54,7 +56,7 @@ _SHIFT_METHODS = ("bed_force_shift", "_force_shift_at", "force_shift", "solids_p
                   "_full_kernels")
 
 
-def _shift(model, s: State, laws, common: dict, xs, mc) -> np.ndarray | None:
+def _shift(model, s: State, laws, common: dict, xs, mc, lengths) -> np.ndarray | None:
     """:meth:`UpwindBedForces.bed_force_shift` at ``s`` as :func:`full_kernel.force_shift
     <twofluid.models.full_kernel.force_shift>` makes it (the same calls), without the cache of the
     state's copies that the model keeps for a step tried again (the shift is a function of ``s``)."""
@@ -71,7 +73,7 @@ def _shift(model, s: State, laws, common: dict, xs, mc) -> np.ndarray | None:
     _, dps = laws.solids_pressure(n, nb)
     alpha = np.empty(n.size)
     mat = model.mat
-    common["shift"](n, s.V, s.W, x, K, dps, shift_mc, mc[16], model.mesh.lengths, float(mat.rho_s - mat.rho_f),
+    common["shift"](n, s.V, s.W, x, K, dps, shift_mc, mc[16], lengths, float(mat.rho_s - mat.rho_f),
                     float(model.g_y), float(mat.g), alpha)
     return alpha
 
@@ -96,16 +98,18 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     ne = n.size
     if laws is None or common is None or type(nb) is not np.ndarray or nb.ndim != 1 or nb.shape != n.shape:
         return None
-    _, _, _, _, _, N, work, scalars, ends, shift_own = _run_args(model, ne)
+    N, work, scalars, ends, shift_own, lengths = _run_args(model, ne)[6:]
     x3, s3, ab, f, Aa, abo, b, change = work[:8]
     viscous, upwind, rho_f, rho_s, mu_f, g_y = scalars
     mc, vc = model._fk_constants
-    st = model._fk_step  # full_kernel.assemble's per-step cache: the shift α at the old state
+    st = model.__dict__.get("_fi_step")  # the step's: the shift α at the old state, the prescribed rows
     if st is None or st[0] is not old or st[1] != dt or st[2] != t_new:
-        alpha = _shift(model, old, laws, common, work[8:], mc) if shift_own else None
+        alpha = _shift(model, old, laws, common, work[8:10], mc, lengths) if shift_own else None
         if alpha is None:
             alpha = full_kernel._vector(model.bed_force_shift(old), ne)
-        st = model._fk_step = (old, dt, t_new, alpha)
+        idx, val = model.dirichlet(t_new)  # (full_kernel.solve's conversion, once a step)
+        st = model._fi_step = (old, dt, t_new, alpha, np.ascontiguousarray(model._band.pos[idx], dtype=np.int64),
+                               np.ascontiguousarray(val, dtype=float))
     # ---- full_kernel.assemble
     ker["closure_points"](n, V, W, mc[14], mc[15], x3, s3)
     ps, dps = laws.solids_pressure(n, nb)
@@ -122,12 +126,7 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     ker["band_system"](n, V, W, k.P, old.V, old.W, old.n, st[3], K3, mu2, ps, dps, mc, vc, belf, below is not None,
                        viscous, upwind, rho_f, rho_s, mu_f, g_y, float(dt), *ends, ab, f, Aa)
     # ---- full_kernel.solve
-    idx, val = model.dirichlet(t_new)
-    cached = model._fk_fixed
-    if cached is None or cached[0] is not idx:
-        cached = model._fk_fixed = (idx, np.ascontiguousarray(model._band.pos[idx], dtype=np.int64),
-                                    np.ascontiguousarray(val, dtype=float))
-    fixed, vals = cached[1], cached[2]
+    fixed, vals = st[4], st[5]
     out = np.empty(N)
     if ker["residual"](ab, f, Aa, V, W, n, fixed, vals, abo, b) != 0 or ker["band_lu"](abo, b, full_kernel.KL,
                                                                                       full_kernel.KU) != 0:
