@@ -425,9 +425,9 @@ def _young_gc_only():
     """While kernels build, Python's garbage collector collects only new objects, and less often
     (:data:`_BUILD_GC_THRESHOLDS`); its thresholds are restored after. numba's type inference and
     lowering allocate millions of objects, most of them kept to the end of the build, which the
-    default thresholds scan again and again in the older generations: 4.1 s of the two
-    ``build-kernels`` processes' 35 s of CPU (load 1), 0.4 s with these, for about 100 MB more memory
-    per process. It changes no built module (byte-identical). A collector switched off stays off."""
+    default thresholds scan again and again in the older generations: 3.7 s of the two
+    ``build-kernels`` processes' 30 s of CPU, 0.8 s with these, for 30–110 MB more memory per process
+    (``docs/benchmarks.md``). The machine code built is the same. A collector switched off stays off."""
     import gc
 
     saved = gc.get_threshold()
