@@ -412,3 +412,39 @@ def test_an_ensemble_builds_its_kernels_in_the_parent_before_any_worker(monkeypa
     with pytest.raises(Stop):
         engine.run_members([Member(0, {}, case, "h0"), Member(1, {}, case, "h1")], [], tmp_path / "out")
     assert calls == [("prepare", sorted(compiled.groups_for(case))), ("cluster",)]
+
+
+def test_the_garbage_collector_collects_only_new_objects_while_a_build_compiles_and_is_restored(toy, monkeypatch):
+    """numba's compile of a module runs with the build's collector thresholds (the older generations
+    of the millions of objects a build keeps are not scanned again and again); the process's own
+    thresholds come back after, and a collector switched off stays off."""
+    import gc
+
+    pycc = pytest.importorskip("numba.pycc")
+    src, cache = toy
+    monkeypatch.syspath_prepend(str(src))
+    monkeypatch.setenv("TWOFLUID_CACHE_DIR", str(cache))
+    monkeypatch.setenv("TWOFLUID_BUILDING_KERNELS", "1")
+    monkeypatch.delenv("TWOFLUID_DISABLE_JIT", raising=False)
+    monkeypatch.delenv("NUMBA_DISABLE_JIT", raising=False)
+    import kmod_a
+    import kmod_b
+
+    seen = []
+    compile_module = pycc.CC.compile
+    monkeypatch.setattr(pycc.CC, "compile", lambda self: (seen.append(gc.get_threshold()), compile_module(self))[1])
+    before = gc.get_threshold()
+    assert before != compiled._BUILD_GC_THRESHOLDS
+    out = compiled.group("toy_gc", {"total": (kmod_a.total, SIGNATURE)}, helpers=(kmod_b.helper,))
+    monkeypatch.delitem(compiled._LOADED, "toy_gc")
+    if type(out["total"]).__name__ != "builtin_function_or_method":
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    assert out["total"](X) == expected()
+    assert seen == [compiled._BUILD_GC_THRESHOLDS] and gc.get_threshold() == before
+    gc.disable()
+    try:
+        with compiled._young_gc_only():
+            assert not gc.isenabled()
+        assert not gc.isenabled() and gc.get_threshold() == before
+    finally:
+        gc.enable()
