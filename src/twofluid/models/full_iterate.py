@@ -115,14 +115,7 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     ps, dps = laws.solids_pressure(n, nb)
     K3 = laws.beta_per_solids(x3, s3)
     mu2 = laws.solid_viscosity(x3[ne:]) if viscous else K3
-    below = getattr(model, "_below", None)
-    if below is not None:
-        cached = model._fk_below
-        if cached is None or cached[0] is not below:
-            cached = model._fk_below = (below, below.astype(float))
-        belf = cached[1]
-    else:
-        belf = vc[0]  # not read
+    below, belf = full_kernel._below_mask(model, vc[0])
     ker["band_system"](n, V, W, k.P, old.V, old.W, old.n, st[3], K3, mu2, ps, dps, mc, vc, belf, below is not None,
                        viscous, upwind, rho_f, rho_s, mu_f, g_y, float(dt), *ends, ab, f, Aa)
     # ---- full_kernel.solve

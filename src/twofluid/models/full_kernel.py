@@ -469,6 +469,18 @@ class BandIterate:
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(N, N))
 
 
+def _below_mask(model, unread):
+    """The model's ``_below`` mask (None or a bool array) and the float copy the band system reads,
+    kept on the model while the mask is the same object; ``unread`` stands in without a mask."""
+    below = getattr(model, "_below", None)
+    if below is None:
+        return None, unread
+    cached = model._fk_below
+    if cached is None or cached[0] is not below:
+        cached = model._fk_below = (below, below.astype(float))
+    return below, cached[1]
+
+
 def _vector(x, size: int) -> np.ndarray:
     """``x`` as a C-contiguous float array of ``size`` entries (a scalar broadcast)."""
     x = np.asarray(x, dtype=float)
@@ -512,15 +524,8 @@ def assemble(model, ker: dict, k, old, dt: float, t_new: float) -> BandIterate:
                                           **_times(clo.viscosity_params, ne, 2)), 2 * ne)
         else:
             mu2 = K3  # not read
-    below = getattr(model, "_below", None)
+    below, belf = _below_mask(model, vc[0])
     upwind = model.solids_flux == "upwind"
-    if below is not None:
-        cached = model._fk_below
-        if cached is None or cached[0] is not below:
-            cached = model._fk_below = (below, below.astype(float))
-        belf = cached[1]
-    else:
-        belf = vc[0]  # not read
     N = 2 * model.nv + 2 * ne
     ab = np.empty((N, LDAB)).T  # LAPACK band storage, Fortran order
     f, Aa = np.empty(N), np.empty(N)
