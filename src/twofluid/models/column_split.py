@@ -12,16 +12,12 @@ changes nothing, and the column takes the Python path for it whole.
 """
 from __future__ import annotations
 
-from contextlib import nullcontext
-
 import numpy as np
 
 from . import column_step_kernel as _kernel
+from .reduced_column import run_vertical
 
 __all__ = ["split_args", "split_step"]
-
-_QUIET = nullcontext()  # (reusable: a compiled call needs no NumPy error-state context)
-
 
 def split_args(col):
     """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
@@ -64,12 +60,8 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
     args, ctx = call[1], call[2]
     ne = vert.n.size
     ndot, ps = np.empty(ne), np.empty(ne)
-    try:
-        with np.errstate(all="ignore") if ker is _kernel.vertical_step else _QUIET:
-            code = ker(*args, check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps,
-                       np.empty(ne))
-    except (ZeroDivisionError, TypeError):  # (as fast_step: the stepper meets it and says so)
-        code = -1
+    code = run_vertical(ker, args, (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
+                                    ps, np.empty(ne)))
     made = col.v.fast_done(ctx, code)
     if made is None:
         return None

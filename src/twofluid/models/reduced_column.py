@@ -33,6 +33,20 @@ from .two_fluid_1d import State
 
 _QUIET = nullcontext()  # (reusable: the compiled step's call needs no context)
 
+
+def run_vertical(ker, args: tuple, more: tuple) -> int:
+    """``ker(*args, *more)``, the compiled vertical step (:func:`~twofluid.models.column_step_kernel.vertical_step`
+    or its plain Python) with the arguments of :meth:`ReducedVerticalColumn.fast_call` and those after
+    ``info``: its code, or -1 where an iterate diverged (ZeroDivisionError) or an array is not as the
+    compiled call takes it (TypeError, not C-contiguous float64): the stepper's Python path then meets
+    it and says so. Compiled code sets no NumPy error state; only the plain Python of the un-jitted
+    run needs it quiet."""
+    try:
+        with np.errstate(all="ignore") if ker is column_step_kernel.vertical_step else _QUIET:
+            return ker(*args, *more)
+    except (ZeroDivisionError, TypeError):
+        return -1
+
 __all__ = ["ReducedVerticalColumn"]
 
 
@@ -136,16 +150,7 @@ class ReducedVerticalColumn(Reduced1D):
         if call is None:
             return None
         ker, args, ctx = call
-        try:
-            # a diverging iterate is the stepper's to report, as in its own path (compiled code sets no
-            # NumPy error state: only the plain Python of the un-jitted run needs it quiet)
-            with np.errstate(all="ignore") if ker is column_step_kernel.vertical_step else _QUIET:
-                code = ker(*args, *column_step_kernel.ALONE)  # (the vertical step alone)
-        except ZeroDivisionError:  # a diverging iterate: the stepper's Python path meets it and says so
-            code = -1
-        except TypeError:  # an array not as the compiled call takes it (not C-contiguous float64)
-            code = -1
-        return self.fast_done(ctx, code)
+        return self.fast_done(ctx, run_vertical(ker, args, column_step_kernel.ALONE))  # (the vertical step alone)
 
     def fast_call(self, old: State, dt: float, settings) -> tuple | None:
         """What :meth:`fast_step` calls: (the compiled :func:`~twofluid.models.column_step_kernel.vertical_step`,

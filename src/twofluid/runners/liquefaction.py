@@ -36,7 +36,6 @@ and ``summary.json`` is written whatever the outcome.
 from __future__ import annotations
 
 import bisect
-import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
