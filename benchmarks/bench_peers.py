@@ -35,6 +35,12 @@ with timers around the runner's calls.
     python benchmarks/bench_peers.py --only openfoam-sedimentation --rounds 5
     python benchmarks/bench_peers.py --only opensees-column --as-installed --rounds 5
     python benchmarks/bench_peers.py --parts --rounds 7
+    python benchmarks/bench_peers.py --only opensees-column --as-installed --no-plots --pin 1 --rounds 5
+
+``--pin CPU`` runs every timed process (peer and twofluid alike) on that one core (``taskset -c``),
+so that a shared machine's other jobs move both alike; ``--no-plots`` times only the twofluid
+configurations without figures. The peer script's SHA-256 is printed with the table and checked
+against ``PEER_SHA256``: a changed peer script is a new baseline, and the table says so.
 """
 from __future__ import annotations
 
@@ -59,6 +65,9 @@ PEERS = Path(os.environ.get("TWOFLUID_PEERS", "")) if os.environ.get("TWOFLUID_P
 # the largest backward-Euler step whose interface heights stay within half an element of those at
 # Δt = 0.005 s (step study in docs/benchmarks.md); the case files' own step is 0.02 s
 COARSE_STEP = {"openfoam-fluidized-bed": 0.05, "openfoam-sedimentation": 0.1}
+#: SHA-256 of ``../shared/peers/opensees/column.py`` that the quoted ratios to OpenSees were measured
+#: with; a peer script with another hash is a new baseline (printed with the table)
+PEER_SHA256 = {"opensees-column": "3d8b76440102a896e870110e86eb386e4b90439fdf012542dcb273cbee5e5b40"}
 MOTION = PEERS.parent / "data" / "ground-motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
 
 
@@ -80,6 +89,18 @@ def cpu_of(cmd: list[str], cwd: Path, env: dict | None = None) -> float:
     subprocess.run(cmd, cwd=cwd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def peer_hash(name: str) -> str:
+    """A line with the SHA-256 of the peer script of work ``name`` and whether it is the frozen one
+    (``PEER_SHA256``)."""
+    import hashlib
+
+    path = PEERS / "opensees" / "column.py"
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    same = "the frozen baseline" if digest == PEER_SHA256.get(name) else \
+        f"NOT the frozen {PEER_SHA256.get(name, '?')[:12]}…: a new baseline, ratios not comparable with earlier ones"
+    return f"- {name}: peer script {path.name} SHA-256 {digest[:12]}… ({same})"
 
 
 def _with_wheel_blas(cmd: list[str]) -> list[str]:
@@ -286,6 +307,10 @@ def main(argv=None) -> int:
                    "`pip install .` and run `twofluid build-kernels` first)")
     p.add_argument("--parts", action="store_true", help="the CPU of the parts of the column's process as installed "
                    "(no peer; --rounds processes)")
+    p.add_argument("--no-plots", action="store_true", help="with --as-installed, time only the "
+                   "configurations without figures")
+    p.add_argument("--pin", type=int, metavar="CPU", help="run every timed process on this one core "
+                   "(taskset -c CPU): peer and twofluid alike")
     p.add_argument("--parts-child", nargs=2, metavar=("CASE", "OUT"), help=argparse.SUPPRESS)
     a = p.parse_args(argv)
     if a.parts_child:
@@ -315,6 +340,13 @@ def main(argv=None) -> int:
                 print(f"{name}: {w}", file=sys.stderr)
                 continue
             desc, peer_cmd, peer_cwd, cfg = w
+            if a.no_plots:
+                cfg = {c: cmd for c, cmd in cfg.items() if "default plots" not in c}
+            if a.pin is not None:
+                pin = ["taskset", "-c", str(a.pin)]
+                peer_cmd, cfg = pin + peer_cmd, {c: pin + cmd for c, cmd in cfg.items()}
+            if name in PEER_SHA256:
+                notes.append(peer_hash(name))
             peer_cpu, tf_cpu = [], {c: [] for c in cfg}
             for r in range(a.rounds):
                 peer_cpu.append(cpu_of(peer_cmd, peer_cwd))
@@ -329,6 +361,7 @@ def main(argv=None) -> int:
                              f"({min(ratios):.2f}–{max(ratios):.2f}) | {len(ratios)} |")
     load1 = os.getloadavg()[0]
     src = f"; twofluid from {a.src}" if a.src else ""
+    src += f"; every process pinned to core {a.pin}" if a.pin is not None else ""
     print(f"{started:%Y-%m-%d %H:%M} UTC{src}; {machine()}; load average (1 min) {load0:.2f} before, "
           f"{load1:.2f} after (the machine is shared)")
     print("\n".join(lines + notes))
