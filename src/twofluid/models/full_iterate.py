@@ -107,7 +107,7 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     finite, max |Δn|, the velocity change), or None where the compiled laws or the common kernels
     are not there (the stepper then makes the calls one by one)."""
     cls = type(model)
-    if _ONE_CALL.get(cls) is False or not _ONE_CALL_METHODS.isdisjoint(model.__dict__):
+    if _ONE_CALL.get(cls) is False or not model.__dict__.keys().isdisjoint(_ONE_CALL_METHODS):  # (5 lookups)
         return None
     if cls not in _ONE_CALL:
         from .two_fluid_1d import TwoFluid1D  # (the module that imports this one)
