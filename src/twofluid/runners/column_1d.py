@@ -131,12 +131,12 @@ def bed_pressure_drop(model, s, f: dict | None = None, terms=False) -> float:
 
 
 _PROBED = ("porosity", "P_Pa", "Ps_Pa", "Us_m_s")  # the fields of a probe, its columns "{name}@{y:g}m"
-_PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> (probes, elements, column names)
+_PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> (probes, top, elements, names, ΔP terms)
 
 
-def _probe_values(model, s, probes, heights, dp_terms=False):
+def _probe_values(model, s, probes, heights):
     """The probe row of state ``s``: ``heights``, the bed pressure drop, and each probe's fields."""
-    elements, names = _probe_plan(model, probes)
+    elements, names, dp_terms = _probe_plan(model, probes)
     vals = dict(heights)
     vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s, terms=dp_terms)
     f = model.element_fields(s, elements)  # at the probes' elements only
@@ -146,13 +146,15 @@ def _probe_values(model, s, probes, heights, dp_terms=False):
     return vals
 
 
-def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]]]:
-    """(the element of each probe, its column names), worked out once per model and probe list."""
+def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]], tuple | None]:
+    """(the element of each probe, its column names, the model's :func:`_pressure_drop_terms`), worked
+    out once per model, probe list and top end."""
     plan = _PLANS.get(model)
-    if plan is None or plan[0] != tuple(probes):
+    if plan is None or plan[0] != tuple(probes) or plan[1] is not model.top:
         names = [tuple(f"{name}@{y:g}m" for name in _PROBED) for y in probes]
-        plan = _PLANS[model] = (tuple(probes), _probe_elements(model, probes), names)
-    return plan[1], plan[2]
+        plan = _PLANS[model] = (tuple(probes), model.top, _probe_elements(model, probes), names,
+                                _pressure_drop_terms(model))
+    return plan[2], plan[3], plan[4]
 
 
 def _probe_elements(model, probes) -> np.ndarray:
@@ -209,7 +211,7 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     interval = case["output"]["probe_interval"]
     next_probe, last_probe = interval, b.t_end - 1e-12
     n_steps, last = 0, state
-    keys, dp_terms, outflow_rate, record = fig.keys, fig._dp, model.solids_outflow, fig.record
+    keys, outflow_rate, record = fig.keys, model.solids_outflow, fig.record
     wall0 = time.perf_counter()
     with run_guard(b.t_end, progress, writer) as run:
         bar = run.bar
@@ -220,11 +222,12 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
             h = record(s)
             t = s.t
             if t >= next_probe - 1e-12 or t >= last_probe:  # (the values in probe_cols' order)
-                writer.probe_row(t, list(_probe_values(model, s, probes, zip(keys, h), dp_terms).values()))
+                writer.probe_row(t, list(_probe_values(model, s, probes, zip(keys, h)).values()))
                 next_probe = t + interval
             if _at_output_time(t, out_times, near):
                 save_profile(s)
             bar.update(t - bar.n)
+        writer.flush()  # in the guard: a full disk here is a failed run, said in its summary
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if status != "completed" and round(last.t, 12) not in profiles:
