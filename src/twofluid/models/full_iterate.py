@@ -78,12 +78,16 @@ def _shift(model, s: State, laws, common: dict, xs, mc, lengths) -> np.ndarray |
     return alpha
 
 
-def _law_calls(laws, ne: int):
+def _law_calls(model, laws, ne: int):
     """The compiled calls of the run's laws as :class:`~twofluid.closures.kernels.CompiledLaws` makes
     them (its kernels and their fixed arguments, the same calls), with their output arrays kept
-    for the run: (P_s, drag, μ_s) each as (kernel, the arguments before the point arrays, after
-    them), or None for the drag where the law's method does more than one call (Wen–Yu's powers)."""
-    hit = _LAWS.get(id(laws))
+    for the run (nothing keeps them past the kernel call that reads them): (P_s as (kernel, its
+    arguments after the porosities), the drag as (kernel, the arguments before the points, after
+    them but for the output) or None where the law's method does more than one call (Wen–Yu's
+    powers), μ_s as (kernel, its arguments after the porosities), and the outputs (P_s, ∂P_s/∂n,
+    μ_s, the drag at the iterate's 3 ne points)), kept on the model while its laws are the same
+    object."""
+    hit = model.__dict__.get("_fi_laws")
     if hit is not None and hit[0] is laws and hit[1] == ne:
         return hit[2]
     from ..closures.kernels import WEN_YU
@@ -91,15 +95,11 @@ def _law_calls(laws, ne: int):
     k = laws._k  # (the laws' own kernels and arguments: CompiledLaws keeps them for these calls)
     ps, dps, K3, mu2 = np.empty(ne), np.empty(ne), np.empty(3 * ne), np.empty(2 * ne)
     drag = None if laws._drag[0] == WEN_YU else (k["beta_per_solids"], laws._drag,
-                                                   (laws._d, laws._rho_f, laws._mu_f, K3))
+                                                   (laws._d, laws._rho_f, laws._mu_f))
     calls = ((k["solids_pressure"], laws._ps + (ps, dps)), drag,
-             (k["viscosity"], (laws._mu_f, *laws._visc, True, mu2)), (ps, dps, mu2))
-    _LAWS.clear()  # one run's at a time
-    _LAWS[id(laws)] = (laws, ne, calls)
+             (k["viscosity"], (laws._mu_f, *laws._visc, True, mu2)), (ps, dps, mu2, K3))
+    model._fi_laws = (laws, ne, calls)
     return calls
-
-
-_LAWS: dict = {}
 
 
 def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
@@ -137,11 +137,10 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     # ---- full_kernel.assemble (the laws' calls of CompiledLaws.solids_pressure, beta_per_solids and
     # solid_viscosity, into arrays kept for the run: band_system reads them, nothing keeps them)
     ker["closure_points"](n, V, W, mc[14], mc[15], x3, s3)
-    (ps_call, ps_args), drag, (mu_call, mu_args), (ps, dps, mu2) = _law_calls(laws, ne)
+    (ps_call, ps_args), drag, (mu_call, mu_args), (ps, dps, mu2, K3) = _law_calls(model, laws, ne)
     ps_call(n, nb, *ps_args)
     if drag is not None:
-        drag[0](*drag[1], x3, s3, *drag[2])
-        K3 = drag[2][-1]
+        drag[0](*drag[1], x3, s3, *drag[2], K3)
     else:
         K3 = laws.beta_per_solids(x3, s3)
     if viscous:
