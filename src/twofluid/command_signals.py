@@ -90,7 +90,7 @@ class Signals:
     def leave(rc: int) -> None:
         """End the process with status ``rc`` now: the output flushed, logging shut down, no
         interpreter shutdown (every file of twofluid is closed by then)."""
-        import logging
+        logging = sys.modules.get("logging")  # (not imported: no handler to flush, and not worth importing)
 
         for stream in (sys.stdout, sys.stderr):
             try:
@@ -98,7 +98,8 @@ class Signals:
             except (OSError, ValueError):
                 pass
         try:
-            logging.shutdown()
+            if logging is not None:
+                logging.shutdown()
         except Exception:  # noqa: BLE001 - leaving anyway
             pass
         os._exit(rc)

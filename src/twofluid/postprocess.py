@@ -61,10 +61,12 @@ def surface_height(y: np.ndarray, n: np.ndarray, threshold: float, bottom: float
     return float(y[j] + f * (y[j + 1] - y[j]) - bottom)
 
 
-def interface_height(faces: np.ndarray, n: np.ndarray, threshold: float) -> float:
+def interface_height(faces: np.ndarray, n: np.ndarray, threshold: float,
+                     lengths: np.ndarray | None = None) -> float:
     """Height [m] above ``faces[0]`` of the bed surface interpolated within its element (module docstring).
 
-    ``faces``: the element faces [m] (``n.size + 1`` of them, increasing); ``n``: element porosities.
+    ``faces``: the element faces [m] (``n.size + 1`` of them, increasing); ``n``: element porosities;
+    ``lengths``: ``faces[1:] - faces[:-1]`` if the caller has it (a run asks every step).
     0 when no element is below ``threshold``.
 
     >>> faces = np.array([0.0, 1.0, 2.0, 3.0])
@@ -75,12 +77,14 @@ def interface_height(faces: np.ndarray, n: np.ndarray, threshold: float) -> floa
     >>> interface_height(faces, np.array([1.0, 1.0, 1.0]), 0.8)
     0.0
     """
-    below = np.flatnonzero(n < threshold)  # (called every step: no copies, one pass per array)
-    if below.size == 0:
+    up = n[::-1] < threshold  # (called every step: the highest element below it by one argmax)
+    j = int(up.argmax())
+    if not up[j]:
         return 0.0
-    k = int(below[-1])
+    k = n.size - 1 - j
     r = k - 1 if k > 0 else 0  # the element whose porosity the solids above are laid at
-    solids = float(np.dot(1.0 - np.minimum(n[k:], 1.0), faces[k + 1:] - faces[k:-1]))
+    dy = faces[k + 1:] - faces[k:-1] if lengths is None else lengths[k:]
+    solids = float(np.dot(1.0 - np.minimum(n[k:], 1.0), dy))
     return float(faces[k] + solids / (1.0 - n[r]) - faces[0])
 
 

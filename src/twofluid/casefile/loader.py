@@ -11,8 +11,12 @@ from .schema import CaseError, validate
 __all__ = ["bundled_cases", "case_text", "case_readme", "copyable", "load_case", "CaseError"]
 
 def _cases():
-    """The folder of the bundled cases (importlib.resources: imported here, where a bundled case is
-    looked up, not by every run of a case file: ~3 ms with zipfile)."""
+    """The folder of the bundled cases: beside the package's modules where it is installed as files
+    (as ``pip install`` does), else through importlib.resources (a zipped package: ~3–6 ms of
+    imports with zipfile, which a run does not pay otherwise)."""
+    folder = Path(__file__).resolve().parent.parent / "data" / "cases"
+    if folder.is_dir():
+        return folder
     from importlib import resources
 
     return resources.files("twofluid") / "data" / "cases"

@@ -291,7 +291,7 @@ def band_lu():
         _TRIED = True
         from ..compiled import group
 
-        lu = group("band_lu", {"band_lu": (_gbsv, "i8(f8[:,:], f8[:], i8, i8)")}, helpers=(_u,))
+        lu = group("band_lu", {"band_lu": (_gbsv, "i8(f8[::1,:], f8[::1], i8, i8)")}, helpers=(_u,))
         _LU = None if lu is None else lu["band_lu"]
     return _LU
 

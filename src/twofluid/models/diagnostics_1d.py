@@ -24,18 +24,31 @@ class LineDiagnostics:
 
     def solids_outflow(self, s: State) -> float:
         """Rate [m³/s] at which solids leave through the ends (upwinded as in the porosity equation)."""
-        node = self.vert_node
-        ends = (0, -1)
-        F = [0.5 * (float(s.V[node[v]]) - float(s.W[node[v]])) for v in ends]
-        if self.solids_flux == "upwind":  # :meth:`_upwind_ratio` at the two ends only (same arithmetic)
-            n = s.n
-            wb, wa = self.w_below, self.w_above
-            for i, (v, nb, na) in enumerate(((0, 1.0, float(n[0])), (-1, float(n[-1]), 1.0))):
-                nf = (wb[v] * nb + wa[v] * na) / (wb[v] + wa[v])
-                one_f = 1.0 - nf
-                r = (1.0 - (nb if F[i] >= 0.0 else na)) * (1.0 / one_f if one_f > _CLEAR else 0.0)
-                F[i] = F[i] * r
-        return float(F[1] * self.vert_area[-1] - F[0] * self.vert_area[0])
+        c = self._outflow_ends()
+        V, W = s.V, s.W
+        F0 = 0.5 * (float(V[c[0]]) - float(W[c[0]]))
+        F1 = 0.5 * (float(V[c[1]]) - float(W[c[1]]))
+        if c[2]:  # :meth:`_upwind_ratio` at the two ends only (same arithmetic)
+            wb0, wa0, wb1, wa1 = c[5:9]
+            n0, n1 = float(s.n[0]), float(s.n[-1])
+            one_f = 1.0 - (wb0 * 1.0 + wa0 * n0) / (wb0 + wa0)  # bottom: clear liquid below
+            F0 = F0 * ((1.0 - (1.0 if F0 >= 0.0 else n0)) * (1.0 / one_f if one_f > _CLEAR else 0.0))
+            one_f = 1.0 - (wb1 * n1 + wa1 * 1.0) / (wb1 + wa1)  # top: clear liquid above
+            F1 = F1 * ((1.0 - (n1 if F1 >= 0.0 else 1.0)) * (1.0 / one_f if one_f > _CLEAR else 0.0))
+        return float(F1 * c[4] - F0 * c[3])
+
+    def _outflow_ends(self) -> tuple:
+        """(bottom node, top node, upwind, bottom area, top area, the vertex weights w_below, w_above at
+        the bottom and at the top) of :meth:`solids_outflow`, as Python numbers, kept while the model's
+        arrays are the same objects."""
+        wb, wa, area, node = self.w_below, self.w_above, self.vert_area, self.vert_node
+        c = self.__dict__.get("_outflow_c")
+        if c is None or c[0] is not wb or c[1] is not wa or c[2] is not area or c[3] is not node \
+                or c[4] != self.solids_flux:
+            ends = (int(node[0]), int(node[-1]), self.solids_flux == "upwind", float(area[0]), float(area[-1]),
+                    float(wb[0]), float(wa[0]), float(wb[-1]), float(wa[-1]))
+            c = self._outflow_c = (wb, wa, area, node, self.solids_flux, ends)
+        return c[5]
 
     def settled_solids_pressure(self, n: np.ndarray) -> np.ndarray:
         """P_s per element [Pa] that makes porosity ``n`` a discrete equilibrium at rest.

@@ -78,12 +78,36 @@ def _shift(model, s: State, laws, common: dict, xs, mc, lengths) -> np.ndarray |
     return alpha
 
 
+def _law_calls(model, laws, ne: int):
+    """The compiled calls of the run's laws as :class:`~twofluid.closures.kernels.CompiledLaws` makes
+    them (its kernels and their fixed arguments, the same calls), with their output arrays kept
+    for the run (nothing keeps them past the kernel call that reads them): (P_s as (kernel, its
+    arguments after the porosities), the drag as (kernel, the arguments before the points, after
+    them but for the output) or None where the law's method does more than one call (Wen–Yu's
+    powers), μ_s as (kernel, its arguments after the porosities), and the outputs (P_s, ∂P_s/∂n,
+    μ_s, the drag at the iterate's 3 ne points)), kept on the model while its laws are the same
+    object."""
+    hit = model.__dict__.get("_fi_laws")
+    if hit is not None and hit[0] is laws and hit[1] == ne:
+        return hit[2]
+    from ..closures.kernels import WEN_YU
+
+    k = laws._k  # (the laws' own kernels and arguments: CompiledLaws keeps them for these calls)
+    ps, dps, K3, mu2 = np.empty(ne), np.empty(ne), np.empty(3 * ne), np.empty(2 * ne)
+    drag = None if laws._drag[0] == WEN_YU else (k["beta_per_solids"], laws._drag,
+                                                   (laws._d, laws._rho_f, laws._mu_f))
+    calls = ((k["solids_pressure"], laws._ps + (ps, dps)), drag,
+             (k["viscosity"], (laws._mu_f, *laws._visc, True, mu2)), (ps, dps, mu2, K3))
+    model._fi_laws = (laws, ne, calls)
+    return calls
+
+
 def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     """One whole iterate (:meth:`TwoFluid1D.iterate`): (the new iterate, whether the solve's output is
     finite, max |Δn|, the velocity change), or None where the compiled laws or the common kernels
     are not there (the stepper then makes the calls one by one)."""
     cls = type(model)
-    if _ONE_CALL.get(cls) is False or not _ONE_CALL_METHODS.isdisjoint(model.__dict__):
+    if _ONE_CALL.get(cls) is False or not model.__dict__.keys().isdisjoint(_ONE_CALL_METHODS):  # (5 lookups)
         return None
     if cls not in _ONE_CALL:
         from .two_fluid_1d import TwoFluid1D  # (the module that imports this one)
@@ -110,11 +134,19 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
         idx, val = model.dirichlet(t_new)  # (full_kernel.solve's conversion, once a step)
         st = model._fi_step = (old, dt, t_new, alpha, np.ascontiguousarray(model._band.pos[idx], dtype=np.int64),
                                np.ascontiguousarray(val, dtype=float))
-    # ---- full_kernel.assemble
+    # ---- full_kernel.assemble (the laws' calls of CompiledLaws.solids_pressure, beta_per_solids and
+    # solid_viscosity, into arrays kept for the run: band_system reads them, nothing keeps them)
     ker["closure_points"](n, V, W, mc[14], mc[15], x3, s3)
-    ps, dps = laws.solids_pressure(n, nb)
-    K3 = laws.beta_per_solids(x3, s3)
-    mu2 = laws.solid_viscosity(x3[ne:]) if viscous else K3
+    (ps_call, ps_args), drag, (mu_call, mu_args), (ps, dps, mu2, K3) = _law_calls(model, laws, ne)
+    ps_call(n, nb, *ps_args)
+    if drag is not None:
+        drag[0](*drag[1], x3, s3, *drag[2], K3)
+    else:
+        K3 = laws.beta_per_solids(x3, s3)
+    if viscous:
+        mu_call(x3[ne:], *mu_args)
+    else:
+        mu2 = K3
     below, belf = full_kernel._below_mask(model, vc[0])
     ker["band_system"](n, V, W, k.P, old.V, old.W, old.n, st[3], K3, mu2, ps, dps, mc, vc, belf, below is not None,
                        viscous, upwind, rho_f, rho_s, mu_f, g_y, float(dt), *ends, ab, f, Aa)

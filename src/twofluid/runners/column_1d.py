@@ -70,54 +70,75 @@ class _Figures:
             self.thr = 0.5 * (1.0 + max(case["boundary"]["bottom"]["porosities"]))
         elif self.study == "step_change" and n_final is not None and n_final < 1.0:
             self.thr = 0.5 * (1.0 + max(self.n0, n_final))  # the bed after the step (its model equilibrium)
-        self.t, self.rows, self.dp = [], [], []
+        self.t, self.dp = [], []
+        self.keys = ("bed_height_m", "sediment_height_m") if self.study == "settling" else ("bed_height_m",)
+        self.columns = tuple([] for _ in self.keys)  # each key's value at every step
+        faces = model.mesh.y
+        self._faces, self._lengths = faces, faces[1:] - faces[:-1]  # (interface_height's element lengths)
+        self._dp = _pressure_drop_terms(model)
 
     def heights(self, s) -> dict[str, float]:
+        return dict(zip(self.keys, self._heights(s)))
+
+    def _heights(self, s) -> tuple[float, ...]:
         if self.study == "settling":  # the settling interfaces keep their definitions (summary "interfaces")
             top = pp.surface_height(self.y, s.n, self.thr, self.y0)
-            return {"bed_height_m": top,
-                    "sediment_height_m": pp.sediment_height(self.y, s.n, self.n0, top, bottom=self.y0)}
-        return {"bed_height_m": pp.interface_height(self.model.mesh.y, s.n, self.thr)}
+            return top, pp.sediment_height(self.y, s.n, self.n0, top, bottom=self.y0)
+        return (pp.interface_height(self._faces, s.n, self.thr, self._lengths),)
 
-    def record(self, s):
+    def record(self, s) -> tuple[float, ...]:
+        """Record state ``s`` (its time, heights and bed pressure drop); returns its heights."""
         self.t.append(s.t)
-        self.rows.append(self.heights(s))
-        self.dp.append(bed_pressure_drop(self.model, s))
+        h = self._heights(s)
+        for col, v in zip(self.columns, h):
+            col.append(v)
+        self.dp.append(bed_pressure_drop(self.model, s, terms=self._dp))
+        return h
 
     def series(self) -> dict[str, np.ndarray]:
-        if not self.rows:
+        if not self.t:
             return {}
-        return {k: np.array([r[k] for r in self.rows]) for k in self.rows[0]}
+        return {k: np.array(col) for k, col in zip(self.keys, self.columns)}
 
 
-def bed_pressure_drop(model, s, f: dict | None = None) -> float:
+def _pressure_drop_terms(model) -> tuple[float, float] | None:
+    """(the outlet pressure, the liquid's hydrostatic head from the lowest element's centre to it) [Pa]
+    of :func:`bed_pressure_drop`, or None where the outlet is not at the top."""
+    if model.top.kind != "outlet":
+        return None
+    y = model.mesh.y
+    return model.top.pressure, -model.mat.rho_f * model.g_y * (y[-1] - 0.5 * (y[1] + y[0]))
+
+
+def bed_pressure_drop(model, s, f: dict | None = None, terms=False) -> float:
     """Liquid pressure drop over the bed beyond hydrostatic [Pa], from the lowest element to the outlet.
 
     P at the centre of the lowest element minus the outlet pressure and the liquid's
     hydrostatic head between them; in a fluidized bed it equals the buoyant weight of the
     solids per unit area, (ρ_s − ρ_f) g cos θ V_s/A. NaN when the outlet is not at the top.
-    ``f``: the element fields of ``s`` if already computed.
+    ``f``: the element fields of ``s`` if already computed; ``terms``: the model's
+    :func:`_pressure_drop_terms` if already computed (a run's every step).
     """
-    if model.top.kind != "outlet":
+    if terms is False:
+        terms = _pressure_drop_terms(model)
+    if terms is None:
         return float("nan")
     if f is not None:
         P0 = float(f["P_Pa"][0])
     else:  # the lowest element's centre alone, as element_fields gives it (every step: no other field)
         P0 = float(s.P[0] if model.p_order == 0 else 0.5 * (s.P[0] + s.P[1]))
-    y = model.mesh.y
-    head = -model.mat.rho_f * model.g_y * (y[-1] - 0.5 * (y[1] + y[0]))  # to the lowest element's centre
-    return P0 - model.top.pressure - head
+    return P0 - terms[0] - terms[1]
 
 
 _PROBED = ("porosity", "P_Pa", "Ps_Pa", "Us_m_s")  # the fields of a probe, its columns "{name}@{y:g}m"
-_PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> (probes, elements, column names)
+_PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> (probes, top, elements, names, ΔP terms)
 
 
 def _probe_values(model, s, probes, heights):
     """The probe row of state ``s``: ``heights``, the bed pressure drop, and each probe's fields."""
-    elements, names = _probe_plan(model, probes)
+    elements, names, dp_terms = _probe_plan(model, probes)
     vals = dict(heights)
-    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s)
+    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s, terms=dp_terms)
     f = model.element_fields(s, elements)  # at the probes' elements only
     for j, keys in enumerate(names):
         for key, field in zip(keys, _PROBED):
@@ -125,13 +146,15 @@ def _probe_values(model, s, probes, heights):
     return vals
 
 
-def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]]]:
-    """(the element of each probe, its column names), worked out once per model and probe list."""
+def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]], tuple | None]:
+    """(the element of each probe, its column names, the model's :func:`_pressure_drop_terms`), worked
+    out once per model, probe list and top end."""
     plan = _PLANS.get(model)
-    if plan is None or plan[0] != tuple(probes):
+    if plan is None or plan[0] != tuple(probes) or plan[1] is not model.top:
         names = [tuple(f"{name}@{y:g}m" for name in _PROBED) for y in probes]
-        plan = _PLANS[model] = (tuple(probes), _probe_elements(model, probes), names)
-    return plan[1], plan[2]
+        plan = _PLANS[model] = (tuple(probes), model.top, _probe_elements(model, probes), names,
+                                _pressure_drop_terms(model))
+    return plan[2], plan[3], plan[4]
 
 
 def _probe_elements(model, probes) -> np.ndarray:
@@ -170,7 +193,7 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     probes = case["output"]["probes"]
     heights0 = fig.heights(state)
     probe_cols = list(_probe_values(model, state, probes, heights0))
-    writer = ResultWriter(out, PROFILE_COLUMNS, probe_cols)
+    writer = ResultWriter(out, PROFILE_COLUMNS, probe_cols, block=True)  # rows written at least once a second
     out_times = sorted(set(case["output"]["times"]) | {0.0, b.t_end})
     near = 1e-9 * max(1.0, out_times[-1])  # the widest tolerance of _at_output_time
     profiles: dict[float, dict] = {}
@@ -185,21 +208,26 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     save_profile(state)
     fig.record(state)
     writer.probe(state.t, _probe_values(model, state, probes, heights0))
-    next_probe = case["output"]["probe_interval"]
+    interval = case["output"]["probe_interval"]
+    next_probe, last_probe = interval, b.t_end - 1e-12
     n_steps, last = 0, state
+    keys, outflow_rate, record = fig.keys, model.solids_outflow, fig.record
     wall0 = time.perf_counter()
     with run_guard(b.t_end, progress, writer) as run:
+        bar = run.bar
         for step in integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings):
             s = step.state
-            outflow += step.dt * model.solids_outflow(s)
+            outflow += step.dt * outflow_rate(s)
             n_steps, last = step.n_steps, s
-            fig.record(s)
-            if s.t >= next_probe - 1e-12 or s.t >= b.t_end - 1e-12:  # (the values in probe_cols' order)
-                writer.probe_row(s.t, list(_probe_values(model, s, probes, fig.rows[-1]).values()))
-                next_probe = s.t + case["output"]["probe_interval"]
-            if _at_output_time(s.t, out_times, near):
+            h = record(s)
+            t = s.t
+            if t >= next_probe - 1e-12 or t >= last_probe:  # (the values in probe_cols' order)
+                writer.probe_row(t, list(_probe_values(model, s, probes, zip(keys, h)).values()))
+                next_probe = t + interval
+            if _at_output_time(t, out_times, near):
                 save_profile(s)
-            run.bar.update(s.t - run.bar.n)
+            bar.update(t - bar.n)
+        writer.flush()  # in the guard: a full disk here is a failed run, said in its summary
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0
     if status != "completed" and round(last.t, 12) not in profiles:
