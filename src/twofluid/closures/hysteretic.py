@@ -346,7 +346,11 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau_count
-    _hm._close_loops(g, d, st, par, e, s, gr, c, fm)
+    n = int(st[e, S_NSTK])
+    if n > 0 and ((n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0) or d * g > st[e, S_GM]):
+        # (only where a loop may close: otherwise _close_loops changes nothing, and a call with the
+        # state arrays costs their reference counts)
+        _hm._close_loops(g, d, st, par, e, s, gr, c, fm)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
     if st[e, S_LIQ] > 0.0:  # cyclic mobility: the zone widens with the strain travelled inside it
