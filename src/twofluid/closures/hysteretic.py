@@ -208,7 +208,7 @@ def _prepare(d, st, par, e, s, gr, c, fm):
 def _stress(g, q, c):
     """(τ [Pa], dτ/dγ [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
     (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), and the derivative of the
-    branch that sets it."""
+    branch that sets it (the compiled code calls :func:`_stress_below` with no floor for it)."""
     return _stress_below(g, q, c, g, -math.inf)
 
 
@@ -306,7 +306,7 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     [14.7, 13.2, 14.8]
     """
     c = _hb._constants(st, par, e)
-    return _stress(g, _prepare(d, st, par, e, s, gr, c, -1.0), c)[0]
+    return _stress_below(g, _prepare(d, st, par, e, s, gr, c, -1.0), c, g, -math.inf)[0]
 
 
 def commit(g, d, tau, st, par, e, s, t, gr):
@@ -424,7 +424,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor)
         s, gmx = _hb.strength_modulus(ps * q, par, e)
         gr = s / gmx
         qq = _prepare(d, st, par, e, s, gr, c, -1.0)
-        tau = _stress(g, qq, c)[0]
+        tau = _stress_below(g, qq, c, g, -math.inf)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
         f = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old) - q
         if it == 0:

@@ -416,7 +416,7 @@ _HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _keep_floo
                           _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
-                          _law._stress, _law._stress_below, _law._outer_floor, _law._store, _law._constants_row, _law._prepared_row,
+                          _law._stress_below, _law._outer_floor, _law._store, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
