@@ -70,9 +70,11 @@ def _companion_call(c):
 
 def test_strength_and_mrdf_factor_kept_over_the_call_are_those_of_every_substep(monkeypatch):
     """In total stress nothing changes P_s over the call (no drainage, no generation), so the
-    sub-steps compute each element's strength, G_max, viscosity and the damping bands once, and keep
-    the MRDF factor F while the largest strain, γ_r and r_g are the same: the same numbers, bit for
-    bit, as computing them at every sub-step (the plain Python path, with both shortcuts off)."""
+    sub-steps compute each element's strength, G_max, viscosity and the damping bands once, keep
+    the MRDF factor F while the largest strain, γ_r and r_g are the same, and leave an outer branch
+    unevaluated while its floor shows it is not the lower one: the same numbers, bit for bit, as
+    computing them at every sub-step and evaluating every branch (the plain Python path, with the
+    shortcuts off)."""
     from twofluid.models import hysteretic_kernel as hk
 
     c = _case("liquefaction-layered-site", 0.5)
@@ -82,14 +84,9 @@ def test_strength_and_mrdf_factor_kept_over_the_call_are_those_of_every_substep(
         fixed[:] = 0.0
         return False
 
-    real = hk._prepare_kept
-
-    def always_computed(d, st, par, e, s, gr, cst, prep, fm_key, fm_val):
-        fm_key[:] = np.nan  # every F computed afresh
-        real(d, st, par, e, s, gr, cst, prep, fm_key, fm_val)
-
     monkeypatch.setattr(hk, "_fixed_strength", nothing_fixed)
-    monkeypatch.setattr(hk, "_prepare_kept", always_computed)
+    monkeypatch.setattr(hk, "_kept_factor", lambda keep, e, gm, gr, rg: -1.0)  # every F computed afresh
+    monkeypatch.setattr(hk, "_keep_floor", lambda q, c, g, t, cert, e: None)  # no floor: every branch evaluated
     every = _companion_call(c)
     assert kept.size > 100
     np.testing.assert_array_equal(kept, every)

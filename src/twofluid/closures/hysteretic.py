@@ -172,10 +172,14 @@ from .hysteretic_layout import *  # noqa: F401,F403  (every index of the state a
 from .hysteretic_layout import (NPARAM, NSTACK, NSTATE, P_ALPHA, P_B, P_CRR, P_GD0, P_GDR, P_GT, P_K2, P_LIQ, P_P1, P_RCAP, P_SIG0,
     P_SR, P_TANPHI, P_TAUS, P_TH1, P_TH2, P_TH3, P_TH4, P_TH5, Q_A, Q_B, Q_D, Q_FM, Q_GM, Q_GR, Q_N,
     Q_S, S_D, S_DIR, S_DPART, S_G, S_GC, S_GD, S_GM, S_GREV, S_LIQ, S_NREV, S_NSTK, S_RF, S_RFDIR,
-    S_RFN, S_RG, S_STK, S_T, S_TAU, S_TLIQ, S_TREV, S_RAT)
+    S_RFN, S_RG, S_STK, S_T, S_TAU, S_TLIQ, S_TREV, S_RAT, C_C3, C_LIQ, C_TDMAX, C_TH2, C_TH4, C_TH5)
 
 __all__ = ["gqh_ratio", "seed_booker", "strength_modulus", "skeleton_stress", "direction", "masing_weight",
            "commit", "commit_counted", "commit_generating", "generated_ratio", "new_state", "static_state", "STATE_COLUMNS", "PARAM_COLUMNS", "KPA"]
+
+#: the share of the scale of its stresses by which :func:`_outer_floor` lowers an outer branch's
+#: stress: far above the round-off of evaluating it (about 1e-7 at worst), far below the stresses
+OUTER_MARGIN = 1e-4
 
 
 def _prepare(d, st, par, e, s, gr, c, fm):
@@ -204,14 +208,22 @@ def _prepare(d, st, par, e, s, gr, c, fm):
 def _stress(g, q, c):
     """(τ [Pa], dτ/dγ [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
     (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), and the derivative of the
-    branch that sets it."""
+    branch that sets it (the compiled code calls :func:`_stress_below` with no floor for it)."""
+    return _stress_below(g, q, c, g, -math.inf)
+
+
+def _stress_below(g, q, c, a, floor):
+    """:func:`_stress` given that the outer branch's stress, in direction d, is above ``floor`` [Pa]
+    at every strain from ``a`` on in that direction (:func:`_outer_floor`; −inf: nothing known): where
+    ``g`` lies there and the current branch's stress is at or below the floor, the outer branch
+    cannot be the lower one, and it is not evaluated. The same numbers as :func:`_stress`."""
     d = q[Q_D]
     s = q[Q_S]
     if q[Q_N] == 0.0:  # first loading, or a loop closed onto the backbone: the backbone
         return _hm._backbone(g, d, s, q[Q_GR], c)
     fm = q[Q_FM]
     tau, k = _hm._on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
-    if q[Q_N] >= 3.0:  # the outer branch the current loop closes onto
+    if q[Q_N] >= 3.0 and not (d * (g - a) >= 0.0 and d * tau <= floor):  # the outer branch the loop closes onto
         to, ko = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
         if d * to < d * tau:
             tau = to
@@ -222,6 +234,29 @@ def _stress(g, q, c):
             tau = tb
             k = kb
     return tau, k
+
+
+def _outer_floor(g, q, c):
+    """A floor, in direction d, of the stress [Pa] of the outer branch of the prepared ``q``
+    (:func:`_prepare`, with three or more open points) at every strain from ``g`` on in direction d
+    (for :func:`_stress_below`): d τ_o(g) less ``OUTER_MARGIN`` of the scale of the stresses that
+    make it; −inf where that branch is not known to be monotone.
+
+    The branch τ_0 + τ_max κ Φ((γ − γ_0)/(κ γ_r)), raised by the dilation gained since its origin and
+    held within the envelope, is monotone in the direction of motion when Φ is: when F ∈ [0, 1]
+    (Φ′ = F f′(y/2) + (1 − F) f′(y)) and the GQ/H ratio f rises with x, which it does when θ_τ does
+    (θ2 θ4 θ5 ≥ 0, θ4 ≥ 0). The dilation gain, the envelope max(τ_max, τ_d) and the clamp to it are
+    monotone in γ each. So the exact branch at any strain beyond ``g`` is at least the exact branch
+    at ``g``, and the computed ones differ from the exact by round-off, far below the margin (the
+    largest, where the root of the GQ/H form nears 0, about √ε of its terms)."""
+    fm = q[Q_FM]
+    if q[Q_N] < 3.0 or not (0.0 <= fm <= 1.0) or c[C_TH4] < 0.0 or c[C_TH2] * c[C_TH5] < 0.0 or not c[C_C3] > 0.0:
+        return -math.inf
+    d = q[Q_D]
+    s = q[Q_S]
+    to = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)[0]
+    scale = s + abs(q[Q_B + 1]) + 2.0 * q[Q_B + 2] + (2.0 * c[C_TDMAX] if c[C_LIQ] > 0.0 else 0.0)
+    return d * to - OUTER_MARGIN * scale
 
 
 def _store(a, e, x):
@@ -271,7 +306,7 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     [14.7, 13.2, 14.8]
     """
     c = _hb._constants(st, par, e)
-    return _stress(g, _prepare(d, st, par, e, s, gr, c, -1.0), c)[0]
+    return _stress_below(g, _prepare(d, st, par, e, s, gr, c, -1.0), c, g, -math.inf)[0]
 
 
 def commit(g, d, tau, st, par, e, s, t, gr):
@@ -311,7 +346,11 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     st[e, S_G] = g
     st[e, S_T] = tau / s
     st[e, S_TAU] = tau_count
-    _hm._close_loops(g, d, st, par, e, s, gr, c, fm)
+    n = int(st[e, S_NSTK])
+    if n > 0 and ((n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0) or d * g > st[e, S_GM]):
+        # (only where a loop may close: otherwise _close_loops changes nothing, and a call with the
+        # state arrays costs their reference counts)
+        _hm._close_loops(g, d, st, par, e, s, gr, c, fm)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)
     if st[e, S_LIQ] > 0.0:  # cyclic mobility: the zone widens with the strain travelled inside it
@@ -342,16 +381,21 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     The strength so falls only as fast as the motion keeps loading the element, a rate the time
     step resolves. ``save``: a work row of NSTATE floats. ``tau_rate`` [Pa]: the rate (viscous) part
     of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
-    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, _hb._constants(st, par, e))
-
-
-def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
-    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given."""
+    c = _hb._constants(st, par, e)
     s, gmx = _hb.strength_modulus(ps, par, e)
-    gr = s / gmx
-    q = _prepare(d, st, par, e, s, gr, c, -1.0)
-    tau = _stress(g, q, c)[0]
-    fm = q[Q_FM] if q[Q_N] > 0.0 else -1.0
+    q = _prepare(d, st, par, e, s, s / gmx, c, -1.0)
+    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, q, g, -math.inf)
+
+
+def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor):
+    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) and its
+    branches prepared at ``ps`` (``qp``: :func:`_prepare` in direction ``d`` with the strength and γ_r of
+    :func:`strength_modulus` at ``ps``) given, and their outer branch's floor (``a``, ``floor``:
+    :func:`_stress_below`)."""
+    s = qp[Q_S]
+    gr = qp[Q_GR]
+    tau = _stress_below(g, qp, c, a, floor)[0]
+    fm = qp[Q_FM] if qp[Q_N] > 0.0 else -1.0
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
@@ -380,7 +424,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c):
         s, gmx = _hb.strength_modulus(ps * q, par, e)
         gr = s / gmx
         qq = _prepare(d, st, par, e, s, gr, c, -1.0)
-        tau = _stress(g, qq, c)[0]
+        tau = _stress_below(g, qq, c, g, -math.inf)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
         f = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old) - q
         if it == 0:

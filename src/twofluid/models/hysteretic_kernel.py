@@ -24,8 +24,15 @@ vertical step. An element whose P_s cannot change over the call (:func:`_fixed_s
 water table, or saturated with ``dn`` = 0 and no generation, as in the total-stress companion run)
 has its strength, G_max and viscosity computed at the first sub-step only, and with every element
 so the damping bands too; each element's MRDF factor is kept while what it depends on (γ_m, γ_r,
-r_g) is the same (:func:`_prepare_kept`). Both give the same numbers, bit for bit, as computing them
-at every sub-step.
+r_g) is the same (:func:`_kept_factor`). Both give the same numbers, bit for bit, as computing them
+at every sub-step. So does the outer branch an element's loop closes onto (three or more open
+reversal points) left unevaluated while the current branch lies far below it in the direction of
+motion: the branch is monotone there, so its stress at the committed strain, less a margin far above
+round-off (``closures.hysteretic._outer_floor``), is a floor of it for the sub-step's strains
+(:func:`_keep_floor`, ``closures.hysteretic._stress_below``). The branches of each element are
+prepared once per sub-step, and again only for the elements whose direction the check after Newton's
+iterations reversed, inline in the sub-step's loop: a helper function called per element and
+sub-step with the kernel's work arrays cost a reference count of each array per call.
 
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
@@ -44,11 +51,12 @@ import numpy as np
 from ..closures import hysteretic as _law
 from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm, hysteretic_ratchet as _hr
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_GC, S_GD, S_GM, S_RG
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_G, S_GC, S_GD, S_GM, S_RG, S_T
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
 _MAX_EXPONENT = 700.0
+_NKEY = 10  # what an outer branch's floor depends on (_keep_floor)
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
@@ -91,16 +99,19 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     flips = np.zeros(ne, dtype=np.int64)
     save = np.empty(st.shape[1])
     fixed = np.zeros(ne)  # 1: P_s cannot change over the call (:func:`_fixed_strength`)
-    fm_key = np.empty((ne, 3))  # (γ_m, γ_r, r_g) of each element's last F (_mrdf; nan: none yet), and F
-    fm_val = np.empty(ne)
+    keep = np.empty((ne, 4))  # (γ_m, γ_r, r_g) of each element's last F (_mrdf; nan: none yet), and F
+    redo = np.zeros(ne, dtype=np.int64)  # 1: the element's branches to prepare before the next Newton sweep
     cst = np.empty((ne, _law.NCONST))  # each element's constants and its prepared branches for the
     prep = np.empty((ne, _law.NPREP))  # sub-step's Newton iterations (closures.hysteretic._prepare)
+    cert = np.empty((ne, 3 + _NKEY))  # each element's outer-branch floor (_keep_floor)
     c0 = 1.0 / (nm_beta * dt * dt)
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
     for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
         _law._store(cst, e, _hb._constants(st, par, e))
-        fm_key[e, 0] = math.nan
+        keep[e, 0] = math.nan
+        cert[e, 1] = -math.inf
+        cert[e, 3] = math.nan
     # an element whose P_s cannot change over the call (above the water table, or neither drained
     # nor generating) has the same strength, G_max and viscosity at every sub-step: computed at the
     # first only, the same numbers; with every element so, the damping bands too
@@ -144,13 +155,37 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = _hm.direction((un[e + 1] - un[e]) / h[e], st, e)
         for e in range(ne):
             flips[e] = 0
-            _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
-        for sweep in range(4):
+            redo[e] = 1
+        converged = False
+        changed = 0
+        for sweep in range(5):
             # Newton's iterations with each element's branch fixed; then each element's branch is
             # checked against the direction its converged strain actually moved: an element whose
             # predictor pointed one way while the motion reversed would otherwise be committed on the
             # wrong branch (held at its yield stress while it unloads), and the next sub-step would
-            # correct it, step after step: a chatter between branches at the sub-step's period
+            # correct it, step after step: a chatter between branches at the sub-step's period.
+            # First the branches of the elements whose direction is new (all, at the first sweep)
+            # are prepared (closures.hysteretic._prepare) into ``prep``, with the MRDF factor F kept
+            # from the last time it was computed where what it depends on is the same (γ_m, γ_r and
+            # r_g, the parameters being fixed: the same number, without its powers), and with three
+            # or more open points the outer branch's floor into ``cert`` (_keep_floor)
+            for e in range(ne):
+                if redo[e] == 0:
+                    continue
+                redo[e] = 0
+                fm = _kept_factor(keep, e, st[e, S_GM], gr[e], st[e, S_RG])
+                c = _law._constants_row(cst, e)
+                q = _law._prepare(dirn[e], st, par, e, s[e], gr[e], c, fm)
+                _law._store(prep, e, q)
+                if q[_law.Q_N] > 0.0:
+                    keep[e, 0] = st[e, S_GM]
+                    keep[e, 1] = gr[e]
+                    keep[e, 2] = st[e, S_RG]
+                    keep[e, 3] = q[_law.Q_FM]
+                if q[_law.Q_N] >= 3.0:
+                    _keep_floor(q, c, st[e, S_G], st[e, S_T], cert, e)
+            if sweep == 4 or (sweep > 0 and changed == 0):
+                break
             converged = False
             relax = 1.0
             for it in range(max_iter):
@@ -164,7 +199,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     g = (un[e + 1] - un[e]) / h[e]
                     c = _law._constants_row(cst, e)
                     q = _law._prepared_row(prep, e)
-                    te, ke = _law._stress(g, q, c)  # the stress and the slope of its branch
+                    te, ke = _law._stress_below(g, q, c, cert[e, 0], cert[e, 1])  # the stress, its branch's slope
                     res[e] -= te
                     res[e + 1] += te
                     if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
@@ -198,9 +233,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     changed += 1
                 else:
                     continue
-                _prepare_kept(dirn[e], st, par, e, s, gr, cst, prep, fm_key, fm_val)
-            if changed == 0:
-                break
+                redo[e] = 1
         if not converged:
             return 1
         _nb.newmark_rates(un, u, v, a, dt, nm_beta, nm_gamma, acc, vel)
@@ -209,11 +242,11 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             virgin = st[e, S_DIR] == 0.0 and g == st[e, 0]
             tv = visc[e] * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress (η + a1 G_max) γ̇
             c = _law._constants_row(cst, e)
+            q = _law._prepared_row(prep, e)
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                te = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c)
+                te = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, q, cert[e, 0], cert[e, 1])
             else:
-                q = _law._prepared_row(prep, e)
-                te = _law._stress(g, q, c)[0]
+                te = _law._stress_below(g, q, c, cert[e, 0], cert[e, 1])[0]
                 _law._commit_counted(g, dirn[e], te, te, st, par, e, s[e], t, gr[e], c,
                                      q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0)
             cst[e, _law.C_GD] = st[e, S_GD]
@@ -253,21 +286,42 @@ def _fixed_strength(par, dn, ns, fixed):
     return every
 
 
-def _prepare_kept(d, st, par, e, s, gr, cst, prep, fm_key, fm_val):
-    """Prepare element ``e``'s branches for the sub-step (``closures.hysteretic._prepare``) into row
-    ``e`` of ``prep``, with the MRDF factor F kept from the last time it was computed where what it
-    depends on is the same (the largest strain γ_m, γ_r and the generated r_g, the element's
-    parameters being fixed): the same number, without the backbone's power and the factor's."""
-    fm = -1.0
-    if fm_key[e, 0] == st[e, S_GM] and fm_key[e, 1] == gr[e] and fm_key[e, 2] == st[e, S_RG]:
-        fm = fm_val[e]
-    q = _law._prepare(d, st, par, e, s[e], gr[e], _law._constants_row(cst, e), fm)
-    _law._store(prep, e, q)
-    if q[_law.Q_N] > 0.0:
-        fm_key[e, 0] = st[e, S_GM]
-        fm_key[e, 1] = gr[e]
-        fm_key[e, 2] = st[e, S_RG]
-        fm_val[e] = q[_law.Q_FM]
+def _kept_factor(keep, e, gm, gr, rg):
+    """Element ``e``'s MRDF factor F kept in row ``e`` of ``keep`` ((γ_m, γ_r, r_g) of its last
+    computation, then F) where it was computed for the largest strain ``gm``, γ_r ``gr`` and generated
+    ratio ``rg`` given (the parameters being fixed, the same number); −1 (to compute) otherwise."""
+    if keep[e, 0] == gm and keep[e, 1] == gr and keep[e, 2] == rg:
+        return keep[e, 3]
+    return -1.0
+
+
+def _keep_floor(q, c, g, t, cert, e):
+    """Keep in row ``e`` of ``cert`` the floor of the outer branch of the prepared ``q`` (three or
+    more open points; ``closures.hysteretic._outer_floor``: the strain it holds from, the floor, the
+    room the committed stress left below it, then what the branch depends on: d, τ_max, F, γ_d, its
+    origin), with which the Newton iterations leave that branch unevaluated while the current one is
+    the lower by far (``_stress_below``: the same numbers). Kept while the branch is the same and the
+    element has not moved back from it; made again at the committed strain ``g`` (τ/τ_max ``t``) once
+    the committed stress has used half its room."""
+    d = q[_law.Q_D]
+    tc = d * t * q[_law.Q_S]  # the committed stress, in direction d
+    same = (cert[e, 3] == d and cert[e, 4] == q[_law.Q_S] and cert[e, 5] == q[_law.Q_FM]
+            and cert[e, 6] == c[_law.C_GD])
+    for k in range(6):
+        if cert[e, 7 + k] != q[_law.Q_B + k]:
+            same = False
+    if same and d * (g - cert[e, 0]) >= 0.0 and (cert[e, 2] <= 0.0 or tc <= cert[e, 1] - 0.5 * cert[e, 2]):
+        return
+    f = _law._outer_floor(g, q, c)
+    cert[e, 0] = g
+    cert[e, 1] = f
+    cert[e, 2] = f - tc
+    cert[e, 3] = d
+    cert[e, 4] = q[_law.Q_S]
+    cert[e, 5] = q[_law.Q_FM]
+    cert[e, 6] = c[_law.C_GD]
+    for k in range(6):
+        cert[e, 7 + k] = q[_law.Q_B + k]
 
 
 def _body_force(m1, body, first, res, h, ns, rho_b):
@@ -358,11 +412,11 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _prepare_kept, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _keep_floor, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
                           _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
-                          _law._stress, _law._store, _law._constants_row, _law._prepared_row,
+                          _law._stress_below, _law._outer_floor, _law._store, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
