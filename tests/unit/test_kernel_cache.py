@@ -491,3 +491,37 @@ def test_numbas_typing_messages_are_plain_text_while_a_module_builds_and_restore
         assert errors.termcolor().errmsg("No implementation") == "No implementation"
         assert errors.TypingError("No implementation").msg == "No implementation"
     assert scheme.errmsg("No implementation") == before and "_markup" not in vars(scheme)
+
+
+def test_a_global_functions_call_is_typed_once_per_argument_types_while_a_module_builds():
+    """Inside a build the typing context answers a repeated call of a global function (here
+    ``math.sqrt`` of a float64, twice) from its first answer: the same signature, typed once; calls
+    with other argument types are typed on their own; numba's own method is back after."""
+    pytest.importorskip("numba")
+    import math
+
+    from numba.core import types, typing
+    from numba.core.registry import cpu_target
+
+    ctx = cpu_target.typing_context
+    ctx.refresh()
+    fnty = ctx.resolve_value_type(math.sqrt)
+    resolve = typing.context.BaseContext.resolve_function_type
+    typed = []
+    calls = fnty.get_call_type
+
+    def counted(context, args, kws):
+        typed.append(tuple(args))
+        return calls(context, args, kws)
+
+    fnty.get_call_type = counted
+    try:
+        with compiled._typing_memo():
+            a = ctx.resolve_function_type(fnty, (types.float64,), {})
+            b = ctx.resolve_function_type(fnty, (types.float64,), {})
+            c = ctx.resolve_function_type(fnty, (types.int64,), {})
+    finally:
+        del fnty.get_call_type
+    assert a is b and a.return_type == types.float64 and c is not None
+    assert typed == [(types.float64,), (types.int64,)]
+    assert typing.context.BaseContext.resolve_function_type is resolve
