@@ -457,9 +457,9 @@ def _helpers_optimised_in_module():
 def _plain_typing_messages():
     """While a module builds, numba's error messages are plain text. Its type inference tries an
     operation's typing templates in turn and makes an error, message included, for each that does not
-    fit (most do not: some 60 000 over the two ``build-kernels`` processes), and its default colour
+    fit (most do not: some 51 000 over the two ``build-kernels`` processes), and its default colour
     scheme, which adds only bold, writes each message through ``colorama``'s terminal wrappers:
-    9 µs each, 0.6 s of CPU in all. Nothing prints them unless the build fails, which then says the
+    9 µs each, 0.5 s of CPU in all. Nothing prints them unless the build fails, which then says the
     same without bold. Where numba's messages are plain already (``NUMBA_DISABLE_ERROR_MESSAGE_
     HIGHLIGHTING``) or this numba has no such scheme, nothing is changed."""
     try:
