@@ -9,8 +9,9 @@ Prints, per group, the process's CPU [s] (user + system, children included: the 
 linker), the CPU of importing numba, with ``--events`` the numba compile time of each
 function (the helpers, which numba's JIT types; the exports are typed by ``numba.pycc`` and not
 listed), and with ``--repeats`` every function compiled more than once in a process (another
-argument type: layout, integer width, a literal) with its argument types. Each group gets an empty cache folder, so nothing is shared between groups but numba's
-C helper objects that every build of the first group compiles (the first group pays them).
+argument type: layout, integer width, a literal) with its argument types. Each group gets an
+empty cache folder, so nothing is shared between groups but numba's C helper objects that every
+build of the first group compiles (the first group pays them).
 ``--together`` builds the groups named in one process and one cache folder instead, as a run's
 first build or a worker of ``twofluid build-kernels`` does (helpers shared between groups then
 compiled once), and prints each group's CPU in the order built (a helper counted with the first
