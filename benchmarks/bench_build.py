@@ -2,13 +2,16 @@
 own and a fresh cache folder (``twofluid.compiled.GROUPS``), with numba's own compile events per
 function (type inference and lowering of each export and of each helper it calls).
 
-    python benchmarks/bench_build.py [GROUP ...] [--events] [--together]
-    python benchmarks/bench_build.py --families
+    python benchmarks/bench_build.py [GROUP ...] [--events] [--repeats] [--together]
+    python benchmarks/bench_build.py --families [--repeats]
 
 Prints, per group, the process's CPU [s] (user + system, children included: the C compiler and
-linker), the CPU of importing numba, and with ``--events`` the numba compile time of each
-function. Each group gets an empty cache folder, so nothing is shared between groups but numba's
-C helper objects that every build of the first group compiles (the first group pays them).
+linker), the CPU of importing numba, with ``--events`` the numba compile time of each
+function (the helpers, which numba's JIT types; the exports are typed by ``numba.pycc`` and not
+listed), and with ``--repeats`` every function compiled more than once in a process (another
+argument type: layout, integer width, a literal) with its argument types. Each group gets an
+empty cache folder, so nothing is shared between groups but numba's C helper objects that every
+build of the first group compiles (the first group pays them).
 ``--together`` builds the groups named in one process and one cache folder instead, as a run's
 first build or a worker of ``twofluid build-kernels`` does (helpers shared between groups then
 compiled once), and prints each group's CPU in the order built (a helper counted with the first
@@ -42,8 +45,9 @@ class Rec(event.Listener):
         ev.data["t0"] = time.process_time()
     def on_end(self, ev):
         d = ev.data
-        events.append((str(d.get("dispatcher", "")).split(" ")[0][:60] if d.get("dispatcher") else "",
-                       str(d.get("args", ""))[:60], time.process_time() - d.get("t0", time.process_time())))
+        f = getattr(d.get("dispatcher"), "py_func", None)
+        name = f"{f.__module__}.{f.__qualname__}" if f is not None else str(d.get("dispatcher", ""))
+        events.append((name[-80:], str(d.get("args", "")), time.process_time() - d.get("t0", time.process_time())))
 rec = Rec()
 event.register("numba:compile", rec)
 from twofluid import compiled
@@ -68,6 +72,8 @@ def main(argv=None) -> int:
     p.add_argument("--events", action="store_true")
     p.add_argument("--together", action="store_true",
                    help="build the groups in one process and cache folder, as a run or a build-kernels worker does")
+    p.add_argument("--repeats", action="store_true",
+                   help="the functions numba compiled more than once in a process, with their argument types")
     p.add_argument("--families", action="store_true",
                    help="each of build-kernels' processes (compiled.FAMILIES), its groups in its order")
     args = p.parse_args(argv)
@@ -101,7 +107,15 @@ def main(argv=None) -> int:
                 print("    " + ", ".join(f"{n} {t:.2f} s" for n, t in d["each"]))
             if args.events:
                 for disp, sig, t in sorted(d["events"], key=lambda e: -e[2])[:25]:
-                    print(f"    {t:6.2f} s  {disp} {sig}")
+                    print(f"    {t:6.2f} s  {disp} {sig[:60]}")
+            if args.repeats:  # a function typed and compiled more than once in the process
+                seen: dict = {}
+                for disp, sig, t in d["events"]:
+                    seen.setdefault(disp, []).append((sig, t))
+                repeated = {k: v for k, v in seen.items() if len(v) > 1}
+                print(f"    compiled more than once: {len(repeated)} of {len(seen)} functions")
+                for disp, v in sorted(repeated.items(), key=lambda kv: -sum(t for _s, t in kv[1])):
+                    print(f"    {sum(t for _s, t in v):6.2f} s  {disp}: {len(v)}x " + "; ".join(s[:120] for s, _t in v))
     print(f"all: {total:.2f} s of CPU; load {os.getloadavg()[0]:.2f}")
     return 0
 

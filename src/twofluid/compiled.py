@@ -279,7 +279,8 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         cc.verbose = False
         for name, (func, signature) in exports.items():
             cc.export(name, signature)(func)
-        with _compiled_helpers(helpers), _no_jit_machine_code(), _young_gc_only(), warnings.catch_warnings():
+        with _compiled_helpers(helpers), _no_jit_machine_code(), _helpers_optimised_in_module(), \
+                _plain_typing_messages(), _typing_memo(), _young_gc_only(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -413,6 +414,113 @@ def _no_jit_machine_code():
         yield
     finally:
         library._finalize_specific, jit.set_env = finalize, set_env
+
+
+@contextlib.contextmanager
+def _helpers_optimised_in_module():
+    """While a module builds, a helper's LLVM IR is optimised once, in the module that links it: numba
+    runs LLVM's function passes on each helper's IR as it is made, and its whole module pipeline
+    (inlining included) on the helper with its own callees linked in, before the helper's IR is
+    linked into its caller's library, where the same pipeline runs again over it; a helper three
+    calls deep was optimised four times. Here a helper's library (a ``JITCodeLibrary``: the
+    dispatchers of :func:`_compiled_helpers`, which nothing runs, :func:`_no_jit_machine_code`)
+    keeps its IR as lowered, and the module's library (numba's ``AOTCodeLibrary``) runs the
+    pipeline once over everything linked into it. LLVM's optimisations keep floating-point
+    semantics (no fast-math), so the kernels compute the same: the bundled cases' outputs are
+    byte-identical (``docs/benchmarks.md``, which gives the build's figures). Where this numba
+    lacks the methods replaced, nothing is changed."""
+    try:
+        from numba.core import codegen
+
+        library = codegen.JITCodeLibrary
+        names = ("_optimize_functions", "_optimize_final_module")
+        saved = {name: library.__dict__.get(name) for name in names}
+        if not all(callable(getattr(library, name, None)) for name in names):
+            raise AttributeError
+    except (ImportError, AttributeError):
+        yield
+        return
+
+    library._optimize_functions = lambda self, ll_module: None
+    library._optimize_final_module = lambda self: None
+    try:
+        yield
+    finally:
+        for name, method in saved.items():
+            if method is None:
+                delattr(library, name)  # the inherited method (CPUCodeLibrary's) again
+            else:
+                setattr(library, name, method)
+
+
+@contextlib.contextmanager
+def _plain_typing_messages():
+    """While a module builds, numba's error messages are plain text. Its type inference tries an
+    operation's typing templates in turn and makes an error, message included, for each that does not
+    fit (most do not: some 51 000 over the two ``build-kernels`` processes), and its default colour
+    scheme, which adds only bold, writes each message through ``colorama``'s terminal wrappers:
+    9 µs each, 0.5 s of CPU in all. Nothing prints them unless the build fails, which then says the
+    same without bold. Where numba's messages are plain already (``NUMBA_DISABLE_ERROR_MESSAGE_
+    HIGHLIGHTING``) or this numba has no such scheme, nothing is changed."""
+    try:
+        from numba.core import errors
+
+        scheme = errors.termcolor()  # the one instance every numba module holds
+    except (ImportError, AttributeError):
+        yield
+        return
+    if not callable(getattr(type(scheme), "_markup", None)) or "_markup" in vars(scheme):
+        yield
+        return
+    scheme._markup = lambda msg, color=None, style=None: msg
+    try:
+        yield
+    finally:
+        del scheme._markup
+
+
+@contextlib.contextmanager
+def _typing_memo():
+    """While a module builds, numba types a call of a global function (an operator, ``math.sqrt``,
+    ``np.empty``, ``min``: a ``types.Function``) once per argument types: its typing context resolves
+    every such call anew, trying the function's typing templates in turn, though the answer depends on
+    nothing but the function and the argument types (literal values included in them); a kernel
+    multiplies two ``float64`` hundreds of times. The first answer is kept for the build and given to
+    every later call with the same types: the same signature, so the same lowering and instructions
+    (eleven of the thirteen modules identical instruction by instruction with and without it; the
+    column step's and the hysteretic law's the same instructions in another order, as numba numbers
+    the functions it compiles, and fewer are compiled: ``docs/benchmarks.md``). Calls numba
+    fails to type are not kept (its own failure cache replays them). Where this numba's typing context
+    lacks the method replaced, nothing is changed."""
+    try:
+        from numba.core import types
+        from numba.core.typing import context
+
+        resolve = context.BaseContext.__dict__["resolve_function_type"]
+    except (ImportError, AttributeError, KeyError):
+        yield
+        return
+    memo: dict = {}
+
+    def resolve_function_type(self, func, args, kws):
+        if not isinstance(func, types.Function):
+            return resolve(self, func, args, kws)
+        try:
+            key = (self, func, tuple(args), tuple(sorted(kws.items())) if kws else ())
+            sig = memo.get(key)
+        except TypeError:  # an unhashable argument type: typed as numba does
+            return resolve(self, func, args, kws)
+        if sig is None:
+            sig = resolve(self, func, args, kws)
+            if sig is not None:
+                memo[key] = sig
+        return sig
+
+    context.BaseContext.resolve_function_type = resolve_function_type
+    try:
+        yield
+    finally:
+        context.BaseContext.resolve_function_type = resolve
 
 
 #: the garbage collector's thresholds while kernels build (:func:`_young_gc_only`): the youngest

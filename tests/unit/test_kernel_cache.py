@@ -448,3 +448,80 @@ def test_the_garbage_collector_collects_only_new_objects_while_a_build_compiles_
         assert not gc.isenabled() and gc.get_threshold() == before
     finally:
         gc.enable()
+
+
+def test_a_helpers_ir_is_optimised_once_in_the_module_that_links_it(toy, monkeypatch):
+    """While a module builds, numba's LLVM passes run on the module's library alone (its exports and
+    the helpers linked into it), not first on each helper's library: the kernel computes the same,
+    and the helper libraries' optimisation is numba's own again after the build."""
+    pytest.importorskip("numba.pycc")
+    from numba.core import codegen
+
+    src, cache = toy
+    monkeypatch.syspath_prepend(str(src))
+    monkeypatch.setenv("TWOFLUID_CACHE_DIR", str(cache))
+    monkeypatch.setenv("TWOFLUID_BUILDING_KERNELS", "1")
+    monkeypatch.delenv("TWOFLUID_DISABLE_JIT", raising=False)
+    monkeypatch.delenv("NUMBA_DISABLE_JIT", raising=False)
+    import kmod_a
+    import kmod_b
+
+    optimised = []
+    final, functions = codegen.CPUCodeLibrary._optimize_final_module, codegen.CPUCodeLibrary._optimize_functions
+    monkeypatch.setattr(codegen.CPUCodeLibrary, "_optimize_final_module",
+                        lambda self: (optimised.append(("module", type(self).__name__)), final(self))[1])
+    monkeypatch.setattr(codegen.CPUCodeLibrary, "_optimize_functions",
+                        lambda self, m: (optimised.append(("functions", type(self).__name__)), functions(self, m))[1])
+    out = compiled.group("toy_opt", {"total": (kmod_a.total, SIGNATURE)}, helpers=(kmod_b.helper,))
+    monkeypatch.delitem(compiled._LOADED, "toy_opt")
+    if type(out["total"]).__name__ != "builtin_function_or_method":
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    assert out["total"](X) == expected()
+    assert ("module", "AOTCodeLibrary") in optimised and ("functions", "AOTCodeLibrary") in optimised
+    assert not [o for o in optimised if o[1] == "JITCodeLibrary"], optimised
+    assert "_optimize_final_module" not in vars(codegen.JITCodeLibrary)
+    assert "_optimize_functions" not in vars(codegen.JITCodeLibrary)
+
+
+def test_numbas_typing_messages_are_plain_text_while_a_module_builds_and_restored_after():
+    errors = pytest.importorskip("numba.core.errors")
+    scheme = errors.termcolor()
+    before = scheme.errmsg("No implementation")
+    with compiled._plain_typing_messages():
+        assert errors.termcolor().errmsg("No implementation") == "No implementation"
+        assert errors.TypingError("No implementation").msg == "No implementation"
+    assert scheme.errmsg("No implementation") == before and "_markup" not in vars(scheme)
+
+
+def test_a_global_functions_call_is_typed_once_per_argument_types_while_a_module_builds():
+    """Inside a build the typing context answers a repeated call of a global function (here
+    ``math.sqrt`` of a float64, twice) from its first answer: the same signature, typed once; calls
+    with other argument types are typed on their own; numba's own method is back after."""
+    pytest.importorskip("numba")
+    import math
+
+    from numba.core import types, typing
+    from numba.core.registry import cpu_target
+
+    ctx = cpu_target.typing_context
+    ctx.refresh()
+    fnty = ctx.resolve_value_type(math.sqrt)
+    resolve = typing.context.BaseContext.resolve_function_type
+    typed = []
+    calls = fnty.get_call_type
+
+    def counted(context, args, kws):
+        typed.append(tuple(args))
+        return calls(context, args, kws)
+
+    fnty.get_call_type = counted
+    try:
+        with compiled._typing_memo():
+            a = ctx.resolve_function_type(fnty, (types.float64,), {})
+            b = ctx.resolve_function_type(fnty, (types.float64,), {})
+            c = ctx.resolve_function_type(fnty, (types.int64,), {})
+    finally:
+        del fnty.get_call_type
+    assert a is b and a.return_type == types.float64 and c is not None
+    assert typed == [(types.float64,), (types.int64,)]
+    assert typing.context.BaseContext.resolve_function_type is resolve
