@@ -414,13 +414,9 @@ def test_an_ensemble_builds_its_kernels_in_the_parent_before_any_worker(monkeypa
     assert calls == [("prepare", sorted(compiled.groups_for(case))), ("cluster",)]
 
 
-def test_the_garbage_collector_collects_only_new_objects_while_a_build_compiles_and_is_restored(toy, monkeypatch):
-    """numba's compile of a module runs with the build's collector thresholds (the older generations
-    of the millions of objects a build keeps are not scanned again and again); the process's own
-    thresholds come back after, and a collector switched off stays off."""
-    import gc
-
-    pycc = pytest.importorskip("numba.pycc")
+def _toy_build(toy, monkeypatch):
+    """The toy modules (kmod_a, kmod_b) imported for a build of their own: the toy's cache folder, a
+    build as ``build-kernels`` makes it, the JIT not disabled."""
     src, cache = toy
     monkeypatch.syspath_prepend(str(src))
     monkeypatch.setenv("TWOFLUID_CACHE_DIR", str(cache))
@@ -429,6 +425,18 @@ def test_the_garbage_collector_collects_only_new_objects_while_a_build_compiles_
     monkeypatch.delenv("NUMBA_DISABLE_JIT", raising=False)
     import kmod_a
     import kmod_b
+
+    return kmod_a, kmod_b
+
+
+def test_the_garbage_collector_collects_only_new_objects_while_a_build_compiles_and_is_restored(toy, monkeypatch):
+    """numba's compile of a module runs with the build's collector thresholds (the older generations
+    of the millions of objects a build keeps are not scanned again and again); the process's own
+    thresholds come back after, and a collector switched off stays off."""
+    import gc
+
+    pycc = pytest.importorskip("numba.pycc")
+    kmod_a, kmod_b = _toy_build(toy, monkeypatch)
 
     seen = []
     compile_module = pycc.CC.compile
@@ -457,14 +465,7 @@ def test_a_helpers_ir_is_optimised_once_in_the_module_that_links_it(toy, monkeyp
     pytest.importorskip("numba.pycc")
     from numba.core import codegen
 
-    src, cache = toy
-    monkeypatch.syspath_prepend(str(src))
-    monkeypatch.setenv("TWOFLUID_CACHE_DIR", str(cache))
-    monkeypatch.setenv("TWOFLUID_BUILDING_KERNELS", "1")
-    monkeypatch.delenv("TWOFLUID_DISABLE_JIT", raising=False)
-    monkeypatch.delenv("NUMBA_DISABLE_JIT", raising=False)
-    import kmod_a
-    import kmod_b
+    kmod_a, kmod_b = _toy_build(toy, monkeypatch)
 
     optimised = []
     final, functions = codegen.CPUCodeLibrary._optimize_final_module, codegen.CPUCodeLibrary._optimize_functions
