@@ -100,18 +100,20 @@ class Extrapolator:
             self.D, self.order = D, m
         self.t, self.state = t, state
 
-    def predict(self, t: float) -> list | None:
-        """The extrapolated fields at ``t`` (None without at least two states)."""
+    def predict(self, t: float, out: tuple | None = None) -> list | None:
+        """The extrapolated fields at ``t`` (None without at least two states); ``out``: an array per
+        field to write them into (then returned), else new arrays."""
         if self.order < 2 or not t > self.t:
             return None
         h_new = t - self.t
+        if out is None:
+            out = [np.empty(D.shape[1]) for D in self.D]
         if self.order >= 3 and abs(h_new - self.h) <= 1e-9 * self.h:
-            out = []
             predict = _kernels()[0]
-            for D in self.D:
-                pred = np.empty(D.shape[1])
+            for D, pred in zip(self.D, out):
                 predict(D, self.order, pred)
-                out.append(pred)
-            return out
+            return list(out)
         f = min(h_new / self.h, 2.0)
-        return [D[0] + f * D[1] for D in self.D]
+        for D, pred in zip(self.D, out):
+            np.add(D[0], f * D[1], out=pred)
+        return list(out)

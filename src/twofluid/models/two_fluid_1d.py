@@ -77,7 +77,7 @@ from ..fem.banded import BandSolver
 from ..fem.line import LINE1, LINE2, element_values
 from ..mesh.line import LineMesh
 from ..timestepping.backward_euler import relative_change
-from . import extrapolation, full_iterate, full_kernel, reduced_kernel
+from . import full_iterate, full_kernel, reduced_kernel
 from .bed_forces_1d import _CLEAR, UpwindBedForces
 from .data_1d import Boundary, Closures, Materials, State, _times
 from .diagnostics_1d import LineDiagnostics
@@ -483,16 +483,8 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         if ex.order >= 2 and k.t > ex.t:
             DV, DW, Dn = ex.D
             if (k.n == Dn[0]).all() and (k.W == DW[0]).all() and (k.V == DV[0]).all():
-                if ex.order >= 3 and abs((k.t - ex.t) - ex.h) <= 1e-9 * ex.h:
-                    predict = extrapolation._kernels()[0]  # Extrapolator.predict's kernel, into k's arrays
-                    predict(DV, ex.order, k.V)
-                    predict(DW, ex.order, k.W)
-                    predict(Dn, ex.order, k.n)
-                    np.clip(k.n, _CLEAR, 1.0, out=k.n)
-                    return
-                V, W, n = ex.predict(k.t)
-                k.V[:], k.W[:] = V, W
-                np.clip(n, _CLEAR, 1.0, out=k.n)
+                ex.predict(k.t, out=(k.V, k.W, k.n))  # into k's arrays
+                np.clip(k.n, _CLEAR, 1.0, out=k.n)
 
     def _remember(self, old: State, new: State, fields) -> None:
         """Add the converged step old → new to the extrapolation table (``fields(state)``: its arrays)."""
