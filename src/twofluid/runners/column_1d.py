@@ -77,23 +77,26 @@ class _Figures:
         self._faces, self._lengths = faces, faces[1:] - faces[:-1]  # (interface_height's element lengths)
         self._dp = _pressure_drop_terms(model)
 
-    def heights(self, s) -> dict[str, float]:
-        return dict(zip(self.keys, self._heights(s)))
-
     def _heights(self, s) -> tuple[float, ...]:
         if self.study == "settling":  # the settling interfaces keep their definitions (summary "interfaces")
             top = pp.surface_height(self.y, s.n, self.thr, self.y0)
             return top, pp.sediment_height(self.y, s.n, self.n0, top, bottom=self.y0)
         return (pp.interface_height(self._faces, s.n, self.thr, self._lengths),)
 
-    def record(self, s) -> tuple[float, ...]:
-        """Record state ``s`` (its time, heights and bed pressure drop); returns its heights."""
+    def record(self, s) -> tuple[tuple[float, ...], float]:
+        """Record state ``s`` (its time, heights and bed pressure drop); returns (its heights, the drop)."""
         self.t.append(s.t)
         h = self._heights(s)
         for col, v in zip(self.columns, h):
             col.append(v)
-        self.dp.append(bed_pressure_drop(self.model, s, terms=self._dp))
-        return h
+        dp = bed_pressure_drop(self.model, s, terms=self._dp)
+        self.dp.append(dp)
+        return h, dp
+
+    def leading(self, h: tuple[float, ...], dp: float) -> tuple:
+        """A probe row's first columns, (name, value) pairs: the heights ``h`` and the drop ``dp`` that
+        :meth:`record` returned."""
+        return (*zip(self.keys, h), ("bed_pressure_drop_Pa", dp))
 
     def series(self) -> dict[str, np.ndarray]:
         if not self.t:
@@ -131,14 +134,14 @@ def bed_pressure_drop(model, s, f: dict | None = None, terms=False) -> float:
 
 
 _PROBED = ("porosity", "P_Pa", "Ps_Pa", "Us_m_s")  # the fields of a probe, its columns "{name}@{y:g}m"
-_PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> (probes, top, elements, names, ΔP terms)
+_PLANS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> (probes, elements, column names)
 
 
-def _probe_values(model, s, probes, heights):
-    """The probe row of state ``s``: ``heights``, the bed pressure drop, and each probe's fields."""
-    elements, names, dp_terms = _probe_plan(model, probes)
-    vals = dict(heights)
-    vals["bed_pressure_drop_Pa"] = bed_pressure_drop(model, s, terms=dp_terms)
+def _probe_values(model, s, probes, leading):
+    """The probe row of state ``s``: ``leading`` ((name, value) pairs: :meth:`_Figures.leading`, the
+    heights and the bed pressure drop), then each probe's fields."""
+    elements, names = _probe_plan(model, probes)
+    vals = dict(leading)
     f = model.element_fields(s, elements)  # at the probes' elements only
     for j, keys in enumerate(names):
         for key, field in zip(keys, _PROBED):
@@ -146,15 +149,13 @@ def _probe_values(model, s, probes, heights):
     return vals
 
 
-def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]], tuple | None]:
-    """(the element of each probe, its column names, the model's :func:`_pressure_drop_terms`), worked
-    out once per model, probe list and top end."""
+def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]]]:
+    """(the element of each probe, its column names), worked out once per model and probe list."""
     plan = _PLANS.get(model)
-    if plan is None or plan[0] != tuple(probes) or plan[1] is not model.top:
+    if plan is None or plan[0] != tuple(probes):
         names = [tuple(f"{name}@{y:g}m" for name in _PROBED) for y in probes]
-        plan = _PLANS[model] = (tuple(probes), model.top, _probe_elements(model, probes), names,
-                                _pressure_drop_terms(model))
-    return plan[2], plan[3], plan[4]
+        plan = _PLANS[model] = (tuple(probes), _probe_elements(model, probes), names)
+    return plan[1], plan[2]
 
 
 def _probe_elements(model, probes) -> np.ndarray:
@@ -191,8 +192,8 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     n_final = bed.get("expanded", {}).get("model", {}).get("porosity")
     fig = _Figures(case, model, state, n_final)
     probes = case["output"]["probes"]
-    heights0 = fig.heights(state)
-    probe_cols = list(_probe_values(model, state, probes, heights0))
+    lead0 = fig.leading(*fig.record(state))
+    probe_cols = list(_probe_values(model, state, probes, lead0))
     writer = ResultWriter(out, PROFILE_COLUMNS, probe_cols, block=True)  # rows written at least once a second
     out_times = sorted(set(case["output"]["times"]) | {0.0, b.t_end})
     near = 1e-9 * max(1.0, out_times[-1])  # the widest tolerance of _at_output_time
@@ -206,12 +207,11 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     solids0 = model.solids_volume(state)
     outflow = 0.0
     save_profile(state)
-    fig.record(state)
-    writer.probe(state.t, _probe_values(model, state, probes, heights0))
+    writer.probe(state.t, _probe_values(model, state, probes, lead0))
     interval = case["output"]["probe_interval"]
     next_probe, last_probe = interval, b.t_end - 1e-12
     n_steps, last = 0, state
-    keys, outflow_rate, record = fig.keys, model.solids_outflow, fig.record
+    outflow_rate, record, leading = model.solids_outflow, fig.record, fig.leading
     wall0 = time.perf_counter()
     with run_guard(b.t_end, progress, writer) as run:
         bar = run.bar
@@ -219,10 +219,10 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
             s = step.state
             outflow += step.dt * outflow_rate(s)
             n_steps, last = step.n_steps, s
-            h = record(s)
+            h, dp = record(s)
             t = s.t
             if t >= next_probe - 1e-12 or t >= last_probe:  # (the values in probe_cols' order)
-                writer.probe_row(t, list(_probe_values(model, s, probes, zip(keys, h)).values()))
+                writer.probe_row(t, list(_probe_values(model, s, probes, leading(h, dp)).values()))
                 next_probe = t + interval
             if _at_output_time(t, out_times, near):
                 save_profile(s)
