@@ -205,18 +205,14 @@ def _prepare(d, st, par, e, s, gr, c, fm):
             b[0], b[1], b[2], b[3], b[4], b[5])
 
 
-def _stress(g, q, c):
+def _stress_below(g, q, c, a, floor):
     """(τ [Pa], dτ/dγ [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
     (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), and the derivative of the
-    branch that sets it (the compiled code calls :func:`_stress_below` with no floor for it)."""
-    return _stress_below(g, q, c, g, -math.inf)
-
-
-def _stress_below(g, q, c, a, floor):
-    """:func:`_stress` given that the outer branch's stress, in direction d, is above ``floor`` [Pa]
-    at every strain from ``a`` on in that direction (:func:`_outer_floor`; −inf: nothing known): where
-    ``g`` lies there and the current branch's stress is at or below the floor, the outer branch
-    cannot be the lower one, and it is not evaluated. The same numbers as :func:`_stress`."""
+    branch that sets it, given that the outer branch's stress, in direction d, is above ``floor`` [Pa]
+    at every strain from ``a`` on in that direction (:func:`_outer_floor`; ``floor`` −inf: nothing
+    known, every branch evaluated): where ``g`` lies there and the current branch's stress is at or
+    below the floor, the outer branch cannot be the lower one, and it is not evaluated. The same
+    numbers either way."""
     d = q[Q_D]
     s = q[Q_S]
     if q[Q_N] == 0.0:  # first loading, or a loop closed onto the backbone: the backbone
@@ -348,8 +344,8 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     st[e, S_TAU] = tau_count
     n = int(st[e, S_NSTK])
     if n > 0 and ((n >= 3 and d * (g - st[e, S_STK + 2 * (n - 2)]) >= 0.0) or d * g > st[e, S_GM]):
-        # (only where a loop may close: otherwise _close_loops changes nothing, and a call with the
-        # state arrays costs their reference counts)
+        # (only where a loop may close, the entry tests of _hm._close_loops, kept in step with them:
+        # otherwise it changes nothing, and a call with the state arrays costs their reference counts)
         _hm._close_loops(g, d, st, par, e, s, gr, c, fm)
     if abs(g) > st[e, S_GM]:
         st[e, S_GM] = abs(g)

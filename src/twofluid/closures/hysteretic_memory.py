@@ -167,7 +167,8 @@ def _close_loops(g, d, st, par, e, s, gr, c, fm):
     strain so far). Only what no longer sets the stress at ``g`` is dropped, so the stress there is
     unchanged: closing a loop is never a jump. ``c``: the element's constants (:func:`_constants`);
     ``fm``: the branches' F (:func:`_mrdf`, the same before and after the commit's push), < 0 where
-    not known yet."""
+    not known yet. (``closures.hysteretic._commit_counted`` calls it only where its two loops below can
+    act, n ≥ 3 with g past the innermost target or d g beyond γ_m: the same tests, kept in step.)"""
     n = int(st[e, S_NSTK])
     if n == 0:
         return

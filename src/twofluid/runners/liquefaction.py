@@ -251,8 +251,6 @@ def _whole_wave(b: Built, nodes: bool = False, kernel=None):
         return None
     if col.hysteretic is not None:
         return total_stress.one_call(col, b.state, plan[0], nodes, kernel)
-    if nodes:
-        return None
     col.shear_step = plan[1]
     try:
         step = col.step(b.state, col.shear_end)
