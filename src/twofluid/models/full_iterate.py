@@ -47,7 +47,7 @@ def _run_args(model, ne: int):
     shift_own = (model.BN is not None and model.bed_forces != "galerkin"
                  and all(getattr(cls, m) is getattr(TwoFluid1D, m) for m in _SHIFT_METHODS)
                  and not set(_SHIFT_METHODS) & model.__dict__.keys())
-    hit = model._fi_run = (mat, clo, bot, top, mesh, mesh.y, N, work, scalars, ends, shift_own, mesh.lengths)
+    hit = model._fi_run = (mat, clo, bot, top, mesh, mesh.y, N, work, scalars, ends, shift_own)
     return hit
 
 
@@ -56,26 +56,15 @@ _SHIFT_METHODS = ("bed_force_shift", "_force_shift_at", "force_shift", "solids_p
                   "_full_kernels")
 
 
-def _shift(model, s: State, laws, common: dict, xs, mc, lengths) -> np.ndarray | None:
+def _shift(model, s: State, laws, xs) -> np.ndarray | None:
     """:meth:`UpwindBedForces.bed_force_shift` at ``s`` as :func:`full_kernel.force_shift
-    <twofluid.models.full_kernel.force_shift>` makes it (the same calls), without the cache of the
-    state's copies that the model keeps for a step tried again (the shift is a function of ``s``)."""
+    <twofluid.models.full_kernel.force_shift>` makes it, with the compiled ``laws`` and the work
+    arrays ``xs`` given, without the cache of the state's copies that the model keeps for a step tried
+    again (the shift is a function of ``s``); None where n̄ is not an array like n."""
     n, nb = s.n, s.n_bar
     if type(nb) is not np.ndarray or nb.ndim != 1 or nb.shape != n.shape:
         return None
-    shift_mc = model.__dict__.get("_fk_shift_mc")
-    if shift_mc is None:
-        shift_mc = model._fk_shift_mc = np.zeros((19, mc.shape[1]))
-        shift_mc[10:14] = mc[0:4]
-    x, s_abs = xs
-    common["shift_points"](n, s.V, s.W, mc[14], mc[15], x, s_abs)
-    K = laws.beta_per_solids(x, s_abs)
-    _, dps = laws.solids_pressure(n, nb)
-    alpha = np.empty(n.size)
-    mat = model.mat
-    common["shift"](n, s.V, s.W, x, K, dps, shift_mc, mc[16], lengths, float(mat.rho_s - mat.rho_f),
-                    float(model.g_y), float(mat.g), alpha)
-    return alpha
+    return full_kernel.force_shift(model, s, laws, xs)
 
 
 def _law_calls(model, laws, ne: int):
@@ -122,13 +111,13 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     ne = n.size
     if laws is None or common is None or type(nb) is not np.ndarray or nb.ndim != 1 or nb.shape != n.shape:
         return None
-    N, work, scalars, ends, shift_own, lengths = _run_args(model, ne)[6:]
+    N, work, scalars, ends, shift_own = _run_args(model, ne)[6:]
     x3, s3, ab, f, Aa, abo, b, change = work[:8]
     viscous, upwind, rho_f, rho_s, mu_f, g_y = scalars
     mc, vc = model._fk_constants
     st = model.__dict__.get("_fi_step")  # the step's: the shift α at the old state, the prescribed rows
     if st is None or st[0] is not old or st[1] != dt or st[2] != t_new:
-        alpha = _shift(model, old, laws, common, work[8:10], mc, lengths) if shift_own else None
+        alpha = _shift(model, old, laws, work[8:10]) if shift_own else None
         if alpha is None:
             alpha = full_kernel._vector(model.bed_force_shift(old), ne)
         idx, val = model.dirichlet(t_new)  # (full_kernel.solve's conversion, once a step)

@@ -558,10 +558,12 @@ def solve(model, ker: dict, S: BandIterate, t: float) -> np.ndarray:
     return out
 
 
-def force_shift(model, s) -> np.ndarray | None:
+def force_shift(model, s, laws=None, xs=None) -> np.ndarray | None:
     """:meth:`TwoFluid1D._force_shift_at` by the reduced model's compiled shift kernels (the same
     arithmetic, :mod:`~twofluid.models.reduced_kernel`; they read the mass matrix from rows 10–13
-    of their element constants), or None where they are not available."""
+    of their element constants), or None where they are not available. ``laws``: the model's
+    compiled laws, called directly (the one-call iterate, :mod:`~twofluid.models.full_iterate`: the
+    same numbers as through the model's methods); ``xs``: two work arrays of 2 ne for the points."""
     rk = reduced_kernel.common_kernels()
     if rk is None:
         return None
@@ -572,14 +574,18 @@ def force_shift(model, s) -> np.ndarray | None:
         shift_mc[10:14] = mc[0:4]
     n = s.n
     ne = n.size
-    x, s_abs = np.empty(2 * ne), np.empty(2 * ne)
+    x, s_abs = (np.empty(2 * ne), np.empty(2 * ne)) if xs is None else xs
     rk["shift_points"](n, s.V, s.W, mc[14], mc[15], x, s_abs)
-    laws = model.compiled_laws()
-    K = laws.beta_per_solids(x, s_abs) if laws is not None else \
-        _vector(model.clo.beta_per_solids(x, s_abs, model._materials_times(2)), 2 * ne)
-    _, dps = model.solids_pressure(n, s.n_bar, derivative=True)
+    if laws is not None:
+        K = laws.beta_per_solids(x, s_abs)
+        dps = laws.solids_pressure(n, s.n_bar)[1]
+    else:
+        laws = model.compiled_laws()
+        K = laws.beta_per_solids(x, s_abs) if laws is not None else \
+            _vector(model.clo.beta_per_solids(x, s_abs, model._materials_times(2)), 2 * ne)
+        dps = _vector(model.solids_pressure(n, s.n_bar, derivative=True)[1], ne)
     alpha = np.empty(ne)
     mat = model.mat
-    rk["shift"](n, s.V, s.W, x, K, _vector(dps, ne), shift_mc, mc[16], model.mesh.lengths,
+    rk["shift"](n, s.V, s.W, x, K, dps, shift_mc, mc[16], model.mesh.lengths,
           float(mat.rho_s - mat.rho_f), float(model.g_y), float(mat.g), alpha)
     return alpha
