@@ -264,10 +264,12 @@ class CompiledLaws:
         self._ps = (A, p_ref, modulus if modulus is not None else np.zeros(1), modulus is not None)
         self._visc = viscosity_args
 
-    def beta_per_solids(self, n: np.ndarray, slip: np.ndarray) -> np.ndarray:
+    def beta_per_solids(self, n: np.ndarray, slip: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """β/(1 − n) [N·s/m⁴] at porosities ``n`` and |slip| ``slip`` [m/s] (1D float arrays of one
-        size, or a whole number of copies of the elements, each with its element's diameter)."""
-        out = np.empty(n.size)
+        size, or a whole number of copies of the elements, each with its element's diameter); into
+        ``out`` if given (a C-contiguous float array of that size)."""
+        if out is None:
+            out = np.empty(n.size)
         law, stokes, slip_max = self._drag[0], self._drag[1], self._drag[-1]
         if law == WEN_YU:  # its two powers by NumPy's SIMD routines (wen_yu_powers)
             re = np.empty(n.size)
@@ -294,15 +296,17 @@ class CompiledLaws:
         return (law, np.array([float(stokes), n_switch, blend_width, slip_max, self._rho_f]), self._d, A, p_ref,
                 modulus, fluidized, np.array(self._visc, dtype=float))
 
-    def solids_pressure(self, n: np.ndarray, n_bar: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(P_s, ∂P_s/∂n) [Pa] at porosities ``n`` of the elements with reference porosities ``n_bar``."""
-        ps, dps = np.empty(n.size), np.empty(n.size)
+    def solids_pressure(self, n: np.ndarray, n_bar: np.ndarray, out: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(P_s, ∂P_s/∂n) [Pa] at porosities ``n`` of the elements with reference porosities ``n_bar``;
+        into the two arrays ``out`` if given."""
+        ps, dps = (np.empty(n.size), np.empty(n.size)) if out is None else out
         self._k["solids_pressure"](n, n_bar, *self._ps, ps, dps)
         return ps, dps
 
-    def solid_viscosity(self, n: np.ndarray) -> np.ndarray:
-        """μ_s [Pa·s] at porosities ``n``."""
-        out = np.empty(n.size)
+    def solid_viscosity(self, n: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """μ_s [Pa·s] at porosities ``n``; into ``out`` if given."""
+        if out is None:
+            out = np.empty(n.size)
         self._k["viscosity"](n, self._mu_f, *self._visc, True, out)
         return out
 

@@ -36,7 +36,8 @@ def _run_args(model, ne: int):
         return hit
     N = 2 * model.nv + 2 * ne
     work = (np.empty(3 * ne), np.empty(3 * ne), np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(N),
-            np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(3), np.empty(2 * ne), np.empty(2 * ne))
+            np.empty((N, full_kernel.LDAB)).T, np.empty(N), np.empty(3), np.empty(2 * ne), np.empty(2 * ne),
+            np.empty(ne), np.empty(ne), np.empty(2 * ne), np.empty(3 * ne))  # (the laws' outputs: P_s, ∂P_s/∂n, μ_s, drag)
     scalars = (bool(clo.viscous), model.solids_flux == "upwind", float(mat.rho_f), float(mat.rho_s),
                float(mat.mu_f), float(model.g_y))
     ends = (bot.kind == "outlet", float(bot.pressure), top.kind == "outlet", float(top.pressure))
@@ -65,30 +66,6 @@ def _shift(model, s: State, laws, xs) -> np.ndarray | None:
     if type(nb) is not np.ndarray or nb.ndim != 1 or nb.shape != n.shape:
         return None
     return full_kernel.force_shift(model, s, laws, xs)
-
-
-def _law_calls(model, laws, ne: int):
-    """The compiled calls of the run's laws as :class:`~twofluid.closures.kernels.CompiledLaws` makes
-    them (its kernels and their fixed arguments, the same calls), with their output arrays kept
-    for the run (nothing keeps them past the kernel call that reads them): (P_s as (kernel, its
-    arguments after the porosities), the drag as (kernel, the arguments before the points, after
-    them but for the output) or None where the law's method does more than one call (Wen–Yu's
-    powers), μ_s as (kernel, its arguments after the porosities), and the outputs (P_s, ∂P_s/∂n,
-    μ_s, the drag at the iterate's 3 ne points)), kept on the model while its laws are the same
-    object."""
-    hit = model.__dict__.get("_fi_laws")
-    if hit is not None and hit[0] is laws and hit[1] == ne:
-        return hit[2]
-    from ..closures.kernels import WEN_YU
-
-    k = laws._k  # (the laws' own kernels and arguments: CompiledLaws keeps them for these calls)
-    ps, dps, K3, mu2 = np.empty(ne), np.empty(ne), np.empty(3 * ne), np.empty(2 * ne)
-    drag = None if laws._drag[0] == WEN_YU else (k["beta_per_solids"], laws._drag,
-                                                   (laws._d, laws._rho_f, laws._mu_f))
-    calls = ((k["solids_pressure"], laws._ps + (ps, dps)), drag,
-             (k["viscosity"], (laws._mu_f, *laws._visc, True, mu2)), (ps, dps, mu2, K3))
-    model._fi_laws = (laws, ne, calls)
-    return calls
 
 
 def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
@@ -123,17 +100,14 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
         idx, val = model.dirichlet(t_new)  # (full_kernel.solve's conversion, once a step)
         st = model._fi_step = (old, dt, t_new, alpha, np.ascontiguousarray(model._band.pos[idx], dtype=np.int64),
                                np.ascontiguousarray(val, dtype=float))
-    # ---- full_kernel.assemble (the laws' calls of CompiledLaws.solids_pressure, beta_per_solids and
-    # solid_viscosity, into arrays kept for the run: band_system reads them, nothing keeps them)
+    # ---- full_kernel.assemble (the laws into arrays kept for the run: band_system reads them, nothing
+    # keeps them)
     ker["closure_points"](n, V, W, mc[14], mc[15], x3, s3)
-    (ps_call, ps_args), drag, (mu_call, mu_args), (ps, dps, mu2, K3) = _law_calls(model, laws, ne)
-    ps_call(n, nb, *ps_args)
-    if drag is not None:
-        drag[0](*drag[1], x3, s3, *drag[2], K3)
-    else:
-        K3 = laws.beta_per_solids(x3, s3)
+    ps, dps, mu2, K3 = work[10:14]
+    laws.solids_pressure(n, nb, out=(ps, dps))
+    laws.beta_per_solids(x3, s3, out=K3)
     if viscous:
-        mu_call(x3[ne:], *mu_args)
+        laws.solid_viscosity(x3[ne:], out=mu2)
     else:
         mu2 = K3
     below, belf = full_kernel._below_mask(model, vc[0])
