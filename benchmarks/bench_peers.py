@@ -313,6 +313,9 @@ def main(argv=None) -> int:
                    "(taskset -c CPU): peer and twofluid alike")
     p.add_argument("--parts-child", nargs=2, metavar=("CASE", "OUT"), help=argparse.SUPPRESS)
     a = p.parse_args(argv)
+    if a.pin is not None and (not shutil.which("taskset") or a.pin not in os.sched_getaffinity(0)):
+        p.error(f"--pin {a.pin}: not a core this process may run on "
+                f"({sorted(os.sched_getaffinity(0))}), or no taskset on the PATH")
     if a.parts_child:
         import json
 
