@@ -22,7 +22,7 @@ __all__ = ["split_args", "split_step"]
 def split_args(col):
     """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
     (besides the vertical step's: (the compiled call, the ends' nodes, its outputs and the next shear step's wave
-    properties)), or None where it does not cover
+    properties, its work array, whether it is compiled)), or None where it does not cover
     the column ``col`` (a vertical model without the compiled step, an upwind solids flux); kept while
     the closures are the same objects."""
     v = col.v
@@ -39,29 +39,38 @@ def split_args(col):
         node = v.vert_node
         out = (ker, int(node[0]), int(node[-1]), np.zeros(1), props,
                np.array([v.mat.rho_f, v.mat.rho_s], dtype=float), np.empty(ns), np.empty(ns),
-               np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float))
+               np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float),
+               np.empty(ns),  # the call's work array (dP_s/dn̄, not kept)
+               ker is not _kernel.vertical_step)  # compiled: called without run_vertical's NumPy error state
     col._split = (v.clo, out)
     return out
 
 
-def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
+def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed=None):
     """The vertical step of ``h`` [s] from ``vert`` (the state with the shear's new n̄) of the column
     ``col``'s split step of ``dt`` [s], and what follows it, in one compiled call (module docstring;
     ``u``: the shear's displacements; ``check``: the call tests that n̄ and ``u`` are finite): (the new
     state, its iterations, the solids outflow [m³/s]), with ``col._ndot`` and the next shear step's wave
     properties (``col._props``) and σ′_v of the new state (``col._ps``, what
     ``LiquefactionColumn.granular_pressure`` gives for it) set; None where the call does not cover it or cannot make the step
-    (nothing changed)."""
-    fixed = col._split_args()
+    (nothing changed). ``fixed``: ``col._split_args()``, where the caller has it."""
+    if fixed is None:
+        fixed = col._split_args()
     call = None if fixed is None else col.v.fast_call(vert, h, col.settings)
     if call is None:
         return None
-    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s = fixed
+    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, work, direct = fixed
     args, ctx = call[1], call[2]
     ne = vert.n.size
     ndot, ps = np.empty(ne), np.empty(ne)
-    code = run_vertical(ker, args, (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
-                                    ps, np.empty(ne)))
+    more = (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, work)
+    if direct:  # the compiled call: no NumPy error state to set (:func:`run_vertical`)
+        try:
+            code = ker(*args, *more)
+        except (ZeroDivisionError, TypeError):
+            code = -1
+    else:
+        code = run_vertical(ker, args, more)
     made = col.v.fast_done(ctx, code)
     if made is None:
         return None

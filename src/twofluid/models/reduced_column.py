@@ -70,6 +70,15 @@ class ReducedVerticalColumn(Reduced1D):
         super().__init__(mesh, materials, closures, *args, surcharge=surcharge, **kw)
         self.velocity_floor = float(velocity_floor)
 
+    @property
+    def _V_wall(self) -> np.ndarray:
+        """The nodal V of a column with a wall at its base (no inlet: c = A V = 0 at every time), one
+        array, what :meth:`_mixture_velocity` gives at any time."""
+        V = self.__dict__.get("_V_zero")
+        if V is None:
+            V = self._V_zero = self._mixture_velocity(0.0)
+        return V
+
     def continue_from(self, previous: State, start: State) -> None:
         """``start`` (a copy of the converged ``previous`` with a new n̄) continues its steps: the
         extrapolated first iterate keeps the history of the steps before."""
@@ -179,7 +188,7 @@ class ReducedVerticalColumn(Reduced1D):
         a, P, info = np.empty(3 * nv - 1), np.empty(ne), np.zeros(3, dtype=np.int64)
         DWo, Dno = np.empty((6, nv)), np.empty((6, ne))
         t_new = old.t + dt
-        V = self._mixture_velocity(t_new)
+        V = self._V_wall if self.bottom.kind == "wall" else self._mixture_velocity(t_new)
         cont = ex.state is old and ex.t == old.t
         has_last = last is not None
         lt = last if has_last else old
