@@ -161,6 +161,16 @@ class ReducedVerticalColumn(Reduced1D):
         ker, args, ctx = call
         return self.fast_done(ctx, run_vertical(ker, args, column_step_kernel.ALONE))  # (the vertical step alone)
 
+    def fast_try(self, old: State, dt: float, settings) -> tuple | None:
+        """:meth:`fast_step`, with whether the step was accepted on a prediction (what the stepper's
+        ``_step`` gives the step-size control): (the new state, its iterations, 0 or 1), or None."""
+        call = self.fast_call(old, dt, settings)
+        if call is None:
+            return None
+        ker, args, ctx = call
+        made = self.fast_done(ctx, run_vertical(ker, args, column_step_kernel.ALONE))
+        return None if made is None else (made[0], made[1], int(ctx[4][1]))
+
     def fast_call(self, old: State, dt: float, settings) -> tuple | None:
         """What :meth:`fast_step` calls: (the compiled :func:`~twofluid.models.column_step_kernel.vertical_step`,
         its arguments up to ``info``, what :meth:`fast_done` takes after the call), or None where the call
