@@ -127,6 +127,7 @@ from ..geotech.settlement import max_shear_strain
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
 from ..closures import hysteretic as _hyst_law
 from . import column_split as _split
+from . import record_rows as _record_rows
 from . import hysteretic_kernel as _hyst_kernel
 from . import shear_kernel as _shear_kernel
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
@@ -382,7 +383,9 @@ class LiquefactionColumn:
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
         self._ps = None  # (vertical state, its σ′_v) made by the compiled split step
-        self._offsets = (0, 0.0, None)  # (m, Δt, [1, ..., m] Δt): the last sub-steps' offsets from the step's start
+        # the record at the hysteretic sub-steps' times, read for many steps at once (None: step by step)
+        self._rows = None
+        self._h = shear_step  # the vertical step being made [s] (the next ones' likely step)
         self._a_last = (None, 0.0)  # (t, the record at t) of the last sub-step
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
@@ -632,12 +635,15 @@ class LiquefactionColumn:
         copy_nb = type(n_bar) is np.ndarray and n_bar.dtype == np.float64
         for attempt in range(5):
             dt = span / m
-            km, kdt, offsets = self._offsets
-            if km != m or kdt != dt:  # (the same m and Δt every step while the base shakes)
-                offsets = np.arange(1.0, m + 1.0) * dt
-                self._offsets = (m, dt, offsets)
-            times = t0 + offsets  # (as t0 + [1, ..., m] * dt)
-            a_in = self._record_at(times)
+            rows = self._rows
+            if attempt == 0 and rows is not None and rows.at is self.a_g_at:  # (the record read for many steps at once)
+                times, a_in = rows.rows(t0, m, dt, self._h)
+            elif attempt == 0 and self.a_g_at is not None:
+                self._rows = rows = _record_rows.RecordRows(self.a_g_at)
+                times, a_in = rows.rows(t0, m, dt, self._h)
+            else:
+                times = t0 + np.arange(1.0, m + 1.0) * dt
+                a_in = self._record_at(times)
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
             st = shear.copy() if copy_st else np.array(shear, dtype=float)
             nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
@@ -847,6 +853,7 @@ class LiquefactionColumn:
         fused = fixed is not None
         check = False  # the finite test of the shear's results left to that call
         if t0 < self.shear_end - 1e-12:
+            self._h = dt
             try:
                 wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
