@@ -57,21 +57,23 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
     (nothing changed). ``fixed``: ``col._split_args()``, where the caller has it."""
     if fixed is None:
         fixed = col._split_args()
-    call = None if fixed is None else col.v.fast_call(vert, h, col.settings)
-    if call is None:
-        return None
+        if fixed is None:
+            return None
     ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, work, direct = fixed
-    args, ctx = call[1], call[2]
     ne = vert.n.size
     ndot, ps = np.empty(ne), np.empty(ne)
-    more = (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, work)
+    call = col.v.fast_call(vert, h, col.settings,
+                           (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, work))
+    if call is None:
+        return None
+    args, ctx = call[1], call[2]
     if direct:  # the compiled call: no NumPy error state to set (:func:`run_vertical`)
         try:
-            code = ker(*args, *more)
+            code = ker(*args)
         except (ZeroDivisionError, TypeError):
             code = -1
     else:
-        code = run_vertical(ker, args, more)
+        code = run_vertical(ker, args, ())
     made = col.v.fast_done(ctx, code)
     if made is None:
         return None
