@@ -100,7 +100,7 @@ def child(case_path: str, cprofile: bool) -> dict:
     if prof:
         import pstats
 
-        pstats.Stats(prof).sort_stats("tottime").print_stats(int(os.environ.get("NSTATS", "30")))
+        pstats.Stats(prof).sort_stats("tottime").print_stats(30)
     return {"loop": loop, "compiled": kernel[0], "output rows": rows[0], "python per step": loop - kernel[0] - rows[0]}
 
 

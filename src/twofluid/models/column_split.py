@@ -8,7 +8,9 @@ and those from ``check`` on makes the finite test of the shear's results, the ve
 sub-steps' interpolation of n), the next shear step's mixture density and viscosity and σ′_v of the
 new state. The numbers are those of the
 Python path bit for bit (``tests/unit/test_column_split_step.py``); a step the call cannot make
-changes nothing, and the column takes the Python path for it whole.
+changes nothing, and the column takes the stepper's path for it whole: :func:`stepper_steps`, the
+stepper's steps (its halving and growth) with each try made by the compiled vertical step where it can
+be, bit for bit the stepper's (``tests/unit/test_column_stepper_steps.py``).
 """
 from __future__ import annotations
 
