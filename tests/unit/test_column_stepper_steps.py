@@ -45,7 +45,8 @@ def _steps(col, s, dt, settings, how, monkeypatch):
 
     monkeypatch.setattr(be, "_step", spy)
     if how == "integrate":
-        steps = [(st.dt, st.iterations, st.state) for st in be.integrate(model, s.vertical, s.t + dt, dt, settings=settings)]
+        steps = [(st.dt, st.iterations, st.state)
+                 for st in be.integrate(model, s.vertical, s.t + dt, dt, settings=settings)]
     else:
         steps = list(column_split.stepper_steps(model, s.vertical, s.t + dt, dt, settings))
     monkeypatch.undo()

@@ -335,16 +335,16 @@ class _Recorder:
         ne, k = self._sizes
         ru, contribution = np.empty(ne), np.empty(ne)
         ru_elem, sig_elem = np.empty(k), np.empty(k)
-        done = col._ps  # (the compiled split step's σ′_v of the state it made: its P, n and σ′_v as the record takes them)
+        done = col._ps  # (the split step's σ′_v of the state it made: P, n and σ′_v as the record takes them)
         if done is not None and done[0] is v:
             self.ps = ps = done[1]
             P, n = v.P, v.n
         else:
             self.ps = col.granular_pressure(s)  # the probes' σ′_v too
             P, n, ps = _c(v.P), _c(v.n), _c(self.ps)
-        fixed = self._fixed
-        if self._fixed_of[0] is not col.p_hydro or self._fixed_of[1] is not col.sigma_v0 or self._fixed_of[2] is not col.n0:
-            fixed = self._constants()
+        was = self._fixed_of  # (:meth:`_constants`, inline)
+        fixed = self._fixed if col.p_hydro is was[0] and col.sigma_v0 is was[1] and col.n0 is was[2] else \
+            self._constants()
         p_hydro, sigma_v0, n0, lengths = fixed
         settle, pbase, ru_top, flux_top = self._step(
             float(v.t), P, p_hydro, sigma_v0, n, n0, lengths, _c(s.wave.gamma), ps,
