@@ -8,21 +8,24 @@ and those from ``check`` on makes the finite test of the shear's results, the ve
 sub-steps' interpolation of n), the next shear step's mixture density and viscosity and σ′_v of the
 new state. The numbers are those of the
 Python path bit for bit (``tests/unit/test_column_split_step.py``); a step the call cannot make
-changes nothing, and the column takes the Python path for it whole.
+changes nothing, and the column takes the stepper's path for it whole: :func:`stepper_steps`, the
+stepper's steps (its halving and growth) with each try made by the compiled vertical step where it can
+be, bit for bit the stepper's (``tests/unit/test_column_stepper_steps.py``).
 """
 from __future__ import annotations
 
 import numpy as np
 
+from ..timestepping import backward_euler as _be
 from . import column_step_kernel as _kernel
 from .reduced_column import run_vertical
 
-__all__ = ["split_args", "split_step"]
+__all__ = ["split_args", "split_step", "stepper_steps"]
 
 def split_args(col):
     """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
     (besides the vertical step's: (the compiled call, the ends' nodes, its outputs and the next shear step's wave
-    properties)), or None where it does not cover
+    properties, its work array, whether it is compiled)), or None where it does not cover
     the column ``col`` (a vertical model without the compiled step, an upwind solids flux); kept while
     the closures are the same objects."""
     v = col.v
@@ -39,29 +42,40 @@ def split_args(col):
         node = v.vert_node
         out = (ker, int(node[0]), int(node[-1]), np.zeros(1), props,
                np.array([v.mat.rho_f, v.mat.rho_s], dtype=float), np.empty(ns), np.empty(ns),
-               np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float))
+               np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float),
+               np.empty(ns),  # the call's work array (dP_s/dn̄, not kept)
+               ker is not _kernel.vertical_step)  # compiled: called without run_vertical's NumPy error state
     col._split = (v.clo, out)
     return out
 
 
-def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
+def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed=None):
     """The vertical step of ``h`` [s] from ``vert`` (the state with the shear's new n̄) of the column
     ``col``'s split step of ``dt`` [s], and what follows it, in one compiled call (module docstring;
     ``u``: the shear's displacements; ``check``: the call tests that n̄ and ``u`` are finite): (the new
     state, its iterations, the solids outflow [m³/s]), with ``col._ndot`` and the next shear step's wave
     properties (``col._props``) and σ′_v of the new state (``col._ps``, what
     ``LiquefactionColumn.granular_pressure`` gives for it) set; None where the call does not cover it or cannot make the step
-    (nothing changed)."""
-    fixed = col._split_args()
-    call = None if fixed is None else col.v.fast_call(vert, h, col.settings)
-    if call is None:
-        return None
-    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s = fixed
-    args, ctx = call[1], call[2]
+    (nothing changed). ``fixed``: ``col._split_args()``, where the caller has it."""
+    if fixed is None:
+        fixed = col._split_args()
+        if fixed is None:
+            return None
+    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, work, direct = fixed
     ne = vert.n.size
     ndot, ps = np.empty(ne), np.empty(ne)
-    code = run_vertical(ker, args, (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s,
-                                    ps, np.empty(ne)))
+    call = col.v.fast_call(vert, h, col.settings,
+                           (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, work))
+    if call is None:
+        return None
+    args, ctx = call[1], call[2]
+    if direct:  # the compiled call: no NumPy error state to set (:func:`run_vertical`)
+        try:
+            code = ker(*args)
+        except (ZeroDivisionError, TypeError):
+            code = -1
+    else:
+        code = run_vertical(ker, args, ())
     made = col.v.fast_done(ctx, code)
     if made is None:
         return None
@@ -69,3 +83,34 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool):
     col._props = (made[0].n, wrho, weta) if props else None
     col._ps = (made[0], ps)
     return made[0], made[1], float(out_s[0])
+
+
+def stepper_steps(model, state, t_end: float, dt: float, settings, tried: bool = False):
+    """The steps of :func:`~twofluid.timestepping.backward_euler.integrate` (``model`` from ``state`` to
+    ``t_end`` [s], target step ``dt`` [s], no stops) where ``model`` makes a step's tries in one compiled
+    call (:meth:`ReducedVerticalColumn.fast_try <twofluid.models.reduced_column.ReducedVerticalColumn.fast_try>`):
+    each try by that call, and by the stepper's ``_step`` where the call cannot make it (which then
+    makes it, or fails, as the stepper would: the call is the stepper's try, bit for bit, and leaves
+    nothing changed where it fails); the same halving, growth and sliver rules, in the same
+    arithmetic, so the same steps. ``tried``: the first try's compiled call has been made and failed
+    (the stepper makes it). Yields (the step [s], its iterations, the new state); raises
+    :class:`~twofluid.timestepping.backward_euler.StepFailure` where integrate does."""
+    fast = model.fast_try
+    h = dt
+    eps = 1e-9 * max(dt, 1e-12)
+    while state.t < t_end - eps:
+        h_try = min(h, t_end - state.t)
+        if t_end - state.t - h_try < 0.01 * dt:  # avoid a sliver before the stop
+            h_try = t_end - state.t
+        made = None if tried else fast(state, h_try, settings)
+        tried = False
+        new, info, predicted = _be._step(model, state, h_try, settings) if made is None else made
+        if new is None:
+            if h_try / 2 < settings.dt_min:
+                raise _be.StepFailure(state.t, h_try, info, state)
+            h = h_try / 2
+            continue
+        state = new
+        if info + predicted <= settings.easy_iters and h < dt:
+            h = min(dt, h * settings.grow)
+        yield h_try, info, state

@@ -127,6 +127,7 @@ from ..geotech.settlement import max_shear_strain
 from ..timestepping.backward_euler import PicardSettings, StepFailure, integrate
 from ..closures import hysteretic as _hyst_law
 from . import column_split as _split
+from . import record_rows as _record_rows
 from . import hysteretic_kernel as _hyst_kernel
 from . import shear_kernel as _shear_kernel
 from .shear_column import NewmarkFailure, ShearColumn, WaveState, piecewise_reduction
@@ -382,7 +383,9 @@ class LiquefactionColumn:
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
         self._ps = None  # (vertical state, its σ′_v) made by the compiled split step
-        self._aranges = {}  # m -> [1, ..., m] (the sub-steps' times)
+        # the record at the hysteretic sub-steps' times, read for many steps at once (None: step by step)
+        self._rows = None
+        self._h = shear_step  # the vertical step being made [s] (the next ones' likely step)
         self._a_last = (None, 0.0)  # (t, the record at t) of the last sub-step
         gam = 0.5 + float(numerical_damping)  # Newmark (β, γ) of the hysteretic sub-steps
         self.newmark = ((gam + 0.5) ** 2 / 4.0, gam)
@@ -608,18 +611,19 @@ class LiquefactionColumn:
     def _shear_hysteretic(self, s: ColumnState, t_new: float):
         """The sub-steps of :meth:`_shear` with the hysteretic law (:mod:`~twofluid.models.hysteretic_kernel`);
         a sub-step whose Newton iterations fail is retried at half the size (four times at most)."""
-        v, wave, ns = self.v, self.wave, self.n_sat
-        n = np.ascontiguousarray(s.vertical.n, dtype=float)
+        wave, ns, vert = self.wave, self.n_sat, s.vertical
+        n = vert.n
         props = self._props
-        if props is not None and props[0] is s.vertical.n:  # set by the compiled split step that made this state
-            wave.rho[:ns], wave.eta[:ns] = props[1], props[2]
+        if props is not None and props[0] is n:  # set by the compiled split step that made this state (its n
+            wave.rho[:ns], wave.eta[:ns] = props[1], props[2]  # a C-contiguous float64 array)
         else:
+            n = np.ascontiguousarray(n, dtype=float)
             self._wave_properties(s)
         w = s.wave
-        t0 = s.vertical.t
+        t0 = vert.t
         span = t_new - t0
         dn = self._ndot * span  # (a new C-contiguous float64 array)
-        m = max(1, math.ceil(span / self._substep(t0) - 1e-9))
+        m = max(1, math.ceil(span / (self.shear_step if self.flow is None else self._substep(t0)) - 1e-9))
         ne = wave.h.size
         A, p_ref = self._skeleton_arrays()
         fixed = self.__dict__.get("_hyst_fixed")
@@ -631,12 +635,15 @@ class LiquefactionColumn:
         copy_nb = type(n_bar) is np.ndarray and n_bar.dtype == np.float64
         for attempt in range(5):
             dt = span / m
-            steps = self._aranges.get(m)
-            if steps is None:
-                steps = self._aranges[m] = np.arange(1.0, m + 1.0)
-            times = t0 + steps * dt
-            a_in = self._record_at(times)
-            self._a_last = (float(times[-1]), float(a_in[-1]))  # (the record at the step's end: :meth:`accelerations`)
+            rows = self._rows
+            if attempt == 0 and rows is not None and rows.at is self.a_g_at:  # (the record read for many steps at once)
+                times, a_in = rows.rows(t0, m, dt, self._h)
+            elif attempt == 0 and self.a_g_at is not None:
+                self._rows = rows = _record_rows.RecordRows(self.a_g_at)
+                times, a_in = rows.rows(t0, m, dt, self._h)
+            else:
+                times = t0 + np.arange(1.0, m + 1.0) * dt
+                a_in = self._record_at(times)
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
             st = shear.copy() if copy_st else np.array(shear, dtype=float)
             nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
@@ -650,7 +657,9 @@ class LiquefactionColumn:
             raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: "
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
         out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / wave.h, tau)  # (np.diff's arithmetic)
-        return out, nb, st, m, tuple(zip(times.tolist(), surface.tolist()))
+        times = times.tolist()
+        self._a_last = (times[-1], float(a_in[-1]))  # (the record at the step's end: :meth:`accelerations`)
+        return out, nb, st, m, tuple(zip(times, surface.tolist()))
 
     def hysteretic_arguments(self) -> tuple[tuple, tuple]:
         """The fixed arguments of the hysteretic sub-steps (:func:`twofluid.models.hysteretic_kernel._substeps`)
@@ -840,9 +849,11 @@ class LiquefactionColumn:
         t_new = t0 + dt
         wave, n_bar, hist, m, surface = s.wave, s.vertical.n_bar, s.shear, 0, ()
         # the vertical step and what follows it in one compiled call (:meth:`_split_step`) where it covers it
-        fused = self.hysteretic is not None and dt > 0.0 and not self.shear_only and self._split_args() is not None
+        fixed = self._split_args() if self.hysteretic is not None and dt > 0.0 and not self.shear_only else None
+        fused = fixed is not None
         check = False  # the finite test of the shear's results left to that call
         if t0 < self.shear_end - 1e-12:
+            self._h = dt
             try:
                 wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
@@ -874,7 +885,7 @@ class LiquefactionColumn:
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
             if fused:
-                made = self._split_step(vert, h, dt, wave.u, check)
+                made = self._split_step(vert, h, dt, wave.u, check, fixed)
                 if made is not None:
                     vert, its, outflow = made
                     inflow -= h * outflow
@@ -888,9 +899,13 @@ class LiquefactionColumn:
             raise self._not_finite(t0, dt, s)
         if made is None or vert.t < t_new - eps:  # the stepper (all of the step, or the rest)
             split = False
-            for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
-                vert, its = st.state, st.iterations
-                inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
+            if hasattr(self.v, "fast_try"):  # (integrate's steps, each try in one compiled call where it can be)
+                for h_st, its, vert in _split.stepper_steps(self.v, vert, t_new, dt, self.settings, made is None):
+                    inflow -= h_st * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
+            else:
+                for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
+                    vert, its = st.state, st.iterations
+                    inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
         if self.hysteretic is not None and dt > 0.0 and not split:
             self._ndot = (vert.n - s.vertical.n) / dt
             self._props = None
@@ -904,10 +919,10 @@ class LiquefactionColumn:
         """The fixed arguments of the compiled split step, or None (:func:`.column_split.split_args`)."""
         return _split.split_args(self)
 
-    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool):
+    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool, fixed=None):
         """The vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None
-        (:func:`.column_split.split_step`)."""
-        return _split.split_step(self, vert, h, dt, u, check)
+        (:func:`.column_split.split_step`; ``fixed``: :meth:`_split_args`, where the caller has it)."""
+        return _split.split_step(self, vert, h, dt, u, check, fixed)
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:
@@ -933,7 +948,7 @@ class LiquefactionColumn:
             if t + eps < end <= t_end and end < mark:
                 mark = end
             if t < end - eps:  # the shear wave runs: the shaking step, growing while the column flows
-                target = min(flow_h, 1.5 * h) if self._flowing_phase(t) else dt
+                target = min(flow_h, 1.5 * h) if self.flow is not None and self._flowing_phase(t) else dt
             else:
                 target = min(dt_after, 1.5 * h)
             h = target

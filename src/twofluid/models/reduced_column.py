@@ -70,6 +70,15 @@ class ReducedVerticalColumn(Reduced1D):
         super().__init__(mesh, materials, closures, *args, surcharge=surcharge, **kw)
         self.velocity_floor = float(velocity_floor)
 
+    @property
+    def _V_wall(self) -> np.ndarray:
+        """The nodal V of a column with a wall at its base (no inlet: c = A V = 0 at every time), one
+        array, what :meth:`_mixture_velocity` gives at any time."""
+        V = self.__dict__.get("_V_zero")
+        if V is None:
+            V = self._V_zero = self._mixture_velocity(0.0)
+        return V
+
     def continue_from(self, previous: State, start: State) -> None:
         """``start`` (a copy of the converged ``previous`` with a new n̄) continues its steps: the
         extrapolated first iterate keeps the history of the steps before."""
@@ -146,16 +155,27 @@ class ReducedVerticalColumn(Reduced1D):
         (:func:`~twofluid.timestepping.backward_euler.integrate` to ``old.t + dt``), in one compiled call
         (:mod:`~twofluid.models.column_step_kernel`): (the new state, its iterations), or None where the
         call cannot make it (the caller then takes the stepper, which starts the step again)."""
-        call = self.fast_call(old, dt, settings)
+        call = self.fast_call(old, dt, settings, column_step_kernel.ALONE)  # (the vertical step alone)
         if call is None:
             return None
         ker, args, ctx = call
-        return self.fast_done(ctx, run_vertical(ker, args, column_step_kernel.ALONE))  # (the vertical step alone)
+        return self.fast_done(ctx, run_vertical(ker, args, ()))
 
-    def fast_call(self, old: State, dt: float, settings) -> tuple | None:
+    def fast_try(self, old: State, dt: float, settings) -> tuple | None:
+        """:meth:`fast_step`, with whether the step was accepted on a prediction (what the stepper's
+        ``_step`` gives the step-size control): (the new state, its iterations, 0 or 1), or None."""
+        call = self.fast_call(old, dt, settings, column_step_kernel.ALONE)
+        if call is None:
+            return None
+        ker, args, ctx = call
+        made = self.fast_done(ctx, run_vertical(ker, args, ()))
+        return None if made is None else (made[0], made[1], int(ctx[4][1]))
+
+    def fast_call(self, old: State, dt: float, settings, more: tuple = ()) -> tuple | None:
         """What :meth:`fast_step` calls: (the compiled :func:`~twofluid.models.column_step_kernel.vertical_step`,
-        its arguments up to ``info``, what :meth:`fast_done` takes after the call), or None where the call
-        does not cover the step (the stepper's then)."""
+        its arguments up to ``info`` and then ``more`` (those after it: :data:`~.column_step_kernel.ALONE` for
+        the vertical step alone), what :meth:`fast_done` takes after the call), or None where the call does
+        not cover the step (the stepper's then)."""
         static = self._fast_static(old) if type(old) is State and self.fast_steps else None
         if static is None or not (old.n_bar.flags.c_contiguous and old.n.flags.c_contiguous):
             self._fast_release()
@@ -179,13 +199,13 @@ class ReducedVerticalColumn(Reduced1D):
         a, P, info = np.empty(3 * nv - 1), np.empty(ne), np.zeros(3, dtype=np.int64)
         DWo, Dno = np.empty((6, nv)), np.empty((6, ne))
         t_new = old.t + dt
-        V = self._mixture_velocity(t_new)
+        V = self._V_wall if self.bottom.kind == "wall" else self._mixture_velocity(t_new)
         cont = ex.state is old and ex.t == old.t
         has_last = last is not None
         lt = last if has_last else old
         args = (float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:], DW, Dn, order,
                 float(ex_t or 0.0), float(ex_h), cont, float(settings.tol), int(settings.max_iter), newton, lt.V,
-                lt.W, lt.n, float(lt.t), has_last, idx, c, meta, a, P, DWo, Dno, info)
+                lt.W, lt.n, float(lt.t), has_last, idx, c, meta, a, P, DWo, Dno, info, *more)
         return ker, args, (old, t_new, a, P, info, DWo, Dno, cont, newton)
 
     def fast_done(self, ctx: tuple, code: int) -> tuple | None:
@@ -198,7 +218,7 @@ class ReducedVerticalColumn(Reduced1D):
         ex = self._extrap
         nv = old.V.size
         new = State(t_new, a[:nv], a[nv:2 * nv], P, a[2 * nv:], old.n_bar.copy())
-        rows = int(info[2])
+        its, _, rows = info.tolist()
         if rows == 2:
             ex.D, ex.order, ex.h = [DWo[:2], Dno[:2]], 2, t_new - (ex.t if cont else old.t)
         else:
@@ -206,4 +226,4 @@ class ReducedVerticalColumn(Reduced1D):
         ex.t, ex.state = t_new, new
         if newton:
             self._fast_samples[3] = new
-        return new, int(info[0])
+        return new, its

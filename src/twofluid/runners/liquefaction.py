@@ -118,7 +118,7 @@ def build_column(case: dict, reference: bool = False) -> Built:
     crust = crust_for(case, source, site)
     motion = schema_liquefaction.load_motion(case, source)
     accel = None if motion is None else (lambda t, m=motion: float(gm.value_at(m, t)))
-    accel_at = None if motion is None else (lambda t, m=motion: gm.value_at(m, t))
+    accel_at = None if motion is None else gm.interpolator(motion)
     if motion is not None and slope > 0.0:  # the record's component along the slope (the normal one, sin α of it, is left out)
         accel = (lambda t, m=motion: cos_a * float(gm.value_at(m, t)))
         accel_at = (lambda t, m=motion: cos_a * gm.value_at(m, t))
@@ -317,7 +317,7 @@ class _Recorder:
         self._liq = np.zeros(ne, dtype=bool)
         self._scalars = np.zeros(4)
         self._sizes = (ne, self._elem.size)
-        self._fixed, self._fixed_of = (), None  # the column's constant arrays as the kernel takes them
+        self._fixed, self._fixed_of = (), (None, None, None)  # the column's constant arrays as the kernel takes them
         self._last_ru = None  # the r_u of the last :meth:`record` (its report depths: self.ru[-1])
 
     def _constants(self) -> tuple:
@@ -325,7 +325,7 @@ class _Recorder:
         the column holds other arrays (a new initial state)."""
         col = self.col
         was = self._fixed_of
-        if was is None or col.p_hydro is not was[0] or col.sigma_v0 is not was[1] or col.n0 is not was[2]:
+        if col.p_hydro is not was[0] or col.sigma_v0 is not was[1] or col.n0 is not was[2]:
             of = self._fixed_of = (col.p_hydro, col.sigma_v0, col.n0)
             self._fixed = (*map(_c, of), _c(col.v.mesh.lengths))
         return self._fixed
@@ -335,10 +335,19 @@ class _Recorder:
         ne, k = self._sizes
         ru, contribution = np.empty(ne), np.empty(ne)
         ru_elem, sig_elem = np.empty(k), np.empty(k)
-        self.ps = col.granular_pressure(s)  # the probes' σ′_v too
-        p_hydro, sigma_v0, n0, lengths = self._constants()
+        done = col._ps  # (the split step's σ′_v of the state it made: P, n and σ′_v as the record takes them)
+        if done is not None and done[0] is v:
+            self.ps = ps = done[1]
+            P, n = v.P, v.n
+        else:
+            self.ps = col.granular_pressure(s)  # the probes' σ′_v too
+            P, n, ps = _c(v.P), _c(v.n), _c(self.ps)
+        was = self._fixed_of  # (:meth:`_constants`, inline)
+        fixed = self._fixed if col.p_hydro is was[0] and col.sigma_v0 is was[1] and col.n0 is was[2] else \
+            self._constants()
+        p_hydro, sigma_v0, n0, lengths = fixed
         settle, pbase, ru_top, flux_top = self._step(
-            float(v.t), _c(v.P), p_hydro, sigma_v0, _c(v.n), n0, lengths, _c(s.wave.gamma), _c(self.ps),
+            float(v.t), P, p_hydro, sigma_v0, n, n0, lengths, _c(s.wave.gamma), ps,
             self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
             self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
             ru_elem, sig_elem, self._scalars).tolist()
@@ -388,6 +397,31 @@ def _at_mark(marks: list, t: float) -> bool:
         if abs(t - m) < 1e-9 * max(1.0, m):
             return True
     return False
+
+
+class _Marks:
+    """:func:`_at_mark` for a run's growing times: ``low`` is below every time within the tolerance of a mark
+    not yet passed (2e-9 relative, twice :func:`_at_mark`'s), so that a time ``t`` ≤ ``low`` is at none
+    and only a time past it needs :meth:`at`."""
+
+    def __init__(self, marks: list):
+        self.marks = marks
+        self._k = 0
+        self.low = -np.inf
+        self._next(-np.inf)
+
+    def _next(self, t: float) -> None:
+        marks, k = self.marks, self._k
+        while k < len(marks) and marks[k] + 2e-9 * max(1.0, marks[k]) <= t:  # passed for good
+            k += 1
+        self._k = k
+        self.low = marks[k] - 2e-9 * max(1.0, marks[k]) if k < len(marks) else np.inf
+
+    def at(self, t: float) -> bool:
+        """:func:`_at_mark` of ``t``, with the next ``low`` set for the times after it."""
+        hit = _at_mark(self.marks, t)
+        self._next(t)
+        return hit
 
 
 def _c(a) -> np.ndarray:
@@ -473,15 +507,17 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     ru_done = case["reconsolidation"]["dissipated_r_u"]
     stop = None if ru_done == 0.0 else (lambda s: float(np.max(col.excess_ratio(s))) < ru_done)
     wall0 = time.perf_counter()
+    near = _Marks(out_times)
     with run_guard(b.t_end, progress, writer, ffile, *(() if srec is None else (srec,))) as run:
         record, bar = rec.record, run.bar
+        shown = bar.n  # (the bar's n, kept here as the bar sums it)
         for step in col.run(state, b.t_end, b.dt, b.dt_after, stops=out_times, stop=stop):
             s = last = step.state
             t = s.vertical.t
             n_steps += 1
             n_sub += step.substeps
             inflow += step.solids_inflow
-            at_mark = _at_mark(out_times, t)
+            at_mark = t > near.low and near.at(t)
             field = t >= next_field - 1e-12 or at_mark
             ru = record(s, field, step.surface)
             if srec is not None:
@@ -501,7 +537,9 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             if at_mark:
                 profiles[round(t, 9)] = _profile(col, s, rec.peak)
                 writer.profile(t, profiles[round(t, 9)])
-            bar.update(t - bar.n)
+            dn = t - shown
+            bar.update(dn)
+            shown += dn
         if run.status == "completed" and round(last.t, 9) not in profiles:  # ended by dissipation
             profiles[round(last.t, 9)] = _profile(col, last, rec.peak)
             writer.profile(last.t, profiles[round(last.t, 9)])

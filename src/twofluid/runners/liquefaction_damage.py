@@ -64,15 +64,15 @@ class DamageRecord:
 
     def record(self, s, liquefied) -> None:
         """Snapshots of this state ``s`` (a ColumnState) with ``liquefied`` (bool per saturated element)."""
-        np.copyto(self.gamma_end, s.wave.gamma)
+        self.gamma_end[:] = s.wave.gamma
         if not self.active:
             return
         st = s.shear
         if s.t <= self.shaking_end + 1e-9:
             self._end_shear = st  # (each step's law state is a new array; the damage columns stay as they are)
-        if not liquefied.any():
+        low = int(liquefied.argmax())  # the lowest liquefied element (0 where none is)
+        if not liquefied[low]:
             return
-        low = int(liquefied.argmax())  # the lowest liquefied element
         first = self.d_first_any[0] != self.d_first_any[0]  # (NaN: not yet taken)
         if not first and low >= self.lowest:
             return
