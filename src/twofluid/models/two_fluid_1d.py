@@ -77,7 +77,7 @@ from ..fem.banded import BandSolver
 from ..fem.line import LINE1, LINE2, element_values
 from ..mesh.line import LineMesh
 from ..timestepping.backward_euler import relative_change
-from . import full_iterate, full_kernel, reduced_kernel
+from . import full_iterate, full_kernel, full_step, reduced_kernel
 from .bed_forces_1d import _CLEAR, UpwindBedForces
 from .data_1d import Boundary, Closures, Materials, State, _times
 from .diagnostics_1d import LineDiagnostics
@@ -333,6 +333,11 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         the kernels assemble the iterate (:mod:`~twofluid.models.full_iterate`), else None."""
         ker = self._full_kernels()
         return None if ker is None else full_iterate.iterate(self, ker, k, old, dt, t_new)
+
+    def compiled_step(self, old: State, dt: float, settings):
+        """The stepper's first try at a step in one compiled call (:mod:`~twofluid.models.full_step`):
+        (the new state, its iterations, whether a prediction accepted it), or None."""
+        return full_step.step(self, old, dt, settings)
 
     def _step_terms(self, old: State, dt: float, t_new: float) -> BlockSystem:
         """The terms of a step that do not depend on the iterate (assembled once per step)."""
