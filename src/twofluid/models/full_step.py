@@ -27,25 +27,31 @@ _QUIET = nullcontext()
 _FAST_METHODS = ("begin_iteration", "check", "end_step", "iterate", "assemble", "solve", "unpack", "iterate_change",
                  "_first_iterate", "bed_force_shift", "_force_shift_at", "force_shift", "velocity_scale",
                  "solids_pressure", "compiled_laws", "_remember", "_full_kernels", "compiled_step")
+_FAST = frozenset(_FAST_METHODS)
 _CLASS_OK: dict = {}  # class -> whether it keeps them all
 
 
 def _static(model):
     """The fixed arguments of :func:`~twofluid.models.full_step_kernel.full_step` for ``model`` (kept while
     its laws, materials, ends and mesh are the same objects), or None where the call does not cover it."""
+    d = model.__dict__
+    hit = d.get("_fs_static")  # ((what it was made for), the arguments): the same objects, the same flags
+    if hit is not None:
+        k = hit[0]
+        if k[0] is model.clo and k[1] is model.mat and k[2] is model.bottom and k[3] is model.top \
+                and k[4] is model.mesh and k[5] is model.compiled and k[6] is model.compiled_closures \
+                and type(model) is k[7] and _FAST.isdisjoint(d):
+            return hit[1]
     cls = type(model)
     ok = _CLASS_OK.get(cls)
     if ok is None:
         from .two_fluid_1d import TwoFluid1D  # (the module that imports this one)
 
         ok = _CLASS_OK[cls] = all(getattr(cls, m) is getattr(TwoFluid1D, m) for m in _FAST_METHODS)
-    if not ok or not set(_FAST_METHODS).isdisjoint(model.__dict__) or model.compiled is False or not model._fk_ok:
+    if not ok or not _FAST.isdisjoint(d) or model.compiled is False or not model._fk_ok:
         return None  # (the conditions of TwoFluid1D._full_kernels, without building its kernels)
-    laws = model.compiled_laws()
-    key = (laws, model.clo, model.mat, model.bottom, model.top, model.mesh)
-    hit = model.__dict__.get("_fs_static")
-    if hit is not None and all(a is b for a, b in zip(hit[0], key)):
-        return hit[1]
+    laws = model.compiled_laws()  # (a function of clo, mat and the two flags)
+    key = (model.clo, model.mat, model.bottom, model.top, model.mesh, model.compiled, model.compiled_closures, cls)
     static = None
     ker = full_step_kernel.compiled() if laws is not None else None
     if ker is not None:
