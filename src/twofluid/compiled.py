@@ -103,13 +103,21 @@ def groups_for(case: dict) -> list[str]:
 
     >>> groups_for({"case": {"model": "two_fluid_2d"}})
     []
+    >>> groups_for({"case": {"model": "two_fluid_1d"}, "closures": {"drag": {"law": "wen_yu"}}})[0]
+    'full_1d'
     """
     model = case.get("case", {}).get("model")
     out = list(MODEL_GROUPS.get(model, ()))
     if model == "liquefaction_1d":
         hysteretic = case.get("shear_wave", {}).get("model") == "hysteretic"
         out.append("hysteretic" if hysteretic else "shear_substeps")
+    if model == "two_fluid_1d" and (case.get("mesh", {}).get("element", "1VW/0P/0n") != "1VW/0P/0n"
+                                    or case.get("closures", {}).get("drag", {}).get("law") == "wen_yu"):
+        out = list(_STEPPER_1D)  # steps the one-call step (full_step) does not make: the stepper's groups
     return out
+
+
+_STEPPER_1D = ("full_1d", "band_lu", "common_1d", "closures_1d", "extrapolation", "newton_accept")
 
 
 def prepare(names) -> None:

@@ -125,7 +125,10 @@ def step(model, old: State, dt: float, settings) -> tuple | None:
     newton = bool(settings.newton_test and model.newton_iterates)  # (the stepper's NewtonTest or none)
     t_new = old.t + dt
     fi, val = model.dirichlet(t_new)
-    fixed = np.ascontiguousarray(model._band.pos[fi], dtype=np.int64)
+    held = model.__dict__.get("_fs_fixed")  # (the band rows, kept while the indices are the same array)
+    if held is None or held[0] is not fi:
+        held = model._fs_fixed = (fi, np.ascontiguousarray(model._band.pos[fi], dtype=np.int64))
+    fixed = held[1]
     N = 2 * nv + 2 * ne
     a, bel, info = np.empty(N), np.empty(nv), np.zeros(4, dtype=np.int64)
     DVo, DWo, Dno = np.empty((6, nv)), np.empty((6, nv)), np.empty((6, ne))

@@ -15,7 +15,7 @@ same numbers bit for bit (``tests/unit/test_full_step.py``):
 - the upwind side of the solids flux from each of the first three iterates (:meth:`TwoFluid1D.begin_iteration`);
 - the whole Newton iterates (:func:`~twofluid.models.full_kernel._closure_points`, the laws,
   :func:`~twofluid.models.full_kernel._band_system`, :func:`~twofluid.models.full_kernel._residual`,
-  :func:`twofluid.fem.banded._gbsv`, :func:`~twofluid.models.full_kernel._unpack`,
+  :func:`twofluid.fem.banded._gbsv55`, :func:`~twofluid.models.full_kernel._unpack`,
   :func:`~twofluid.models.reduced_kernel._iterate_change`), accepted by the plain test or on the
   predicted change of the next iterate (:class:`twofluid.timestepping.newton.NewtonTest`, its carried
   constants in ``s_idx``, ``s_c``, ``meta``; :func:`twofluid.timestepping.newton._accept`);
@@ -185,7 +185,7 @@ def full_step(t_old, oV, oW, oP, on, onb, dt, mc, vc, shift_mc, lengths, mat, la
                          True, viscous, upwind, rho_f, rho_s, mu_f, g_y, dt, bot_out, p_bot, top_out, p_top,
                          ab, fv, Aa)
         if _fk._residual(ab, fv, Aa, kV, kW, kn, fixed, vals, abo, b) != 0 \
-                or banded._gbsv(abo, b, _fk.KL, _fk.KU) != 0:
+                or banded._gbsv55(abo, b) != 0:
             return NOT_FINITE
         out = np.empty(N)
         _fk._unpack(kV, kW, kP, kn, b, fixed, vals, out)
@@ -291,7 +291,7 @@ SIGNATURE = ("i8(" + ",".join(
 
 _HELPERS = (_drag, _table_rows, _cs._scale, _fk._fmax, _fk._put, _fk._closure_points, _fk._band_system,
             _fk._residual, _fk._unpack, _rk._fmax, _rk._iterate_change, _rk._shift_points, _rk._shift,
-            _rk._state_check, banded._u, banded._gbsv, _ex._predict_entries, _ex._push_entries, _nt._accept,
+            _rk._state_check, banded._u, banded._gbsv55, _ex._predict_entries, _ex._push_entries, _nt._accept,
             laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
             laws._solids_pressure, laws._viscosity, laws._mooney)
 
