@@ -71,7 +71,6 @@ GROUPS = (
     ("spectra_peaks", "twofluid.geotech.spectra:_compiled_peaks"),
     ("column_record", "twofluid.models.record_kernel:compiled"),
     ("column_step", "twofluid.models.column_step_kernel:compiled"),
-    ("full_step", "twofluid.models.full_step_kernel:compiled"),
 )
 
 
@@ -89,7 +88,7 @@ def jit_disabled() -> bool:
 #: closure laws, the extrapolated first iterate, Newton's acceptance test; a liquefaction column's
 #: shear wave and its response spectra). :func:`groups_for` adds the shear law's group.
 MODEL_GROUPS = {
-    "two_fluid_1d": ("full_step", "closures_1d"),  # (the stepper's Python path: built if a step needs it)
+    "two_fluid_1d": ("full_1d", "closures_1d"),  # (the one-call step; the stepper's other groups built if a step needs them)
     "reduced_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept"),
     "liquefaction_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept",
                         "spectra_peaks", "column_record", "column_step"),
@@ -723,7 +722,7 @@ def _probe() -> None:
 #: then compiles once (:data:`_HELPER_DISPATCHERS`); a group not listed is a set of its own
 FAMILIES = (
     ("reduced_1d", "band_22", "common_1d", "band_lu", "full_1d", "closures_1d", "extrapolation", "newton_accept",
-     "column_step", "full_step"),
+     "column_step"),
     ("hysteretic", "shear_substeps", "spectra_peaks", "column_record"),
 )
 

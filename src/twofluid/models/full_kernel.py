@@ -401,16 +401,47 @@ def _unpack(V, W, P, n, x, fixed, vals, out):
         out[p // 4 if p % 4 == 0 else nv + p // 4] = vals[j]
 
 
-A1, A2, F2 = "f8[:]", "f8[:,:]", "f8[::1,:]"
-SIGNATURES = {
-    "closure_points": "void(" + ",".join([A1] * 7) + ")",
-    "band_system": "void(" + ",".join([A1] * 12 + [A2, A2, A1] + ["b1"] * 3 + ["f8"] * 5
-                                      + ["b1", "f8", "b1", "f8", F2, A1, A1]) + ")",
-    "residual": "i8(" + ",".join([F2] + [A1] * 5 + ["i8[:]", A1, F2, A1]) + ")",
-    "unpack": "void(" + ",".join([A1] * 5 + ["i8[:]", A1, A1]) + ")",
+def _closure_points_entry(n, V, W, w0, w1, x3, s3):
+    """:func:`_closure_points` as exported (the stepper's iterate, :mod:`~twofluid.models.full_iterate`):
+    a call of the helper, compiled once per build for the argument types of the one-call step too
+    (:mod:`~twofluid.models.full_step_kernel`, whose group these exports are part of)."""
+    _closure_points(n, V, W, w0, w1, x3, s3)
+
+
+def _band_system_entry(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, below, have_below,
+                       viscous, upwind, rho_f, rho_s, mu_f, g_y, dt, bot_out, p_bot, top_out, p_top, ab, f, Aa):
+    """:func:`_band_system` as exported (as :func:`_closure_points_entry`)."""
+    _band_system(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, below, have_below,
+                 viscous, upwind, rho_f, rho_s, mu_f, g_y, dt, bot_out, p_bot, top_out, p_top, ab, f, Aa)
+
+
+def _residual_entry(ab, f, Aa, V, W, n, fixed, vals, abo, b):
+    """:func:`_residual` as exported (as :func:`_closure_points_entry`)."""
+    return _residual(ab, f, Aa, V, W, n, fixed, vals, abo, b)
+
+
+def _unpack_entry(V, W, P, n, x, fixed, vals, out):
+    """:func:`_unpack` as exported (as :func:`_closure_points_entry`)."""
+    _unpack(V, W, P, n, x, fixed, vals, out)
+
+
+def _band_lu_entry(ab, b):
+    """:func:`twofluid.fem.banded._gbsv55` (the band LU for half-widths :data:`KL`, :data:`KU`) as exported
+    (as :func:`_closure_points_entry`)."""
+    return _bd._gbsv55(ab, b)
+
+
+C1, C2, F2, I1 = "f8[::1]", "f8[:,::1]", "f8[::1,:]", "i8[::1]"
+#: the stepper's kernels, exported from the group ``full_1d`` beside the one-call step (:func:`kernels`),
+#: for the argument types the step calls them with (C-contiguous vectors, the band storage in Fortran order)
+ENTRIES = {
+    "closure_points": (_closure_points_entry, "void(" + ",".join([C1] * 7) + ")"),
+    "band_system": (_band_system_entry, "void(" + ",".join([C1] * 12 + [C2, C2, C1] + ["b1"] * 3 + ["f8"] * 5
+                                                           + ["b1", "f8", "b1", "f8", F2, C1, C1]) + ")"),
+    "residual": (_residual_entry, "i8(" + ",".join([F2] + [C1] * 5 + [I1, C1, F2, C1]) + ")"),
+    "unpack": (_unpack_entry, "void(" + ",".join([C1] * 5 + [I1, C1, C1]) + ")"),
+    "band_lu": (_band_lu_entry, "i8(" + F2 + "," + C1 + ")"),
 }
-_FUNCS = {"closure_points": _closure_points, "band_system": _band_system, "residual": _residual,
-          "unpack": _unpack}
 _COMPILED = None
 _TRIED = False
 
@@ -419,13 +450,11 @@ def _compile():
     global _COMPILED, _TRIED
     if not _TRIED:
         _TRIED = True
-        from ..compiled import group
-        from ..fem.banded import band_lu
+        from . import full_step_kernel  # (the group: the one-call step and these)
 
-        ker = group("full_1d", {k: (f, SIGNATURES[k]) for k, f in _FUNCS.items()}, helpers=(_bd._u, _fmax, _put))
-        lu = band_lu()
-        if ker is not None and lu is not None:
-            _COMPILED = dict(ker, band_lu=lu)
+        ker = full_step_kernel.group_kernels()
+        if ker is not None:
+            _COMPILED = {name: ker[name] for name in ENTRIES}
     return _COMPILED
 
 
@@ -435,7 +464,8 @@ def available() -> bool:
 
 
 def kernels() -> dict | None:
-    """{closure_points, band_system, residual, unpack, band_lu} compiled (:mod:`twofluid.compiled`)."""
+    """{closure_points, band_system, residual, unpack, band_lu} compiled (:mod:`twofluid.compiled`, group
+    ``full_1d``; ``band_lu(ab, b)``: :func:`twofluid.fem.banded._gbsv55`)."""
     return _compile()
 
 
@@ -552,7 +582,7 @@ def solve(model, ker: dict, S: BandIterate, t: float) -> np.ndarray:
     b = np.empty(N)
     out = np.empty(N)
     if ker["residual"](S.ab, S.f, S.Aa, k.V, k.W, k.n, fixed, vals, abo, b) != 0 \
-            or ker["band_lu"](abo, b, KL, KU) != 0:
+            or ker["band_lu"](abo, b) != 0:
         out.fill(np.nan)
         return out
     ker["unpack"](k.V, k.W, k.P, k.n, b, fixed, vals, out)

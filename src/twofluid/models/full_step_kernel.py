@@ -295,21 +295,28 @@ _HELPERS = (_drag, _table_rows, _cs._scale, _fk._fmax, _fk._put, _fk._closure_po
             laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
             laws._solids_pressure, laws._viscosity, laws._mooney)
 
-_COMPILED = None
+_GROUP = None
 _TRIED = False
 
 
-def compiled():
-    """:func:`full_step` compiled (:mod:`twofluid.compiled`, group ``full_step``; the plain function
-    where the JIT is disabled), or None where it cannot be (no numba and nothing built)."""
-    global _COMPILED, _TRIED
+def group_kernels() -> dict | None:
+    """The group ``full_1d`` (:mod:`twofluid.compiled`): :func:`full_step` and the stepper's kernels
+    (``full_kernel.ENTRIES``), which call the same helpers with the same argument types, so that a
+    build compiles each once; the plain functions where the JIT is disabled, or None where it cannot
+    be (no numba and nothing built)."""
+    global _GROUP, _TRIED
     if not _TRIED:
         _TRIED = True
         from ..compiled import group
 
         try:
-            out = group("full_step", {"full_step": (full_step, SIGNATURE)}, helpers=_HELPERS)
+            _GROUP = group("full_1d", {"full_step": (full_step, SIGNATURE), **_fk.ENTRIES}, helpers=_HELPERS)
         except ImportError:
-            out = None
-        _COMPILED = None if out is None else out["full_step"]
-    return _COMPILED
+            _GROUP = None
+    return _GROUP
+
+
+def compiled():
+    """:func:`full_step` compiled (:func:`group_kernels`), or None."""
+    out = group_kernels()
+    return None if out is None else out["full_step"]
