@@ -221,13 +221,13 @@ def _gbsv55(ab, b):
             t = n - 1
         if t > ju:
             ju = t
-        if p != 0:  # swap rows j and j + p in columns j..ju (entry (r, c) at 15 c + 10 + r)
-            for c in range(j, ju + 1):
-                r0 = 15 * c + 10 + j
-                x = a[_u(r0 + p)]
-                a[_u(r0 + p)] = a[_u(r0)]
-                a[_u(r0)] = x
         if km == 5:
+            # rows j and j + p swapped in column j, its multipliers, then each column c of j + 1..ju
+            # swapped and updated in turn (entry (r, c) at 15 c + 10 + r): each entry's operations
+            # those of the swap of all the columns first and the updates after, in the same order
+            if p != 0:
+                a[_u(d + p)] = a[_u(d)]
+                a[_u(d)] = piv
             rp = 1.0 / piv
             l1 = a[_u(d + 1)] * rp
             l2 = a[_u(d + 2)] * rp
@@ -242,13 +242,25 @@ def _gbsv55(ab, b):
             for c in range(j + 1, ju + 1):
                 r0 = 15 * c + 10 + j  # row j of column c
                 t = a[_u(r0)]
+                if p != 0:
+                    x = a[_u(r0 + p)]
+                    a[_u(r0 + p)] = t
+                    a[_u(r0)] = x
+                    t = x
                 if t != 0.0:
                     a[_u(r0 + 1)] -= l1 * t
                     a[_u(r0 + 2)] -= l2 * t
                     a[_u(r0 + 3)] -= l3 * t
                     a[_u(r0 + 4)] -= l4 * t
                     a[_u(r0 + 5)] -= l5 * t
-        elif km > 0:
+            continue
+        if p != 0:  # swap rows j and j + p in columns j..ju
+            for c in range(j, ju + 1):
+                r0 = 15 * c + 10 + j
+                x = a[_u(r0 + p)]
+                a[_u(r0 + p)] = a[_u(r0)]
+                a[_u(r0)] = x
+        if km > 0:
             rp = 1.0 / piv
             for i in range(1, km + 1):
                 a[_u(d + i)] *= rp
