@@ -65,7 +65,7 @@ GROUPS = (
     ("extrapolation", "twofluid.models.extrapolation:_kernels"),
     ("newton_accept", "twofluid.timestepping.newton:_kernels"),
     ("reduced_1d", "twofluid.models.reduced_kernel:kernels"),
-    ("full_1d", "twofluid.models.full_kernel:kernels"),
+    ("full_1d", "twofluid.models.full_step_kernel:group_kernels"),
     ("shear_substeps", "twofluid.models.shear_kernel:compiled"),
     ("hysteretic", "twofluid.models.hysteretic_kernel:compiled"),
     ("spectra_peaks", "twofluid.geotech.spectra:_compiled_peaks"),
