@@ -65,7 +65,7 @@ GROUPS = (
     ("extrapolation", "twofluid.models.extrapolation:_kernels"),
     ("newton_accept", "twofluid.timestepping.newton:_kernels"),
     ("reduced_1d", "twofluid.models.reduced_kernel:kernels"),
-    ("full_1d", "twofluid.models.full_kernel:kernels"),
+    ("full_1d", "twofluid.models.full_step_kernel:group_kernels"),
     ("shear_substeps", "twofluid.models.shear_kernel:compiled"),
     ("hysteretic", "twofluid.models.hysteretic_kernel:compiled"),
     ("spectra_peaks", "twofluid.geotech.spectra:_compiled_peaks"),
@@ -88,7 +88,7 @@ def jit_disabled() -> bool:
 #: closure laws, the extrapolated first iterate, Newton's acceptance test; a liquefaction column's
 #: shear wave and its response spectra). :func:`groups_for` adds the shear law's group.
 MODEL_GROUPS = {
-    "two_fluid_1d": ("full_1d", "band_lu", "common_1d", "closures_1d", "extrapolation", "newton_accept"),
+    "two_fluid_1d": ("full_1d", "closures_1d"),  # (the one-call step; the stepper's other groups built if a step needs them)
     "reduced_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept"),
     "liquefaction_1d": ("reduced_1d", "band_22", "common_1d", "closures_1d", "extrapolation", "newton_accept",
                         "spectra_peaks", "column_record", "column_step"),
@@ -102,13 +102,21 @@ def groups_for(case: dict) -> list[str]:
 
     >>> groups_for({"case": {"model": "two_fluid_2d"}})
     []
+    >>> groups_for({"case": {"model": "two_fluid_1d"}, "closures": {"drag": {"law": "wen_yu"}}})[0]
+    'full_1d'
     """
     model = case.get("case", {}).get("model")
     out = list(MODEL_GROUPS.get(model, ()))
     if model == "liquefaction_1d":
         hysteretic = case.get("shear_wave", {}).get("model") == "hysteretic"
         out.append("hysteretic" if hysteretic else "shear_substeps")
+    if model == "two_fluid_1d" and (case.get("mesh", {}).get("element", "1VW/0P/0n") != "1VW/0P/0n"
+                                    or case.get("closures", {}).get("drag", {}).get("law") == "wen_yu"):
+        out = list(_STEPPER_1D)  # steps the one-call step (full_step) does not make: the stepper's groups
     return out
+
+
+_STEPPER_1D = ("full_1d", "band_lu", "common_1d", "closures_1d", "extrapolation", "newton_accept")
 
 
 def prepare(names) -> None:

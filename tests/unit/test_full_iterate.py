@@ -87,6 +87,7 @@ def test_the_one_call_shift_is_the_models_bit_for_bit(name):
     states = [step.state for step in integrate(m, b.state, 10 * b.dt, b.dt, settings=b.settings)]
     s = states[-1]
     ne = s.n.size
+    m._full_kernels()  # (the run's steps were made in one compiled call: the iterate's kernels not loaded)
     mine = full_iterate._shift(m, s, m.compiled_laws(), (np.empty(2 * ne), np.empty(2 * ne)))
     ref = m._force_shift_at(s)
     assert np.abs(ref).max() > 0.0  # (a shift that is not zero everywhere: a real comparison)

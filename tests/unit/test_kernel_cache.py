@@ -345,8 +345,9 @@ def test_groups_for_names_every_group_a_short_run_loads(name):
 
 
 def test_the_full_model_builds_none_of_the_reduced_models_groups():
-    """The default case (the full model) calls four kernels of ``reduced_kernel``, which are a group of
-    their own: its run neither plans nor loads the reduced model's iterate or its band solvers."""
+    """The default case (the full model) makes its steps in one compiled call (group ``full_1d``, which
+    compiles the few functions of ``reduced_kernel`` it calls itself): its run neither plans nor loads
+    the reduced model's iterate or its band solvers."""
     pytest.importorskip("numba")
     if compiled.cache_dir() is None:
         pytest.skip("no writable kernel cache")
@@ -354,7 +355,7 @@ def test_the_full_model_builds_none_of_the_reduced_models_groups():
                        text=True, env=_env(compiled.cache_dir()), timeout=900)
     assert r.returncode == 0, r.stderr[-3000:]
     seen, planned = (set(line.split()) for line in r.stdout.splitlines()[-2:])
-    assert "common_1d" in seen and not {"reduced_1d", "band_22"} & (seen | planned)
+    assert "full_1d" in seen and not {"reduced_1d", "band_22"} & (seen | planned)
 
 
 def test_a_helper_called_with_a_constant_compiles_once():

@@ -19,6 +19,7 @@ import twofluid.timestepping.backward_euler as be
 from twofluid.casefile.builder import build
 from twofluid.casefile.loader import load_case
 from twofluid.models.reduced_column import ReducedVerticalColumn
+from twofluid.models.two_fluid_1d import TwoFluid1D
 from twofluid.runners.liquefaction import build_column
 from twofluid.timestepping.newton import NewtonTest
 
@@ -45,6 +46,8 @@ def audit(monkeypatch):
     # the liquefaction column's vertical steps by the stepper, not in one compiled call (which makes the
     # same steps: tests/unit/test_column_step_kernel.py)
     monkeypatch.setattr(ReducedVerticalColumn, "fast_steps", False)
+    # and the full model's steps too (the same steps in one compiled call: tests/unit/test_full_step.py)
+    monkeypatch.setattr(TwoFluid1D, "compiled_step", lambda self, old, dt, settings: None)
     return rows
 
 

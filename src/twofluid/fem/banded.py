@@ -182,6 +182,125 @@ def _gbsv22(ab, b):
     return 0
 
 
+def _gbsv55(ab, b):
+    """:func:`_gbsv` for kl = ku = 5 (the full 1D model's band, ``models/full_kernel``), its inner loops
+    written out: the same operations on each entry in the same order (the same results, bit for bit),
+    the five multipliers of a column held while its rank-one update sweeps the columns to its right.
+
+    ``ab`` (16, n) in Fortran order (A[i, j] at ab[10 + i − j, j]: read as one flat array, column j
+    at 16 j); returns LAPACK's ``info``."""
+    n = b.size
+    a = ab.T.reshape(ab.size)  # (a view: the columns one after another)
+    ipiv = np.empty(n, dtype=np.int64)
+    for j in range(n):  # the fill-in rows start at zero
+        o = 16 * j
+        a[_u(o)] = 0.0
+        a[_u(o + 1)] = 0.0
+        a[_u(o + 2)] = 0.0
+        a[_u(o + 3)] = 0.0
+        a[_u(o + 4)] = 0.0
+    ju = 0
+    for j in range(n):
+        d = 16 * j + 10  # the diagonal of column j
+        km = n - 1 - j
+        if km > 5:
+            km = 5
+        p = 0
+        amax = abs(a[_u(d)])
+        for i in range(1, km + 1):
+            x = abs(a[_u(d + i)])
+            if x > amax:
+                amax = x
+                p = i
+        ipiv[_u(j)] = j + p
+        piv = a[_u(d + p)]
+        if piv == 0.0 or piv != piv:
+            return j + 1
+        t = j + 5 + p
+        if t > n - 1:
+            t = n - 1
+        if t > ju:
+            ju = t
+        if km == 5:
+            # rows j and j + p swapped in column j, its multipliers, then each column c of j + 1..ju
+            # swapped and updated in turn (entry (r, c) at 15 c + 10 + r): each entry's operations
+            # those of the swap of all the columns first and the updates after, in the same order
+            if p != 0:
+                a[_u(d + p)] = a[_u(d)]
+                a[_u(d)] = piv
+            rp = 1.0 / piv
+            l1 = a[_u(d + 1)] * rp
+            l2 = a[_u(d + 2)] * rp
+            l3 = a[_u(d + 3)] * rp
+            l4 = a[_u(d + 4)] * rp
+            l5 = a[_u(d + 5)] * rp
+            a[_u(d + 1)] = l1
+            a[_u(d + 2)] = l2
+            a[_u(d + 3)] = l3
+            a[_u(d + 4)] = l4
+            a[_u(d + 5)] = l5
+            for c in range(j + 1, ju + 1):
+                r0 = 15 * c + 10 + j  # row j of column c
+                t = a[_u(r0)]
+                if p != 0:
+                    x = a[_u(r0 + p)]
+                    a[_u(r0 + p)] = t
+                    a[_u(r0)] = x
+                    t = x
+                if t != 0.0:
+                    a[_u(r0 + 1)] -= l1 * t
+                    a[_u(r0 + 2)] -= l2 * t
+                    a[_u(r0 + 3)] -= l3 * t
+                    a[_u(r0 + 4)] -= l4 * t
+                    a[_u(r0 + 5)] -= l5 * t
+            continue
+        if p != 0:  # swap rows j and j + p in columns j..ju
+            for c in range(j, ju + 1):
+                r0 = 15 * c + 10 + j
+                x = a[_u(r0 + p)]
+                a[_u(r0 + p)] = a[_u(r0)]
+                a[_u(r0)] = x
+        if km > 0:
+            rp = 1.0 / piv
+            for i in range(1, km + 1):
+                a[_u(d + i)] *= rp
+            for c in range(j + 1, ju + 1):
+                r0 = 15 * c + 10 + j
+                t = a[_u(r0)]
+                if t != 0.0:
+                    for i in range(1, km + 1):
+                        a[_u(r0 + i)] -= a[_u(d + i)] * t
+    for j in range(n - 1):  # L y = P b
+        q = ipiv[_u(j)]
+        if q != j:
+            t = b[_u(q)]
+            b[_u(q)] = b[_u(j)]
+            b[_u(j)] = t
+        t = b[_u(j)]
+        if t != 0.0:
+            d = 16 * j + 10
+            if j + 5 < n:
+                b[_u(j + 1)] -= a[_u(d + 1)] * t
+                b[_u(j + 2)] -= a[_u(d + 2)] * t
+                b[_u(j + 3)] -= a[_u(d + 3)] * t
+                b[_u(j + 4)] -= a[_u(d + 4)] * t
+                b[_u(j + 5)] -= a[_u(d + 5)] * t
+            else:
+                for i in range(1, n - j):
+                    b[_u(j + i)] -= a[_u(d + i)] * t
+    for j in range(n - 1, -1, -1):  # U x = y (U has kl + ku superdiagonals)
+        if b[_u(j)] != 0.0:
+            o = 16 * j + 10 - j  # entry (i, j) at o + i
+            b[_u(j)] /= a[_u(o + j)]
+            t = b[_u(j)]
+            i0 = j - 10
+            if i0 < 0:
+                i0 = 0
+            for i in range(i0, j):
+                b[_u(i)] -= t * a[_u(o + i)]
+    return 0
+
+
 _LU = _LU22 = _BT22 = None
 _TRIED = False
 

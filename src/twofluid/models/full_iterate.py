@@ -116,8 +116,7 @@ def iterate(model, ker: dict, k: State, old: State, dt: float, t_new: float):
     # ---- full_kernel.solve
     fixed, vals = st[4], st[5]
     out = np.empty(N)
-    if ker["residual"](ab, f, Aa, V, W, n, fixed, vals, abo, b) != 0 or ker["band_lu"](abo, b, full_kernel.KL,
-                                                                                      full_kernel.KU) != 0:
+    if ker["residual"](ab, f, Aa, V, W, n, fixed, vals, abo, b) != 0 or ker["band_lu"](abo, b) != 0:
         out.fill(np.nan)
     else:
         ker["unpack"](V, W, k.P, n, b, fixed, vals, out)

@@ -36,6 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..closures.viscosity import solid_viscosity
+from ..fem import banded as _bd
 from . import reduced_kernel
 from .data_1d import _times
 
@@ -71,8 +72,8 @@ def _put(ab, Aa, ak, r, c, x):
     ``Aa`` = A aᵏ, term by term as the sparse scatter does: Newton terms that appear on both sides
     then cancel exactly in the residual f − A aᵏ (summed into the matrix first, a small term is
     lost against a large diagonal and the residual drifts: solids volume by 1e-14 over a run)."""
-    ab[_KV + r - c, c] += x
-    Aa[r] += x * ak[c]
+    ab[_bd._u(_KV + r - c), _bd._u(c)] += x  # (unsigned indices: banded._u)
+    Aa[_bd._u(r)] += x * ak[_bd._u(c)]
 
 
 def _closure_points(n, V, W, w0, w1, x3, s3):
@@ -111,8 +112,8 @@ def _band_system(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, 
     ne = n.size
     nv = ne + 1
     area = vc[0]
-    for i in range(ab.shape[0]):
-        for j in range(ab.shape[1]):
+    for j in range(ab.shape[1]):  # (in storage order)
+        for i in range(ab.shape[0]):
             ab[i, j] = 0.0
     ak = np.empty(f.size)  # the iterate in band order
     for i in range(nv):
@@ -359,11 +360,13 @@ def _residual(ab, f, Aa, V, W, n, fixed, vals, abo, b):
     """Minus the residual at the iterate, ``b`` = f − A aᵏ, and ``abo`` = ``ab`` with the prescribed
     rows ``fixed`` (band rows) made identity rows scaled to the diagonal (b = scale (val − aᵏ)):
     :meth:`BandSolver.solve <twofluid.fem.banded.BandSolver.solve>`. Returns 1 if an entry is not
-    finite, else 0."""
+    finite, else 0. ``ab`` and ``abo`` in Fortran order (read and written as flat arrays)."""
     N = f.size
+    src = ab.T.reshape(ab.size)  # (views: the columns one after another)
+    dst = abo.T.reshape(abo.size)
+    for i in range(dst.size):
+        dst[i] = src[i]
     for c in range(N):
-        for i in range(ab.shape[0]):
-            abo[i, c] = ab[i, c]
         b[c] = f[c] - Aa[c]
     for j in range(fixed.size):
         p = fixed[j]
@@ -373,15 +376,14 @@ def _residual(ab, f, Aa, V, W, n, fixed, vals, abo, b):
         abo[_KV, p] = scale
         ak = V[p // 4] if p % 4 == 0 else W[p // 4]  # prescribed values are V or W
         b[p] = scale * (vals[j] - ak)
+    bad = False  # (no early exit: one pass the compiler can vectorise)
+    for i in range(dst.size):
+        x = dst[i]
+        bad |= x - x != 0.0  # NaN or ±inf
     for c in range(N):
-        for i in range(abo.shape[0]):
-            x = abo[i, c]
-            if x - x != 0.0:  # NaN or ±inf
-                return 1
         x = b[c]
-        if x - x != 0.0:
-            return 1
-    return 0
+        bad |= x - x != 0.0
+    return 1 if bad else 0
 
 
 def _unpack(V, W, P, n, x, fixed, vals, out):
@@ -399,16 +401,47 @@ def _unpack(V, W, P, n, x, fixed, vals, out):
         out[p // 4 if p % 4 == 0 else nv + p // 4] = vals[j]
 
 
-A1, A2 = "f8[:]", "f8[:,:]"
-SIGNATURES = {
-    "closure_points": "void(" + ",".join([A1] * 7) + ")",
-    "band_system": "void(" + ",".join([A1] * 12 + [A2, A2, A1] + ["b1"] * 3 + ["f8"] * 5
-                                      + ["b1", "f8", "b1", "f8", A2, A1, A1]) + ")",
-    "residual": "i8(" + ",".join([A2] + [A1] * 5 + ["i8[:]", A1, A2, A1]) + ")",
-    "unpack": "void(" + ",".join([A1] * 5 + ["i8[:]", A1, A1]) + ")",
+def _closure_points_entry(n, V, W, w0, w1, x3, s3):
+    """:func:`_closure_points` as exported (the stepper's iterate, :mod:`~twofluid.models.full_iterate`):
+    a call of the helper, compiled once per build for the argument types of the one-call step too
+    (:mod:`~twofluid.models.full_step_kernel`, whose group these exports are part of)."""
+    _closure_points(n, V, W, w0, w1, x3, s3)
+
+
+def _band_system_entry(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, below, have_below,
+                       viscous, upwind, rho_f, rho_s, mu_f, g_y, dt, bot_out, p_bot, top_out, p_top, ab, f, Aa):
+    """:func:`_band_system` as exported (as :func:`_closure_points_entry`)."""
+    _band_system(n, V, W, P, oldV, oldW, oldn, alpha, K3, mu2, ps, dps, mc, vc, below, have_below,
+                 viscous, upwind, rho_f, rho_s, mu_f, g_y, dt, bot_out, p_bot, top_out, p_top, ab, f, Aa)
+
+
+def _residual_entry(ab, f, Aa, V, W, n, fixed, vals, abo, b):
+    """:func:`_residual` as exported (as :func:`_closure_points_entry`)."""
+    return _residual(ab, f, Aa, V, W, n, fixed, vals, abo, b)
+
+
+def _unpack_entry(V, W, P, n, x, fixed, vals, out):
+    """:func:`_unpack` as exported (as :func:`_closure_points_entry`)."""
+    _unpack(V, W, P, n, x, fixed, vals, out)
+
+
+def _band_lu_entry(ab, b):
+    """:func:`twofluid.fem.banded._gbsv55` (the band LU for half-widths :data:`KL`, :data:`KU`) as exported
+    (as :func:`_closure_points_entry`)."""
+    return _bd._gbsv55(ab, b)
+
+
+C1, C2, F2, I1 = "f8[::1]", "f8[:,::1]", "f8[::1,:]", "i8[::1]"
+#: the stepper's kernels, exported from the group ``full_1d`` beside the one-call step (:func:`kernels`),
+#: for the argument types the step calls them with (C-contiguous vectors, the band storage in Fortran order)
+ENTRIES = {
+    "closure_points": (_closure_points_entry, "void(" + ",".join([C1] * 7) + ")"),
+    "band_system": (_band_system_entry, "void(" + ",".join([C1] * 12 + [C2, C2, C1] + ["b1"] * 3 + ["f8"] * 5
+                                                           + ["b1", "f8", "b1", "f8", F2, C1, C1]) + ")"),
+    "residual": (_residual_entry, "i8(" + ",".join([F2] + [C1] * 5 + [I1, C1, F2, C1]) + ")"),
+    "unpack": (_unpack_entry, "void(" + ",".join([C1] * 5 + [I1, C1, C1]) + ")"),
+    "band_lu": (_band_lu_entry, "i8(" + F2 + "," + C1 + ")"),
 }
-_FUNCS = {"closure_points": _closure_points, "band_system": _band_system, "residual": _residual,
-          "unpack": _unpack}
 _COMPILED = None
 _TRIED = False
 
@@ -417,13 +450,11 @@ def _compile():
     global _COMPILED, _TRIED
     if not _TRIED:
         _TRIED = True
-        from ..compiled import group
-        from ..fem.banded import band_lu
+        from . import full_step_kernel  # (the group: the one-call step and these)
 
-        ker = group("full_1d", {k: (f, SIGNATURES[k]) for k, f in _FUNCS.items()}, helpers=(_fmax, _put))
-        lu = band_lu()
-        if ker is not None and lu is not None:
-            _COMPILED = dict(ker, band_lu=lu)
+        ker = full_step_kernel.group_kernels()
+        if ker is not None:
+            _COMPILED = {name: ker[name] for name in ENTRIES}
     return _COMPILED
 
 
@@ -433,7 +464,8 @@ def available() -> bool:
 
 
 def kernels() -> dict | None:
-    """{closure_points, band_system, residual, unpack, band_lu} compiled (:mod:`twofluid.compiled`)."""
+    """{closure_points, band_system, residual, unpack, band_lu} compiled (:mod:`twofluid.compiled`, group
+    ``full_1d``; ``band_lu(ab, b)``: :func:`twofluid.fem.banded._gbsv55`)."""
     return _compile()
 
 
@@ -541,17 +573,16 @@ def solve(model, ker: dict, S: BandIterate, t: float) -> np.ndarray:
     """:meth:`TwoFluid1D.solve` of an iterate assembled by :func:`assemble`: minus the residual, the
     prescribed rows, the band LU, the increment added to the iterate (NaN if it cannot be solved)."""
     idx, val = model.dirichlet(t)
-    cached = model._fk_fixed
+    cached = model._fk_fixed  # (the band rows, kept while the indices are the same array)
     if cached is None or cached[0] is not idx:
-        cached = model._fk_fixed = (idx, np.ascontiguousarray(model._band.pos[idx], dtype=np.int64),
-                                    np.ascontiguousarray(val, dtype=float))
-    _, fixed, vals = cached
+        cached = model._fk_fixed = (idx, np.ascontiguousarray(model._band.pos[idx], dtype=np.int64))
+    fixed, vals = cached[1], np.ascontiguousarray(val, dtype=float)
     k, N = S.k, S.size
     abo = np.empty((N, LDAB)).T
     b = np.empty(N)
     out = np.empty(N)
     if ker["residual"](S.ab, S.f, S.Aa, k.V, k.W, k.n, fixed, vals, abo, b) != 0 \
-            or ker["band_lu"](abo, b, KL, KU) != 0:
+            or ker["band_lu"](abo, b) != 0:
         out.fill(np.nan)
         return out
     ker["unpack"](k.V, k.W, k.P, k.n, b, fixed, vals, out)

@@ -77,7 +77,7 @@ from ..fem.banded import BandSolver
 from ..fem.line import LINE1, LINE2, element_values
 from ..mesh.line import LineMesh
 from ..timestepping.backward_euler import relative_change
-from . import full_iterate, full_kernel, reduced_kernel
+from . import full_iterate, full_kernel, full_step, reduced_kernel
 from .bed_forces_1d import _CLEAR, UpwindBedForces
 from .data_1d import Boundary, Closures, Materials, State, _times
 from .diagnostics_1d import LineDiagnostics
@@ -249,17 +249,25 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         return sign * b.velocity(t) if b.kind == "inlet" else 0.0
 
     def dirichlet(self, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """Global indices (into the full system) and values of prescribed V and W (kept for the last t)."""
+        """Global indices (into the full system) and values of prescribed V and W (kept for the last t;
+        the indices one array while the ends are the same objects, which callers read, never write)."""
         last = getattr(self, "_dirichlet_of", None)
         if last is not None and last[0] == t:
             return last[1], last[2]
-        idx, val = [], []
-        for b, node, sign in ((self.bottom, 0, 1.0), (self.top, self.nv - 1, -1.0)):
+        ends = ((self.bottom, 0, 1.0), (self.top, self.nv - 1, -1.0))
+        held = getattr(self, "_dirichlet_idx", None)
+        if held is None or held[0] is not self.bottom or held[1] is not self.top or held[2] != self.nv:
+            idx = []
+            for b, node, _ in ends:
+                if b.kind in ("inlet", "wall"):
+                    idx += [node, self.nv + node]
+            held = self._dirichlet_idx = (self.bottom, self.top, self.nv, np.array(idx, dtype=int))
+        val = []
+        for b, node, sign in ends:
             if b.kind in ("inlet", "wall"):
                 u = self.inlet_value(b, t, sign)
-                idx += [node, self.nv + node]
                 val += [u, u]
-        idx, val = np.array(idx, dtype=int), np.array(val, dtype=float)
+        idx, val = held[3], np.array(val, dtype=float)
         self._dirichlet_of = (t, idx, val)
         return idx, val
 
@@ -333,6 +341,11 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         the kernels assemble the iterate (:mod:`~twofluid.models.full_iterate`), else None."""
         ker = self._full_kernels()
         return None if ker is None else full_iterate.iterate(self, ker, k, old, dt, t_new)
+
+    def compiled_step(self, old: State, dt: float, settings):
+        """The stepper's first try at a step in one compiled call (:mod:`~twofluid.models.full_step`):
+        (the new state, its iterations, whether a prediction accepted it), or None."""
+        return full_step.step(self, old, dt, settings)
 
     def _step_terms(self, old: State, dt: float, t_new: float) -> BlockSystem:
         """The terms of a step that do not depend on the iterate (assembled once per step)."""

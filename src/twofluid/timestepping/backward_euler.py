@@ -12,7 +12,9 @@ The model must provide ``assemble(k, old, dt, t) -> BlockSystem``,
 ``dirichlet(t)``, ``pack``, ``unpack``, ``check``, ``velocity_scale`` and
 ``end_step`` (see :class:`twofluid.models.two_fluid_1d.TwoFluid1D`); optional
 hooks: ``begin_iteration(it, k)`` before each Picard iteration and
-``solve(system, t)`` to replace the default sparse direct solve.
+``solve(system, t)`` to replace the default sparse direct solve; ``compiled_step(old, dt, settings)``,
+which :func:`integrate` asks first for each step: (the state, iterations, whether a prediction accepted
+it) as :func:`_step` would give them, or None (then :func:`_step` makes it).
 
 Convergence: an iterate is the step when its change (:func:`relative_change`: absolute in
 porosity, relative to ``velocity_scale`` in V and W) is below ``PicardSettings.tol``. A model
@@ -97,7 +99,9 @@ def picard_step(model, old, dt: float, settings: PicardSettings = PicardSettings
     step even if it has not met ``settings.tol`` (pseudo-transient continuation, where
     the intermediate states are not wanted); it must still pass ``model.check``.
     """
-    new, info, _ = _step(model, old, dt, settings, accept_unconverged)
+    whole = getattr(model, "compiled_step", None) if not accept_unconverged else None
+    made = whole(old, dt, settings) if whole is not None else None  # (the same step, in one call)
+    new, info, _ = made if made is not None else _step(model, old, dt, settings, accept_unconverged)
     return new, info
 
 
@@ -163,12 +167,14 @@ def integrate(model, state, t_end: float, dt: float, stops: Iterable[float] = ()
     h = dt
     n_steps = rejected = 0
     eps = 1e-9 * max(dt, 1e-12)
+    whole = getattr(model, "compiled_step", None)  # the step in one call (None: not made there)
     for stop in stops:
         while state.t < stop - eps:
             h_try = min(h, stop - state.t)
             if stop - state.t - h_try < 0.01 * dt:  # avoid a sliver before the stop
                 h_try = stop - state.t
-            new, info, predicted = _step(model, state, h_try, settings)
+            made = whole(state, h_try, settings) if whole is not None else None
+            new, info, predicted = made if made is not None else _step(model, state, h_try, settings)
             if new is None:
                 if h_try / 2 < settings.dt_min:
                     raise StepFailure(state.t, h_try, info, state)
