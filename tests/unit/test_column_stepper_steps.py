@@ -1,5 +1,5 @@
-"""The liquefaction column's vertical steps that the stepper halves (models.column_split.stepper_steps):
-integrate's steps with each try made by the compiled vertical step where it can be, by the stepper's
+"""The liquefaction column's vertical steps that the stepper halves: integrate's steps with each try
+made by the vertical model's compiled_step (one compiled call) where it can be, by the stepper's
 Python ``_step`` where it cannot. They must be integrate's steps bit for bit: the same step sizes,
 iterations, states and failure, where tries fail, halve and grow again."""
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from twofluid.casefile.loader import load_case
-from twofluid.models import column_split, column_step_kernel
+from twofluid.models import column_step_kernel
 from twofluid.runners.liquefaction import build_column
 from twofluid.timestepping import backward_euler as be
 
@@ -45,10 +45,8 @@ def _steps(col, s, dt, settings, how, monkeypatch):
 
     monkeypatch.setattr(be, "_step", spy)
     if how == "integrate":
-        steps = [(st.dt, st.iterations, st.state)
-                 for st in be.integrate(model, s.vertical, s.t + dt, dt, settings=settings)]
-    else:
-        steps = list(column_split.stepper_steps(model, s.vertical, s.t + dt, dt, settings))
+        model.compiled_step = None  # (the stepper's own tries only)
+    steps = [(st.dt, st.iterations, st.state) for st in be.integrate(model, s.vertical, s.t + dt, dt, settings=settings)]
     monkeypatch.undo()
     return [(h, its, v.t, v.V, v.W, v.P, v.n, v.n_bar) for h, its, v in steps], counts
 
@@ -60,7 +58,7 @@ def test_the_steps_are_integrates_where_tries_fail_and_halve(shaken, monkeypatch
     col, s = shaken
     tight = replace(col.settings, max_iter=max_iter)  # (tries that do not converge: the steps halve)
     ref, by_integrate = _steps(col, s, dt, tight, "integrate", monkeypatch)
-    got, by_python = _steps(col, s, dt, tight, "stepper_steps", monkeypatch)
+    got, by_python = _steps(col, s, dt, tight, "compiled_step", monkeypatch)
     assert by_python["failed"] == by_integrate["failed"] > 3  # (every failed try is the stepper's own)
     assert by_python["python"] < by_integrate["python"] - 3  # (tries made by the compiled step)
     assert len(got) == len(ref) > 3
@@ -76,6 +74,6 @@ def test_a_step_that_cannot_be_made_fails_as_integrates(shaken, monkeypatch):
     with pytest.raises(be.StepFailure) as ref:
         _steps(col, s, 5.0, hopeless, "integrate", monkeypatch)
     with pytest.raises(be.StepFailure) as got:
-        _steps(col, s, 5.0, hopeless, "stepper_steps", monkeypatch)
+        _steps(col, s, 5.0, hopeless, "compiled_step", monkeypatch)
     assert str(got.value) == str(ref.value)
     assert (got.value.t, got.value.dt) == (ref.value.t, ref.value.dt)

@@ -8,19 +8,18 @@ and those from ``check`` on makes the finite test of the shear's results, the ve
 sub-steps' interpolation of n), the next shear step's mixture density and viscosity and σ′_v of the
 new state. The numbers are those of the
 Python path bit for bit (``tests/unit/test_column_split_step.py``); a step the call cannot make
-changes nothing, and the column takes the stepper's path for it whole: :func:`stepper_steps`, the
-stepper's steps (its halving and growth) with each try made by the compiled vertical step where it can
-be, bit for bit the stepper's (``tests/unit/test_column_stepper_steps.py``).
+changes nothing, and the column takes the stepper's path for it whole
+(:func:`~twofluid.timestepping.backward_euler.integrate`, whose tries the vertical model's
+``compiled_step`` makes where it can, bit for bit the stepper's: ``tests/unit/test_column_stepper_steps.py``).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..timestepping import backward_euler as _be
 from . import column_step_kernel as _kernel
 from .reduced_column import run_vertical
 
-__all__ = ["split_args", "split_step", "stepper_steps"]
+__all__ = ["split_args", "split_step"]
 
 def split_args(col):
     """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
@@ -84,33 +83,3 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
     col._ps = (made[0], ps)
     return made[0], made[1], float(out_s[0])
 
-
-def stepper_steps(model, state, t_end: float, dt: float, settings, tried: bool = False):
-    """The steps of :func:`~twofluid.timestepping.backward_euler.integrate` (``model`` from ``state`` to
-    ``t_end`` [s], target step ``dt`` [s], no stops) where ``model`` makes a step's tries in one compiled
-    call (:meth:`ReducedVerticalColumn.fast_try <twofluid.models.reduced_column.ReducedVerticalColumn.fast_try>`):
-    each try by that call, and by the stepper's ``_step`` where the call cannot make it (which then
-    makes it, or fails, as the stepper would: the call is the stepper's try, bit for bit, and leaves
-    nothing changed where it fails); the same halving, growth and sliver rules, in the same
-    arithmetic, so the same steps. ``tried``: the first try's compiled call has been made and failed
-    (the stepper makes it). Yields (the step [s], its iterations, the new state); raises
-    :class:`~twofluid.timestepping.backward_euler.StepFailure` where integrate does."""
-    fast = model.fast_try
-    h = dt
-    eps = 1e-9 * max(dt, 1e-12)
-    while state.t < t_end - eps:
-        h_try = min(h, t_end - state.t)
-        if t_end - state.t - h_try < 0.01 * dt:  # avoid a sliver before the stop
-            h_try = t_end - state.t
-        made = None if tried else fast(state, h_try, settings)
-        tried = False
-        new, info, predicted = _be._step(model, state, h_try, settings) if made is None else made
-        if new is None:
-            if h_try / 2 < settings.dt_min:
-                raise _be.StepFailure(state.t, h_try, info, state)
-            h = h_try / 2
-            continue
-        state = new
-        if info + predicted <= settings.easy_iters and h < dt:
-            h = min(dt, h * settings.grow)
-        yield h_try, info, state

@@ -899,13 +899,9 @@ class LiquefactionColumn:
             raise self._not_finite(t0, dt, s)
         if made is None or vert.t < t_new - eps:  # the stepper (all of the step, or the rest)
             split = False
-            if hasattr(self.v, "fast_try"):  # (integrate's steps, each try in one compiled call where it can be)
-                for h_st, its, vert in _split.stepper_steps(self.v, vert, t_new, dt, self.settings, made is None):
-                    inflow -= h_st * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
-            else:
-                for st in integrate(self.v, vert, t_new, dt, settings=self.settings):
-                    vert, its = st.state, st.iterations
-                    inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
+            for st in integrate(self.v, vert, t_new, dt, settings=self.settings):  # (each try in one
+                vert, its = st.state, st.iterations  # compiled call where it can be: the model's compiled_step)
+                inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
         if self.hysteretic is not None and dt > 0.0 and not split:
             self._ndot = (vert.n - s.vertical.n) / dt
             self._props = None

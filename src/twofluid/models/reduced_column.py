@@ -155,16 +155,16 @@ class ReducedVerticalColumn(Reduced1D):
         (:func:`~twofluid.timestepping.backward_euler.integrate` to ``old.t + dt``), in one compiled call
         (:mod:`~twofluid.models.column_step_kernel`): (the new state, its iterations), or None where the
         call cannot make it (the caller then takes the stepper, which starts the step again)."""
-        call = self.fast_call(old, dt, settings, column_step_kernel.ALONE)  # (the vertical step alone)
-        if call is None:
-            return None
-        ker, args, ctx = call
-        return self.fast_done(ctx, run_vertical(ker, args, ()))
+        made = self.compiled_step(old, dt, settings)
+        return None if made is None else made[:2]
 
-    def fast_try(self, old: State, dt: float, settings) -> tuple | None:
-        """:meth:`fast_step`, with whether the step was accepted on a prediction (what the stepper's
-        ``_step`` gives the step-size control): (the new state, its iterations, 0 or 1), or None."""
-        call = self.fast_call(old, dt, settings, column_step_kernel.ALONE)
+    def compiled_step(self, old: State, dt: float, settings) -> tuple | None:
+        """The stepper's try at a step of ``dt`` [s] from ``old`` in one compiled call (the hook
+        :func:`~twofluid.timestepping.backward_euler.integrate` asks first): (the new state, its
+        iterations, whether a prediction accepted it: what the stepper's ``_step`` gives the step-size
+        control), bit for bit the stepper's; or None where the call cannot make it (nothing changed:
+        the stepper then makes the try, or fails it, itself)."""
+        call = self.fast_call(old, dt, settings, column_step_kernel.ALONE)  # (the vertical step alone)
         if call is None:
             return None
         ker, args, ctx = call
