@@ -235,15 +235,17 @@ def _stress_below(g, q, c, a, floor):
 
 
 def _stress_value(g, q, c, a, floor):
-    """:func:`_stress_below`'s stress alone [Pa]: the same branches compared, each evaluated by the
-    same operations without its slope (``_hm._on_value``), so the same number, for the evaluations
-    whose slope nothing uses (a commit's stress, an outer branch's floor)."""
+    """(τ [Pa], τ_o [Pa]): :func:`_stress_below`'s stress and outer branch's stress (nan where not
+    evaluated) alone: the same branches compared, each evaluated by the same operations without its
+    slope (``_hm._on_value``), so the same numbers, for the evaluations whose slope nothing uses (a
+    commit's stress)."""
     d = q[Q_D]
     s = q[Q_S]
     if q[Q_N] == 0.0:
-        return _hm._backbone_value(g, d, s, q[Q_GR], c)
+        return _hm._backbone_value(g, d, s, q[Q_GR], c), math.nan
     fm = q[Q_FM]
     tau = _hm._on_value(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
+    to = math.nan
     if q[Q_N] >= 3.0 and not (d * (g - a) >= 0.0 and d * tau <= floor):
         to = _hm._on_value(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
         if d * to < d * tau:
@@ -252,7 +254,7 @@ def _stress_value(g, q, c, a, floor):
         tb = _hm._backbone_value(g, d, s, q[Q_GR], c)
         if d * tau > d * tb:
             tau = tb
-    return tau
+    return tau, to
 
 
 def _outer_floor(g, q, c):
@@ -334,7 +336,7 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     [14.7, 13.2, 14.8]
     """
     c = _hb._constants(st, par, e)
-    return _stress_value(g, _prepare(d, st, par, e, s, gr, c, -1.0), c, g, -math.inf)
+    return _stress_value(g, _prepare(d, st, par, e, s, gr, c, -1.0), c, g, -math.inf)[0]
 
 
 def commit(g, d, tau, st, par, e, s, t, gr):
@@ -423,7 +425,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor)
     state, :func:`generated_ratio`, where it was computed on the way; nan where not)."""
     s = qp[Q_S]
     gr = qp[Q_GR]
-    tau = _stress_value(g, qp, c, a, floor)
+    tau = _stress_value(g, qp, c, a, floor)[0]
     fm = qp[Q_FM] if qp[Q_N] > 0.0 else -1.0
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
@@ -454,7 +456,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor)
         s, gmx = _hb.strength_modulus(ps * q, par, e)
         gr = s / gmx
         qq = _prepare(d, st, par, e, s, gr, c, -1.0)
-        tau = _stress_value(g, qq, c, g, -math.inf)
+        tau = _stress_value(g, qq, c, g, -math.inf)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
         r = _hd.generated_ratio(st, par, e)
         f = (1.0 - r) / (1.0 - r_old) - q

@@ -83,7 +83,7 @@ def _mrdf(st, par, e, gr, c):
         xm = st[e, S_GM] / gr
         red = 1.0
         if xm > 0.0:
-            red = _hb._gqh(xm, c)[0] / xm
+            red = _hb._gqh_w(xm, c[C_TH4] * xm ** c[C_TH5], c) / xm  # (the backbone's ratio alone)
         f = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
     if par[e, P_LIQ] > 0.0:
         w = masing_weight(st, par, e)

@@ -261,7 +261,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
                 te, r_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, q, a_e, f_e)
             else:
-                te = _law._stress_value(g, q, c, a_e, f_e)
+                te, to = _law._stress_value(g, q, c, a_e, f_e)
+                if to == to:  # the outer branch evaluated at the committed strain: a floor from here on
+                    _keep_seen(cert, e, g, to, q, c)
                 if _moves_on(g, dirn[e], st, par, e):  # what _law._commit_counted does here, alone
                     st[e, S_G] = g
                     st[e, S_T] = te / s[e]
