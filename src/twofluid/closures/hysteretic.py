@@ -220,11 +220,14 @@ def _stress_below(g, q, c, a, floor):
         tau, k = _hm._backbone(g, d, s, q[Q_GR], c)
         return tau, k, math.nan
     fm = q[Q_FM]
-    tau, k = _hm._on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
+    # the current branch: _hm._on written out (one call fewer per evaluation, the same operations)
+    phi, k = _hm._branch((g - q[Q_A]) / q[Q_A + 3], fm, c)
+    tau, k = _hz._env(g, d, q[Q_A + 1] + q[Q_A + 2] * phi, q[Q_A + 2] * k / q[Q_A + 3], s, q[Q_A + 4], q[Q_A + 5], c)
     to = math.nan
     if q[Q_N] >= 3.0 and not (d * (g - a) >= 0.0 and d * tau <= floor):  # the outer branch the loop closes onto
         # (its stress alone first: its slope only where it is the lower, the same stress again)
-        to = _hm._on_value(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        to = _hz._env_value(g, d, q[Q_B + 1] + q[Q_B + 2] * _hm._branch_value((g - q[Q_B]) / q[Q_B + 3], fm, c), s,
+                            q[Q_B + 4], q[Q_B + 5], c)  # (_hm._on_value written out)
         if d * to < d * tau:
             tau, k = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
     if d * g > q[Q_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
@@ -244,10 +247,13 @@ def _stress_value(g, q, c, a, floor):
     if q[Q_N] == 0.0:
         return _hm._backbone_value(g, d, s, q[Q_GR], c), math.nan
     fm = q[Q_FM]
-    tau = _hm._on_value(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
+    # the current branch: _hm._on_value written out (one call fewer, the same operations)
+    phi = _hm._branch_value((g - q[Q_A]) / q[Q_A + 3], fm, c)
+    tau = _hz._env_value(g, d, q[Q_A + 1] + q[Q_A + 2] * phi, s, q[Q_A + 4], q[Q_A + 5], c)
     to = math.nan
     if q[Q_N] >= 3.0 and not (d * (g - a) >= 0.0 and d * tau <= floor):
-        to = _hm._on_value(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        to = _hz._env_value(g, d, q[Q_B + 1] + q[Q_B + 2] * _hm._branch_value((g - q[Q_B]) / q[Q_B + 3], fm, c), s,
+                            q[Q_B + 4], q[Q_B + 5], c)  # (_hm._on_value written out)
         if d * to < d * tau:
             tau = to
     if d * g > q[Q_GM]:
