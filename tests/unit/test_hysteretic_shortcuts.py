@@ -56,13 +56,13 @@ def test_the_stress_alone_is_the_stress_with_its_slope_bit_for_bit(kind):
             q = law._prepare(d, st, par, 0, s, gr, c, -1.0)
             a = st[0, law.S_G]
             for g in a + d * np.concatenate([np.linspace(0.0, 3.0 * scale, 40), [-1e-4, -1e-7]]):
-                tau, k, to = law._stress_below(g, q, c, g, -math.inf)
+                tau, k, to = law._stress_below(g, q, c, g, -math.inf)  # (to: the outer branch's floor)
                 assert law._stress_value(g, q, c, g, -math.inf) == (tau, to) or (math.isnan(to) and law._stress_value(g, q, c, g, -math.inf)[0] == tau)
                 if q[law.Q_N] > 0.0:
                     on = hm._on(g, d, *q[law.Q_A:law.Q_A + 6], s, q[law.Q_FM], c)
                     assert hm._on_value(g, d, *q[law.Q_A:law.Q_A + 6], s, q[law.Q_FM], c) == on[0]
                 if q[law.Q_N] >= 3.0:
-                    assert to == hm._on(g, d, *q[law.Q_B:law.Q_B + 6], s, q[law.Q_FM], c)[0]
+                    assert to == law._floor_of(hm._on(g, d, *q[law.Q_B:law.Q_B + 6], s, q[law.Q_FM], c)[0], q, c)
                     outer += 1
                 else:
                     assert math.isnan(to)
@@ -86,8 +86,7 @@ def test_a_floor_made_where_the_outer_branch_was_evaluated_holds_beyond(kind):
             if q[law.Q_N] < 3.0:
                 continue
             for a in st[0, law.S_G] + d * np.array([-0.3, 0.0, 0.4, 1.5]) * scale:  # trial strains, either side
-                to = law._stress_below(a, q, c, a, -math.inf)[2]
-                floor = law._floor_of(to, q, c)
+                floor = law._stress_below(a, q, c, a, -math.inf)[2]  # (the floor its evaluation there gives)
                 assert math.isfinite(floor) and floor == law._outer_floor(a, q, c)
                 for g in a + d * np.linspace(0.0, 3.0 * scale, 50):
                     assert d * hm._on(g, d, *q[law.Q_B:law.Q_B + 6], s, q[law.Q_FM], c)[0] > floor
@@ -115,7 +114,7 @@ def _effective_stress_call(monkeypatch, off):
     with monkeypatch.context() as m:
         if "floor" in off:
             m.setattr(hk, "_keep_floor", lambda q, c, g, t, cert, e: None)
-            m.setattr(hk, "_keep_seen", lambda cert, e, g, to, q, c: None)
+            m.setattr(hk, "_keep_seen", lambda cert, e, g, f: None)
         if "prepared" in off:
             m.setattr(hk, "_prepared_same", lambda pkey, e, d, st, s, gr, gd: False)
         if "commit" in off:

@@ -206,9 +206,10 @@ def _prepare(d, st, par, e, s, gr, c, fm):
 
 
 def _stress_below(g, q, c, a, floor):
-    """(τ [Pa], dτ/dγ [Pa], τ_o [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
+    """(τ [Pa], dτ/dγ [Pa], floor [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
     (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), the derivative of the branch
-    that sets it, and the outer branch's stress where it was evaluated (nan where not), given that
+    that sets it, and where the outer branch was evaluated the floor its stress there gives it from
+    ``g`` on (:func:`_floor_of`; nan where it was not evaluated), given that
     the outer branch's stress, in direction d, is above ``floor`` [Pa] at every strain from ``a`` on
     in that direction (:func:`_outer_floor`, :func:`_floor_of`; ``floor`` −inf: nothing known, every
     branch evaluated): where ``g`` lies there and the current branch's stress is at or below the
@@ -230,6 +231,7 @@ def _stress_below(g, q, c, a, floor):
                             q[Q_B + 4], q[Q_B + 5], c)  # (_hm._on_value written out)
         if d * to < d * tau:
             tau, k = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        to = _floor_of(to, q, c)
     if d * g > q[Q_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
         tb = _hm._backbone_value(g, d, s, q[Q_GR], c)
         if d * tau > d * tb:
@@ -238,10 +240,9 @@ def _stress_below(g, q, c, a, floor):
 
 
 def _stress_value(g, q, c, a, floor):
-    """(τ [Pa], τ_o [Pa]): :func:`_stress_below`'s stress and outer branch's stress (nan where not
-    evaluated) alone: the same branches compared, each evaluated by the same operations without its
-    slope (``_hm._on_value``), so the same numbers, for the evaluations whose slope nothing uses (a
-    commit's stress)."""
+    """(τ [Pa], floor [Pa]): :func:`_stress_below`'s stress and floor alone: the same branches
+    compared, each evaluated by the same operations without its slope (``_hm._on_value``), so the
+    same numbers, for the evaluations whose slope nothing uses (a commit's stress)."""
     d = q[Q_D]
     s = q[Q_S]
     if q[Q_N] == 0.0:
@@ -256,6 +257,7 @@ def _stress_value(g, q, c, a, floor):
                             q[Q_B + 4], q[Q_B + 5], c)  # (_hm._on_value written out)
         if d * to < d * tau:
             tau = to
+        to = _floor_of(to, q, c)
     if d * g > q[Q_GM]:
         tb = _hm._backbone_value(g, d, s, q[Q_GR], c)
         if d * tau > d * tb:

@@ -210,9 +210,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     c = _law._constants_row(cst, e)
                     q = _law._prepared_row(prep, e)
                     a_e, f_e = _floor_for(cert, e, q[_law.Q_D], g)
-                    te, ke, to = _law._stress_below(g, q, c, a_e, f_e)  # the stress, its branch's slope
-                    if to == to:  # the outer branch evaluated: a floor from here on
-                        _keep_seen(cert, e, g, to, q, c)
+                    te, ke, fo = _law._stress_below(g, q, c, a_e, f_e)  # the stress, its branch's slope
+                    if fo == fo:  # the outer branch evaluated: a floor from here on
+                        _keep_seen(cert, e, g, fo)
                     res[e] -= te
                     res[e + 1] += te
                     if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
@@ -261,9 +261,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
                 te, r_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, q, a_e, f_e)
             else:
-                te, to = _law._stress_value(g, q, c, a_e, f_e)
-                if to == to:  # the outer branch evaluated at the committed strain: a floor from here on
-                    _keep_seen(cert, e, g, to, q, c)
+                te, fo = _law._stress_value(g, q, c, a_e, f_e)
+                if fo == fo:  # the outer branch evaluated at the committed strain: a floor from here on
+                    _keep_seen(cert, e, g, fo)
                 if _moves_on(g, dirn[e], st, par, e):  # what _law._commit_counted does here, alone
                     st[e, S_G] = g
                     st[e, S_T] = te / s[e]
@@ -394,15 +394,15 @@ def _floor_fresh(cert, e, tc, d, g):
     return d * (g - cert[e, 0]) >= 0.0 and (cert[e, 2] <= 0.0 or tc <= cert[e, 1] - 0.5 * cert[e, 2])
 
 
-def _keep_seen(cert, e, g, to, q, c):
-    """Keep in row ``e`` of ``cert`` (after :func:`_keep_floor`'s columns) the floor that the outer
-    branch's stress ``to`` [Pa], evaluated at the strain ``g`` of a Newton iterate, gives it from ``g``
-    on in direction d (``closures.hysteretic._floor_of``: the branch is monotone there, as from the
-    committed strain): the iterates of the next sub-steps lie near and mostly beyond it, where the
-    committed strain's floor has gone stale. The branch is the one :func:`_keep_floor` keeps (made
-    again, these columns are reset)."""
+def _keep_seen(cert, e, g, f):
+    """Keep in row ``e`` of ``cert`` (after :func:`_keep_floor`'s columns) the floor ``f`` [Pa] that
+    the outer branch's stress evaluated at the strain ``g`` of a Newton iterate or a commit gives it
+    from ``g`` on in direction d (``closures.hysteretic._stress_below``, ``_floor_of``: the branch is
+    monotone there, as from the committed strain): the iterates of the next sub-steps lie near and
+    mostly beyond it, where the committed strain's floor has gone stale. The branch is the one
+    :func:`_keep_floor` keeps (made again, these columns are reset)."""
     cert[e, 3 + _NKEY] = g
-    cert[e, 4 + _NKEY] = _law._floor_of(to, q, c)
+    cert[e, 4 + _NKEY] = f
 
 
 def _floor_for(cert, e, d, g):
