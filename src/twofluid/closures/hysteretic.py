@@ -365,7 +365,9 @@ def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
 def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     """:func:`commit_counted` with the element's constants ``c`` (:func:`_constants`, γ_d as before
     the commit) and the branches' F ``fm`` (:func:`_mrdf` at ``gr``; < 0: not known, computed where
-    needed) given."""
+    needed) given. (The column's kernel writes the strain, τ/τ_max and counted stress itself where
+    nothing else here would change, ``models.hysteretic_kernel._moves_on``: its tests are this
+    function's, kept in step.)"""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:

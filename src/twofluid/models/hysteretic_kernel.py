@@ -32,7 +32,16 @@ round-off (``closures.hysteretic._outer_floor``), is a floor of it for the sub-s
 (:func:`_keep_floor`, ``closures.hysteretic._stress_below``). The branches of each element are
 prepared once per sub-step, and again only for the elements whose direction the check after Newton's
 iterations reversed, inline in the sub-step's loop: a helper function called per element and
-sub-step with the kernel's work arrays cost a reference count of each array per call.
+sub-step with the kernel's work arrays cost a reference count of each array per call. They are
+prepared again only where what they depend on changed (:func:`_prepared_same`: no reversal pushed
+since, the same open points, largest strain, r_g, strength, γ_r and γ_d): in total stress most
+elements move on along the same branches for many sub-steps. A commit's stress, and an outer branch
+until it proves the lower, are evaluated without their slopes (``closures.hysteretic._stress_value``
+and the law's ``*_value`` functions: the same operations, so the same numbers); an outer branch
+evaluated at a Newton iterate or a commit gives a floor from that strain on as well
+(:func:`_keep_seen`, :func:`_floor_for`); a commit that only moves the strain (no damage to count, no
+reversal, no loop that may close, within γ_m: :func:`_moves_on`) writes those three numbers in place;
+and the commit with generation hands back the generated ratio it computed, not computed again.
 
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
