@@ -423,20 +423,19 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
     c = _hb._constants(st, par, e)
     s, gmx = _hb.strength_modulus(ps, par, e)
-    q = _prepare(d, st, par, e, s, s / gmx, c, -1.0)
-    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, q, g, -math.inf)[0]
+    gr = s / gmx
+    q = _prepare(d, st, par, e, s, gr, c, -1.0)
+    tau = _stress_value(g, q, c, g, -math.inf)[0]
+    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, q[Q_FM] if q[Q_N] > 0.0 else -1.0)[0]
 
 
-def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor):
-    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) and its
-    branches prepared at ``ps`` (``qp``: :func:`_prepare` in direction ``d`` with the strength and γ_r of
-    :func:`strength_modulus` at ``ps``) given, and their outer branch's floor (``a``, ``floor``:
-    :func:`_stress_below`). Returns (the committed stress [Pa], the generated ratio of the committed
-    state, :func:`generated_ratio`, where it was computed on the way; nan where not)."""
-    s = qp[Q_S]
-    gr = qp[Q_GR]
-    tau = _stress_value(g, qp, c, a, floor)[0]
-    fm = qp[Q_FM] if qp[Q_N] > 0.0 else -1.0
+def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, fm):
+    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given, and
+    the skeleton stress ``tau`` [Pa] at ``g`` of its branches prepared at ``ps`` (:func:`_prepare` in
+    direction ``d`` with the strength ``s`` [Pa] and γ_r ``gr`` of :func:`strength_modulus` at ``ps``;
+    :func:`_stress_value`) and their F ``fm`` (< 0: none, no open point). Returns (the committed
+    stress [Pa], the generated ratio of the committed state, :func:`generated_ratio`, where it was
+    computed on the way; nan where not)."""
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)

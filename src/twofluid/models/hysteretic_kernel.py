@@ -267,19 +267,19 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             q = _law._prepared_row(prep, e)
             r_gen = math.nan
             a_e, f_e = _floor_for(cert, e, q[_law.Q_D], g)
+            te, fo = _law._stress_value(g, q, c, a_e, f_e)
+            if fo == fo:  # the outer branch evaluated at the committed strain: a floor from here on
+                _keep_seen(cert, e, g, fo)
+            fm_e = q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                te, r_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, q, a_e, f_e)
+                te, r_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, te, q[_law.Q_S],
+                                                    q[_law.Q_GR], fm_e)
+            elif _moves_on(g, dirn[e], st, par, e):  # what _law._commit_counted does here, alone
+                st[e, S_G] = g
+                st[e, S_T] = te / s[e]
+                st[e, S_TAU] = te
             else:
-                te, fo = _law._stress_value(g, q, c, a_e, f_e)
-                if fo == fo:  # the outer branch evaluated at the committed strain: a floor from here on
-                    _keep_seen(cert, e, g, fo)
-                if _moves_on(g, dirn[e], st, par, e):  # what _law._commit_counted does here, alone
-                    st[e, S_G] = g
-                    st[e, S_T] = te / s[e]
-                    st[e, S_TAU] = te
-                else:
-                    _law._commit_counted(g, dirn[e], te, te, st, par, e, s[e], t, gr[e], c,
-                                         q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0)
+                _law._commit_counted(g, dirn[e], te, te, st, par, e, s[e], t, gr[e], c, fm_e)
             cst[e, _law.C_GD] = st[e, S_GD]
             tau_out[e] = te + tv
             if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
