@@ -87,6 +87,9 @@ def test_strength_and_mrdf_factor_kept_over_the_call_are_those_of_every_substep(
     monkeypatch.setattr(hk, "_fixed_strength", nothing_fixed)
     monkeypatch.setattr(hk, "_kept_factor", lambda keep, e, gm, gr, rg: -1.0)  # every F computed afresh
     monkeypatch.setattr(hk, "_keep_floor", lambda q, c, g, t, cert, e: None)  # no floor: every branch evaluated
+    monkeypatch.setattr(hk, "_keep_seen", lambda cert, e, g, f: None)
+    monkeypatch.setattr(hk, "_prepared_same", lambda pkey, e, d, st, s, gr, gd: False)  # every branch prepared afresh
+    monkeypatch.setattr(hk, "_moves_on", lambda g, d, st, par, e: False)  # every commit the law's own
     every = _companion_call(c)
     assert kept.size > 100
     np.testing.assert_array_equal(kept, every)

@@ -162,10 +162,10 @@ from . import hysteretic_dilation as _hz
 from . import hysteretic_memory as _hm
 from . import hysteretic_ratchet as _hr
 # the mechanisms' functions, the law's public API and the kernel's helpers, under one name
-from .hysteretic_backbone import (gqh_ratio, strength_modulus, _constants, _gqh)  # noqa: F401
+from .hysteretic_backbone import (gqh_ratio, strength_modulus, _constants, _gqh, _gqh_w)  # noqa: F401
 from .hysteretic_flow import (flows)  # noqa: F401
-from .hysteretic_dilation import (_dil, _dilation, _env, widen_zone)  # noqa: F401
-from .hysteretic_memory import (_branch, masing_weight, _mrdf, _origin, _on, _reversal_branch, _backbone, _open_count, _open_point,
+from .hysteretic_dilation import (_dil, _dilation, _env, _env_value, widen_zone)  # noqa: F401
+from .hysteretic_memory import (_branch, _branch_value, masing_weight, _mrdf, _origin, _on, _on_value, _reversal_branch, _backbone, _backbone_value, _open_count, _open_point,
     _open_stress, direction, _close_loops)  # noqa: F401
 from .hysteretic_damage import (seed_booker, half_cycle_damage, _count_damage, generated_ratio)  # noqa: F401
 from .hysteretic_layout import *  # noqa: F401,F403  (every index of the state and parameter arrays)
@@ -206,30 +206,63 @@ def _prepare(d, st, par, e, s, gr, c, fm):
 
 
 def _stress_below(g, q, c, a, floor):
-    """(τ [Pa], dτ/dγ [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
-    (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), and the derivative of the
-    branch that sets it, given that the outer branch's stress, in direction d, is above ``floor`` [Pa]
-    at every strain from ``a`` on in that direction (:func:`_outer_floor`; ``floor`` −inf: nothing
-    known, every branch evaluated): where ``g`` lies there and the current branch's stress is at or
-    below the floor, the outer branch cannot be the lower one, and it is not evaluated. The same
-    numbers either way."""
+    """(τ [Pa], dτ/dγ [Pa], floor [Pa]): :func:`skeleton_stress` at ``g`` from the prepared ``q``
+    (:func:`_prepare`) and the constants ``c`` (:func:`_constants`), the derivative of the branch
+    that sets it, and where the outer branch was evaluated the floor its stress there gives it from
+    ``g`` on (:func:`_floor_of`; nan where it was not evaluated), given that
+    the outer branch's stress, in direction d, is above ``floor`` [Pa] at every strain from ``a`` on
+    in that direction (:func:`_outer_floor`, :func:`_floor_of`; ``floor`` −inf: nothing known, every
+    branch evaluated): where ``g`` lies there and the current branch's stress is at or below the
+    floor, the outer branch cannot be the lower one, and it is not evaluated. The same τ and dτ/dγ
+    either way."""
     d = q[Q_D]
     s = q[Q_S]
     if q[Q_N] == 0.0:  # first loading, or a loop closed onto the backbone: the backbone
-        return _hm._backbone(g, d, s, q[Q_GR], c)
+        tau, k = _hm._backbone(g, d, s, q[Q_GR], c)
+        return tau, k, math.nan
     fm = q[Q_FM]
-    tau, k = _hm._on(g, d, q[Q_A], q[Q_A + 1], q[Q_A + 2], q[Q_A + 3], q[Q_A + 4], q[Q_A + 5], s, fm, c)
+    # the current branch: _hm._on written out (one call fewer per evaluation, the same operations)
+    phi, k = _hm._branch((g - q[Q_A]) / q[Q_A + 3], fm, c)
+    tau, k = _hz._env(g, d, q[Q_A + 1] + q[Q_A + 2] * phi, q[Q_A + 2] * k / q[Q_A + 3], s, q[Q_A + 4], q[Q_A + 5], c)
+    to = math.nan
     if q[Q_N] >= 3.0 and not (d * (g - a) >= 0.0 and d * tau <= floor):  # the outer branch the loop closes onto
-        to, ko = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        # (its stress alone first: its slope only where it is the lower, the same stress again)
+        to = _hz._env_value(g, d, q[Q_B + 1] + q[Q_B + 2] * _hm._branch_value((g - q[Q_B]) / q[Q_B + 3], fm, c), s,
+                            q[Q_B + 4], q[Q_B + 5], c)  # (_hm._on_value written out)
+        if d * to < d * tau:
+            tau, k = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)
+        to = _floor_of(to, q, c)
+    if d * g > q[Q_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
+        tb = _hm._backbone_value(g, d, s, q[Q_GR], c)
+        if d * tau > d * tb:
+            tau, k = _hm._backbone(g, d, s, q[Q_GR], c)
+    return tau, k, to
+
+
+def _stress_value(g, q, c, a, floor):
+    """(τ [Pa], floor [Pa]): :func:`_stress_below`'s stress and floor alone: the same branches
+    compared, each evaluated by the same operations without its slope (``_hm._on_value``), so the
+    same numbers, for the evaluations whose slope nothing uses (a commit's stress)."""
+    d = q[Q_D]
+    s = q[Q_S]
+    if q[Q_N] == 0.0:
+        return _hm._backbone_value(g, d, s, q[Q_GR], c), math.nan
+    fm = q[Q_FM]
+    # the current branch: _hm._on_value written out (one call fewer, the same operations)
+    phi = _hm._branch_value((g - q[Q_A]) / q[Q_A + 3], fm, c)
+    tau = _hz._env_value(g, d, q[Q_A + 1] + q[Q_A + 2] * phi, s, q[Q_A + 4], q[Q_A + 5], c)
+    to = math.nan
+    if q[Q_N] >= 3.0 and not (d * (g - a) >= 0.0 and d * tau <= floor):
+        to = _hz._env_value(g, d, q[Q_B + 1] + q[Q_B + 2] * _hm._branch_value((g - q[Q_B]) / q[Q_B + 3], fm, c), s,
+                            q[Q_B + 4], q[Q_B + 5], c)  # (_hm._on_value written out)
         if d * to < d * tau:
             tau = to
-            k = ko
-    if d * g > q[Q_GM]:  # beyond the largest strain so far: not past the backbone (with its dilation)
-        tb, kb = _hm._backbone(g, d, s, q[Q_GR], c)
+        to = _floor_of(to, q, c)
+    if d * g > q[Q_GM]:
+        tb = _hm._backbone_value(g, d, s, q[Q_GR], c)
         if d * tau > d * tb:
             tau = tb
-            k = kb
-    return tau, k
+    return tau, to
 
 
 def _outer_floor(g, q, c):
@@ -245,14 +278,23 @@ def _outer_floor(g, q, c):
     monotone in γ each. So the exact branch at any strain beyond ``g`` is at least the exact branch
     at ``g``, and the computed ones differ from the exact by round-off, far below the margin (the
     largest, where the root of the GQ/H form nears 0, about √ε of its terms)."""
+    if _floor_of(0.0, q, c) == -math.inf:
+        return -math.inf
+    d = q[Q_D]
+    to = _hm._on_value(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], q[Q_S], q[Q_FM], c)
+    return _floor_of(to, q, c)
+
+
+def _floor_of(to, q, c):
+    """The floor [Pa], in direction d, that the outer branch's stress ``to`` [Pa] at a strain gives
+    it at every strain from there on in direction d (:func:`_outer_floor`, whose reasons hold at any
+    strain the branch was evaluated at): d τ_o less ``OUTER_MARGIN`` of the scale of the stresses
+    that make it; −inf where the branch of ``q`` is not known to be monotone."""
     fm = q[Q_FM]
     if q[Q_N] < 3.0 or not (0.0 <= fm <= 1.0) or c[C_TH4] < 0.0 or c[C_TH2] * c[C_TH5] < 0.0 or not c[C_C3] > 0.0:
         return -math.inf
-    d = q[Q_D]
-    s = q[Q_S]
-    to = _hm._on(g, d, q[Q_B], q[Q_B + 1], q[Q_B + 2], q[Q_B + 3], q[Q_B + 4], q[Q_B + 5], s, fm, c)[0]
-    scale = s + abs(q[Q_B + 1]) + 2.0 * q[Q_B + 2] + (2.0 * c[C_TDMAX] if c[C_LIQ] > 0.0 else 0.0)
-    return d * to - OUTER_MARGIN * scale
+    scale = q[Q_S] + abs(q[Q_B + 1]) + 2.0 * q[Q_B + 2] + (2.0 * c[C_TDMAX] if c[C_LIQ] > 0.0 else 0.0)
+    return q[Q_D] * to - OUTER_MARGIN * scale
 
 
 def _store(a, e, x):
@@ -302,7 +344,7 @@ def skeleton_stress(g, d, st, par, e, s, gr):
     [14.7, 13.2, 14.8]
     """
     c = _hb._constants(st, par, e)
-    return _stress_below(g, _prepare(d, st, par, e, s, gr, c, -1.0), c, g, -math.inf)[0]
+    return _stress_value(g, _prepare(d, st, par, e, s, gr, c, -1.0), c, g, -math.inf)[0]
 
 
 def commit(g, d, tau, st, par, e, s, t, gr):
@@ -323,7 +365,9 @@ def commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr):
 def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     """:func:`commit_counted` with the element's constants ``c`` (:func:`_constants`, γ_d as before
     the commit) and the branches' F ``fm`` (:func:`_mrdf` at ``gr``; < 0: not known, computed where
-    needed) given."""
+    needed) given. (The column's kernel writes the strain, τ/τ_max and counted stress itself where
+    nothing else here would change, ``models.hysteretic_kernel._moves_on``: its tests are this
+    function's, kept in step.)"""
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
@@ -379,29 +423,30 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     of the element's stress this sub-step, counted with the skeleton's (:func:`commit_counted`)."""
     c = _hb._constants(st, par, e)
     s, gmx = _hb.strength_modulus(ps, par, e)
-    q = _prepare(d, st, par, e, s, s / gmx, c, -1.0)
-    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, q, g, -math.inf)
+    gr = s / gmx
+    q = _prepare(d, st, par, e, s, gr, c, -1.0)
+    tau = _stress_value(g, q, c, g, -math.inf)[0]
+    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, q[Q_FM] if q[Q_N] > 0.0 else -1.0)[0]
 
 
-def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor):
-    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) and its
-    branches prepared at ``ps`` (``qp``: :func:`_prepare` in direction ``d`` with the strength and γ_r of
-    :func:`strength_modulus` at ``ps``) given, and their outer branch's floor (``a``, ``floor``:
-    :func:`_stress_below`)."""
-    s = qp[Q_S]
-    gr = qp[Q_GR]
-    tau = _stress_below(g, qp, c, a, floor)[0]
-    fm = qp[Q_FM] if qp[Q_N] > 0.0 else -1.0
+def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, fm):
+    """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given, and
+    the skeleton stress ``tau`` [Pa] at ``g`` of its branches prepared at ``ps`` (:func:`_prepare` in
+    direction ``d`` with the strength ``s`` [Pa] and γ_r ``gr`` of :func:`strength_modulus` at ``ps``;
+    :func:`_stress_value`) and their F ``fm`` (< 0: none, no open point). Returns (the committed
+    stress [Pa], the generated ratio of the committed state, :func:`generated_ratio`, where it was
+    computed on the way; nan where not)."""
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
-        return tau
+        return tau, math.nan
     for k in range(NSTATE):
         save[k] = st[e, k]
     _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
-    q1 = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old)
+    r = _hd.generated_ratio(st, par, e)
+    q1 = (1.0 - r) / (1.0 - r_old)
     if q1 >= 1.0 - 1e-12 or s <= par[e, P_SR] * (1.0 + 1e-12):
-        return tau  # no generation, or the strength already at its floor: the explicit count holds
+        return tau, r  # no generation, or the strength already at its floor: the explicit count holds
     # φ(q) = q′(q) − q: φ(1) = q1 − 1 < 0, φ(q1) ≥ 0 (a lower strength, a lower stress, less damage)
     lo, hi = q1, 1.0
     f_hi = q1 - 1.0
@@ -420,16 +465,17 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor)
         s, gmx = _hb.strength_modulus(ps * q, par, e)
         gr = s / gmx
         qq = _prepare(d, st, par, e, s, gr, c, -1.0)
-        tau = _stress_below(g, qq, c, g, -math.inf)[0]
+        tau = _stress_value(g, qq, c, g, -math.inf)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
-        f = (1.0 - _hd.generated_ratio(st, par, e)) / (1.0 - r_old) - q
+        r = _hd.generated_ratio(st, par, e)
+        f = (1.0 - r) / (1.0 - r_old) - q
         if it == 0:
             if f <= 0.0:
-                return tau  # not bracketed (a turning point of the count): the explicit factor
+                return tau, r  # not bracketed (a turning point of the count): the explicit factor
             f_lo = f
             continue
         if abs(f) <= 1e-15 * q or hi - lo <= 1e-15 * hi:  # to round-off: the root, not the path to it
-            return tau
+            return tau, r
         if f > 0.0:
             lo, f_lo = q, f
             if side == 1:
@@ -440,7 +486,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, qp, a, floor)
             if side == -1:
                 f_lo *= 0.5
             side = -1
-    return tau
+    return tau, r
 
 
 def new_state(n_elements: int, par=None) -> np.ndarray:

@@ -49,3 +49,13 @@ def _gqh(x, c):
     if x <= 0.0:
         return 0.0, 1.0
     return _bb.gqh_core_slope_c(x, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5])
+
+
+def _gqh_w(x, w, c):
+    """:func:`gqh_ratio` alone at x > 0 from w = θ4 x^θ5 given, with the constants ``c``: the first of
+    :func:`twofluid.closures.backbones.gqh_slope_w`'s two values, the same operations in the same
+    order (so the same number, to the bit), without the slope's three divisions, for the evaluations
+    whose slope nothing uses (:func:`twofluid.closures.hysteretic._stress_value`)."""
+    th = c[C_TH1] + c[C_TH2] * w / (c[C_C3] + w)
+    r = ((1.0 + x) * (1.0 + x) - 4.0 * th * x) ** 0.5
+    return 2.0 * x / (1.0 + x + r)

@@ -76,6 +76,33 @@ def _env(g, d, tau, k, s, ex0, td0, c):
     return tau, k
 
 
+def _env_value(g, d, tau, s, ex0, td0, c):
+    """:func:`_env`'s stress alone [Pa] (the same operations on ``tau``, so the same number)."""
+    upper = s
+    lower = -s
+    ex = g - c[C_GC]
+    td = _dil(ex, c)[0]
+    if td > 0.0:
+        gain = td
+        if ex0 * ex > 0.0:
+            gain = td - td0
+        if ex > 0.0:
+            if td > upper:
+                upper = td
+            if d > 0.0 and gain > 0.0:
+                tau += gain
+        else:
+            if -td < lower:
+                lower = -td
+            if d < 0.0 and gain > 0.0:
+                tau -= gain
+    if tau > upper:
+        tau = upper
+    if tau < lower:
+        tau = lower
+    return tau
+
+
 def widen_zone(g_old, g, st, par, e):
     """Widen the zone without dilation of a liquefied element ``e`` by the strain travelled inside it
     from ``g_old`` to ``g``: d(γ_d²) = Δγ_d |dγ| for |γ − γ_c| < γ_d, up to γ_lim (module docstring

@@ -35,6 +35,24 @@ def _branch(y, fm, c):
     return (phi if y >= 0.0 else -phi), k
 
 
+def _branch_value(y, fm, c):
+    """:func:`_branch`'s Φ(y) alone (the same operations, so the same number, without the slope's)."""
+    x = abs(y)
+    if fm == 0.0:
+        phi = 0.0 if x <= 0.0 else _hb._gqh_w(x, c[C_TH4] * x ** c[C_TH5], c)
+    elif fm == 1.0:
+        h = 0.5 * x
+        phi = 2.0 * (0.0 if h <= 0.0 else _hb._gqh_w(h, c[C_TH4] * h ** c[C_TH5], c))
+    elif x > 0.0:
+        w = c[C_TH4] * x ** c[C_TH5]
+        f1 = _hb._gqh_w(x, w, c)
+        f2 = _hb._gqh_w(0.5 * x, w * c[C_H5], c)
+        phi = fm * (2.0 * f2 - f1) + f1
+    else:
+        phi = 0.0
+    return phi if y >= 0.0 else -phi
+
+
 def masing_weight(st, par, e):
     """Weight w ∈ [0, 1] of Masing's rule in the unloading–reloading factor of element ``e``: 0 up to
     a generated ratio r_g = ``R_MASING``, then S((r_g − R_MASING)/(r_cap − R_MASING)), S(x) = x²(3 − 2x),
@@ -65,7 +83,7 @@ def _mrdf(st, par, e, gr, c):
         xm = st[e, S_GM] / gr
         red = 1.0
         if xm > 0.0:
-            red = _hb._gqh(xm, c)[0] / xm
+            red = _hb._gqh_w(xm, c[C_TH4] * xm ** c[C_TH5], c) / xm  # (the backbone's ratio alone)
         f = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
     if par[e, P_LIQ] > 0.0:
         w = masing_weight(st, par, e)
@@ -93,11 +111,16 @@ def _on(g, d, g0, ts0, sk, kg, ex0, td0, s, fm, c):
     return _hz._env(g, d, ts0 + sk * phi, sk * k / kg, s, ex0, td0, c)
 
 
+def _on_value(g, d, g0, ts0, sk, kg, ex0, td0, s, fm, c):
+    """:func:`_on`'s stress alone [Pa] (the same operations, so the same number)."""
+    return _hz._env_value(g, d, ts0 + sk * _branch_value((g - g0) / kg, fm, c), s, ex0, td0, c)
+
+
 def _reversal_branch(g, d, g0, t0, s, gr, fm, c):
     """Stress [Pa] at ``g`` of the branch from the reversal (``g0``, ``t0`` τ/τ_max) in direction
     ``d`` within the strength envelope, with the dilation gained since ``g0``."""
     o = _origin(g0, t0, d, s, gr, fm, c)
-    return _on(g, d, o[0], o[1], o[2], o[3], o[4], o[5], s, fm, c)[0]
+    return _on_value(g, d, o[0], o[1], o[2], o[3], o[4], o[5], s, fm, c)
 
 
 def _backbone(g, d, s, gr, c):
@@ -105,6 +128,11 @@ def _backbone(g, d, s, gr, c):
     gained since the centre of the cycles γ_c (the cap beyond the largest strain so far)."""
     phi, k = _branch(g / gr, 0.0, c)
     return _hz._env(g, d, s * phi, s * k / gr, s, 0.0, 0.0, c)
+
+
+def _backbone_value(g, d, s, gr, c):
+    """:func:`_backbone`'s stress alone [Pa] (the same operations, so the same number)."""
+    return _hz._env_value(g, d, s * _branch_value(g / gr, 0.0, c), s, 0.0, 0.0, c)
 
 
 def _open_count(d, st, e):
@@ -182,7 +210,7 @@ def _close_loops(g, d, st, par, e, s, gr, c, fm):
             break
         n -= 2
     if d * g > st[e, S_GM]:
-        tb = _backbone(g, d, s, gr, c)[0]
+        tb = _backbone_value(g, d, s, gr, c)
         if d * tb <= d * _open_stress(g, d, n, False, st, e, s, gr, fm, c):
             n = 0
     st[e, S_NSTK] = n

@@ -32,7 +32,16 @@ round-off (``closures.hysteretic._outer_floor``), is a floor of it for the sub-s
 (:func:`_keep_floor`, ``closures.hysteretic._stress_below``). The branches of each element are
 prepared once per sub-step, and again only for the elements whose direction the check after Newton's
 iterations reversed, inline in the sub-step's loop: a helper function called per element and
-sub-step with the kernel's work arrays cost a reference count of each array per call.
+sub-step with the kernel's work arrays cost a reference count of each array per call. They are
+prepared again only where what they depend on changed (:func:`_prepared_same`: no reversal pushed
+since, the same open points, largest strain, r_g, strength, γ_r and γ_d): in total stress most
+elements move on along the same branches for many sub-steps. A commit's stress, and an outer branch
+until it proves the lower, are evaluated without their slopes (``closures.hysteretic._stress_value``
+and the law's ``*_value`` functions: the same operations, so the same numbers); an outer branch
+evaluated at a Newton iterate or a commit gives a floor from that strain on as well
+(:func:`_keep_seen`, :func:`_floor_for`); a commit that only moves the strain (no damage to count, no
+reversal, no loop that may close, within γ_m: :func:`_moves_on`) writes those three numbers in place;
+and the commit with generation hands back the generated ratio it computed, not computed again.
 
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
@@ -51,12 +60,13 @@ import numpy as np
 from ..closures import hysteretic as _law
 from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm, hysteretic_ratchet as _hr
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_G, S_GC, S_GD, S_GM, S_RG, S_T
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_G, S_GC, S_GD, S_GM, S_LIQ, S_NREV, S_NSTK, S_RG, S_STK, S_T, S_TAU
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
 _MAX_EXPONENT = 700.0
 _NKEY = 10  # what an outer branch's floor depends on (_keep_floor)
+_NPKEY = 8  # what an element's prepared branches depend on (_prepared_key)
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
@@ -103,15 +113,19 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     redo = np.zeros(ne, dtype=np.int64)  # 1: the element's branches to prepare before the next Newton sweep
     cst = np.empty((ne, _law.NCONST))  # each element's constants and its prepared branches for the
     prep = np.empty((ne, _law.NPREP))  # sub-step's Newton iterations (closures.hysteretic._prepare)
-    cert = np.empty((ne, 3 + _NKEY))  # each element's outer-branch floor (_keep_floor)
+    cert = np.empty((ne, 5 + _NKEY))  # each element's outer-branch floors (_keep_floor, _keep_seen)
+    pkey = np.empty((ne, _NPKEY))  # what each element's prepared branches were made from (_prepared_same)
     c0 = 1.0 / (nm_beta * dt * dt)
     cc1 = nm_gamma / (nm_beta * dt)
     ca = 0.5 / nm_beta - 1.0
     for e in range(ne):  # the law's constants of each element (γ_d refreshed at each commit)
         _law._store(cst, e, _hb._constants(st, par, e))
         keep[e, 0] = math.nan
+        pkey[e, 0] = math.nan
         cert[e, 1] = -math.inf
         cert[e, 3] = math.nan
+        cert[e, 3 + _NKEY] = math.nan
+        cert[e, 4 + _NKEY] = -math.inf
     # an element whose P_s cannot change over the call (above the water table, or neither drained
     # nor generating) has the same strength, G_max and viscosity at every sub-step: computed at the
     # first only, the same numbers; with every element so, the damping bands too
@@ -173,17 +187,22 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 if redo[e] == 0:
                     continue
                 redo[e] = 0
-                fm = _kept_factor(keep, e, st[e, S_GM], gr[e], st[e, S_RG])
                 c = _law._constants_row(cst, e)
-                q = _law._prepare(dirn[e], st, par, e, s[e], gr[e], c, fm)
-                _law._store(prep, e, q)
+                same = _prepared_same(pkey, e, dirn[e], st, s[e], gr[e], c[_law.C_GD])
+                if same:
+                    q = _law._prepared_row(prep, e)  # the same as _prepare would give
+                else:
+                    fm = _kept_factor(keep, e, st[e, S_GM], gr[e], st[e, S_RG])
+                    q = _law._prepare(dirn[e], st, par, e, s[e], gr[e], c, fm)
+                    _law._store(prep, e, q)
+                    _prepared_key(pkey, e, dirn[e], st, s[e], gr[e], c[_law.C_GD])
                 if q[_law.Q_N] > 0.0:
                     keep[e, 0] = st[e, S_GM]
                     keep[e, 1] = gr[e]
                     keep[e, 2] = st[e, S_RG]
                     keep[e, 3] = q[_law.Q_FM]
-                if q[_law.Q_N] >= 3.0:
-                    _keep_floor(q, c, st[e, S_G], st[e, S_T], cert, e)
+                if q[_law.Q_N] >= 3.0 and not (same and _floor_fresh(cert, e, dirn[e] * st[e, S_T] * s[e], dirn[e], st[e, S_G])):
+                    _keep_floor(q, c, st[e, S_G], st[e, S_T], cert, e)  # (the same branch's floor, fresh: kept as it is)
             if sweep == 4 or (sweep > 0 and changed == 0):
                 break
             converged = False
@@ -199,7 +218,10 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                     g = (un[e + 1] - un[e]) / h[e]
                     c = _law._constants_row(cst, e)
                     q = _law._prepared_row(prep, e)
-                    te, ke = _law._stress_below(g, q, c, cert[e, 0], cert[e, 1])  # the stress, its branch's slope
+                    a_e, f_e = _floor_for(cert, e, q[_law.Q_D], g)
+                    te, ke, fo = _law._stress_below(g, q, c, a_e, f_e)  # the stress, its branch's slope
+                    if fo == fo:  # the outer branch evaluated: a floor from here on
+                        _keep_seen(cert, e, g, fo)
                     res[e] -= te
                     res[e + 1] += te
                     if it >= 4 and abs(g - g_prev[e]) > 1e-12 * gr[e]:
@@ -243,19 +265,28 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             tv = visc[e] * ((vel[e + 1] - vel[e]) / h[e])  # the rate part of the stress (η + a1 G_max) γ̇
             c = _law._constants_row(cst, e)
             q = _law._prepared_row(prep, e)
+            r_gen = math.nan
+            a_e, f_e = _floor_for(cert, e, q[_law.Q_D], g)
+            te, fo = _law._stress_value(g, q, c, a_e, f_e)
+            if fo == fo:  # the outer branch evaluated at the committed strain: a floor from here on
+                _keep_seen(cert, e, g, fo)
+            fm_e = q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                te = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, q, cert[e, 0], cert[e, 1])
+                te, r_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, te, q[_law.Q_S],
+                                                    q[_law.Q_GR], fm_e)
+            elif _moves_on(g, dirn[e], st, par, e):  # what _law._commit_counted does here, alone
+                st[e, S_G] = g
+                st[e, S_T] = te / s[e]
+                st[e, S_TAU] = te
             else:
-                te = _law._stress_below(g, q, c, cert[e, 0], cert[e, 1])[0]
-                _law._commit_counted(g, dirn[e], te, te, st, par, e, s[e], t, gr[e], c,
-                                     q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0)
+                _law._commit_counted(g, dirn[e], te, te, st, par, e, s[e], t, gr[e], c, fm_e)
             cst[e, _law.C_GD] = st[e, S_GD]
             tau_out[e] = te + tv
             if virgin:  # not moved yet: no direction, so the first motion sets it (either sign alike)
                 st[e, S_DIR] = 0.0
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
-                r_new = _hd.generated_ratio(st, par, e)
+                r_new = r_gen if r_gen == r_gen else _hd.generated_ratio(st, par, e)  # (the commit's, where it made it)
                 if r_new > r_old:
                     nb_old = nb[e]
                     nb[e] = nb_old + A[e] * (1.0 - nn[e]) * math.log((1.0 - r_new) / (1.0 - r_old))
@@ -295,6 +326,33 @@ def _kept_factor(keep, e, gm, gr, rg):
     return -1.0
 
 
+def _prepared_key(pkey, e, d, st, s, gr, gd):
+    """Keep in row ``e`` of ``pkey`` what element ``e``'s branches were just prepared from (direction
+    ``d``, its committed state, strength ``s``, γ_r ``gr``, γ_d ``gd``) for :func:`_prepared_same`;
+    nan (never the same) where the element reverses (``d`` other than its last direction: the committed
+    point is then an open point of its own)."""
+    pkey[e, 0] = d if st[e, S_DIR] == d else math.nan
+    pkey[e, 1] = st[e, S_NSTK]
+    pkey[e, 2] = st[e, S_NREV]
+    pkey[e, 3] = st[e, S_GM]
+    pkey[e, 4] = st[e, S_RG]
+    pkey[e, 5] = s
+    pkey[e, 6] = gr
+    pkey[e, 7] = gd
+
+
+def _prepared_same(pkey, e, d, st, s, gr, gd):
+    """Whether element ``e``'s prepared branches (its row of the kernel's ``prep``) are what
+    ``closures.hysteretic._prepare`` would make now, in direction ``d`` with strength ``s``, γ_r ``gr``
+    and γ_d ``gd``: made in the same direction as the element kept moving in (no reversal then or
+    now), with the same open points (their count, and no reversal pushed since: the reversal count is
+    the same), the same largest strain and generated ratio (the MRDF factor), strength, γ_r and γ_d
+    (the branches' origins and dilation). What else ``_prepare`` reads is fixed over the call."""
+    return (pkey[e, 0] == d and st[e, S_DIR] == d and pkey[e, 1] == st[e, S_NSTK] and pkey[e, 2] == st[e, S_NREV]
+            and pkey[e, 3] == st[e, S_GM] and pkey[e, 4] == st[e, S_RG] and pkey[e, 5] == s and pkey[e, 6] == gr
+            and pkey[e, 7] == gd)
+
+
 def _keep_floor(q, c, g, t, cert, e):
     """Keep in row ``e`` of ``cert`` the floor of the outer branch of the prepared ``q`` (three or
     more open points; ``closures.hysteretic._outer_floor``: the strain it holds from, the floor, the
@@ -310,8 +368,11 @@ def _keep_floor(q, c, g, t, cert, e):
     for k in range(6):
         if cert[e, 7 + k] != q[_law.Q_B + k]:
             same = False
-    if same and d * (g - cert[e, 0]) >= 0.0 and (cert[e, 2] <= 0.0 or tc <= cert[e, 1] - 0.5 * cert[e, 2]):
+    if same and _floor_fresh(cert, e, tc, d, g):
         return
+    if not same:  # another branch: the floor _keep_seen kept was its own
+        cert[e, 3 + _NKEY] = math.nan
+        cert[e, 4 + _NKEY] = -math.inf
     f = _law._outer_floor(g, q, c)
     cert[e, 0] = g
     cert[e, 1] = f
@@ -322,6 +383,46 @@ def _keep_floor(q, c, g, t, cert, e):
     cert[e, 6] = c[_law.C_GD]
     for k in range(6):
         cert[e, 7 + k] = q[_law.Q_B + k]
+
+
+def _moves_on(g, d, st, par, e):
+    """Whether committing element ``e`` at ``g`` in direction ``d`` (``closures.hysteretic._commit_counted``)
+    changes only its strain, τ/τ_max and counted stress: no damage to count (it generates no pore
+    pressure), no reversal (``d`` its last direction), no loop that may close (fewer than three open
+    points, or ``g`` short of the innermost one's target) and within γ_m (no backbone to reach, γ_m
+    the same), no zone to widen (not liquefied). The tests of ``_commit_counted``, kept in step with it."""
+    n = st[e, S_NSTK]
+    return (d == st[e, S_DIR] and not par[e, P_LIQ] > 0.0 and st[e, S_LIQ] == 0.0 and abs(g) <= st[e, S_GM]
+            and (n < 3.0 or d * (g - st[e, S_STK + 2 * (int(n) - 2)]) < 0.0))
+
+
+def _floor_fresh(cert, e, tc, d, g):
+    """Whether the floor kept in row ``e`` of ``cert`` (:func:`_keep_floor`) holds at the committed
+    strain ``g`` (direction ``d``) and the committed stress ``tc`` (in direction d) has used less than
+    half the room it left: then it is kept as it is."""
+    return d * (g - cert[e, 0]) >= 0.0 and (cert[e, 2] <= 0.0 or tc <= cert[e, 1] - 0.5 * cert[e, 2])
+
+
+def _keep_seen(cert, e, g, f):
+    """Keep in row ``e`` of ``cert`` (after :func:`_keep_floor`'s columns) the floor ``f`` [Pa] that
+    the outer branch's stress evaluated at the strain ``g`` of a Newton iterate or a commit gives it
+    from ``g`` on in direction d (``closures.hysteretic._stress_below``, ``_floor_of``: the branch is
+    monotone there, as from the committed strain): the iterates of the next sub-steps lie near and
+    mostly beyond it, where the committed strain's floor has gone stale. The branch is the one
+    :func:`_keep_floor` keeps (made again, these columns are reset)."""
+    cert[e, 3 + _NKEY] = g
+    cert[e, 4 + _NKEY] = f
+
+
+def _floor_for(cert, e, d, g):
+    """(a, floor) for ``closures.hysteretic._stress_below`` at strain ``g`` in direction ``d``: of the
+    two floors kept in row ``e`` of ``cert`` (the committed strain's, :func:`_keep_floor`, and the last
+    evaluated one's, :func:`_keep_seen`), the higher of those that hold at ``g``."""
+    a1 = cert[e, 3 + _NKEY]
+    f1 = cert[e, 4 + _NKEY]
+    if d * (g - a1) >= 0.0 and (f1 > cert[e, 1] or not d * (g - cert[e, 0]) >= 0.0):
+        return a1, f1
+    return cert[e, 0], cert[e, 1]
 
 
 def _body_force(m1, body, first, res, h, ns, rho_b):
@@ -412,11 +513,11 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _keep_floor, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
-                          _law._constants, _law._gqh, _law._dil, _law._env, _law.masing_weight,
-                          _law._branch, _law._mrdf, _law._origin, _law._on, _law._reversal_branch, _law._backbone,
+_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_key, _prepared_same, _keep_floor, _floor_fresh, _keep_seen, _floor_for, _moves_on, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+                          _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight,
+                          _law._branch, _law._branch_value, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
-                          _law._stress_below, _law._outer_floor, _law._store, _law._constants_row, _law._prepared_row,
+                          _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
