@@ -13,7 +13,7 @@ import pytest
 from twofluid.casefile.loader import load_case
 from twofluid.models import column_step_kernel
 from twofluid.runners.liquefaction import build_column
-from twofluid.timestepping import backward_euler as be
+from twofluid.timestepping import backward_euler as be, newton
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +33,7 @@ def _steps(col, s, dt, settings, how, monkeypatch):
     """Each step (size, iterations, V, W, P, n, n̄) from ``s`` over ``dt`` [s] of a copy of the column's
     vertical model; and the stepper's tries and failed tries."""
     model = copy.deepcopy(col.v, memo={id(s.vertical): s.vertical})  # (its caches know the state)
-    model._fast_release()  # (the Newton test's record of the run so far, for both: not copied with the model)
+    newton.release_kernel_samples(model)  # (the Newton test's record of the run so far, for both: not copied with the model)
     counts = {"python": 0, "failed": 0}
     real = be._step
 

@@ -10,7 +10,6 @@ it keeps it, so the two paths can take turns.
 """
 from __future__ import annotations
 
-from collections import deque
 from contextlib import nullcontext
 
 import numpy as np
@@ -74,41 +73,13 @@ def _static(model):
     return static
 
 
-def _run(model):
-    """The Newton test's samples as the kernel keeps them (count, steps; index and constant of each),
-    taken from the stepper's record of this model's run where the Python path made the last step."""
-    run = model.__dict__.get("_fs_samples")
-    rec = _newton._RUNS.get(model)
-    if run is None or rec is not run[4]:  # (the stepper made steps of this model since)
-        samples = list(rec.samples) if rec is not None else []
-        cap = len(samples) + _newton.WINDOW + 8
-        idx, c = np.zeros(cap, dtype=np.int64), np.zeros(cap)
-        for j, (i, x) in enumerate(samples):
-            idx[j], c[j] = i, x
-        meta = np.array([len(samples), rec.steps if rec is not None else 0], dtype=np.int64)
-        run = model._fs_samples = [idx, c, meta, rec.last if rec is not None else None, rec]
-    return run
-
-
-def _release(model) -> None:
-    """Hand the Newton test's samples back to the stepper's record (before its Python path runs)."""
-    run = model.__dict__.get("_fs_samples")
-    if run is not None:
-        idx, c, meta, last, _ = run
-        rec = _newton._Run()
-        rec.samples = deque((int(idx[j]), float(c[j])) for j in range(int(meta[0])))
-        rec.steps, rec.last = int(meta[1]), last
-        _newton._RUNS[model] = rec
-        model._fs_samples = None
-
-
 def step(model, old: State, dt: float, settings) -> tuple | None:
     """One step of ``dt`` [s] from ``old`` as the stepper's first try at it makes it, in one compiled
     call: (the new state, its iterations, whether a prediction accepted it), or None where the call
     cannot make it (the stepper then makes the step)."""
     static = _static(model) if type(old) is State else None
     if static is None:
-        _release(model)
+        _newton.release_kernel_samples(model)
         return None
     ker = static[0]
     ex = model._extrap
@@ -118,7 +89,7 @@ def step(model, old: State, dt: float, settings) -> tuple | None:
         order, ex_t, ex_h = 0, 0.0, -1.0
     else:
         (DV, DW, Dn), order, ex_t, ex_h = ex.D, ex.order, ex.t, (-1.0 if ex.h is None else ex.h)
-    idx, c, meta, last, _ = _run(model)
+    idx, c, meta, last, _ = _newton.kernel_samples(model)
     if idx.size < meta[0] + 2:  # room for this step's sample
         idx.resize(idx.size + 64, refcheck=False)
         c.resize(c.size + 64, refcheck=False)
@@ -145,7 +116,7 @@ def step(model, old: State, dt: float, settings) -> tuple | None:
     except (ZeroDivisionError, TypeError):  # a diverging iterate; an array not as the call takes it
         code = -1
     if code != full_step_kernel.OK:
-        _release(model)
+        _newton.release_kernel_samples(model)
         return None
     new = State(t_new, a[:nv], a[nv:2 * nv], a[2 * nv:2 * nv + ne], a[2 * nv + ne:], old.n_bar.copy())
     rows = int(info[2])
@@ -155,5 +126,5 @@ def step(model, old: State, dt: float, settings) -> tuple | None:
     ex.t, ex.state = t_new, new
     model._below = bel != 0.0
     if newton:
-        model._fs_samples[3] = new
+        model._kernel_samples[3] = new
     return new, int(info[0]), bool(info[1])

@@ -20,7 +20,6 @@ stepper's Python path, which takes any step the call cannot make at its first tr
 """
 from __future__ import annotations
 
-from collections import deque
 from contextlib import nullcontext
 
 import numpy as np
@@ -124,32 +123,6 @@ class ReducedVerticalColumn(Reduced1D):
         self._fast = (laws, self.clo, static)
         return static
 
-    def _fast_run(self):
-        """The Newton test's samples as the kernel keeps them (count, steps; index and constant of each),
-        taken from the stepper's record of this model's run where the Python path made the last step."""
-        run = self.__dict__.get("_fast_samples")
-        rec = _newton._RUNS.get(self)
-        if run is None or rec is not run[4]:  # (the stepper made steps of this model since)
-            samples = list(rec.samples) if rec is not None else []
-            cap = len(samples) + _newton.WINDOW + 8
-            idx, c = np.zeros(cap, dtype=np.int64), np.zeros(cap)
-            for j, (i, x) in enumerate(samples):
-                idx[j], c[j] = i, x
-            meta = np.array([len(samples), rec.steps if rec is not None else 0], dtype=np.int64)
-            run = self._fast_samples = [idx, c, meta, rec.last if rec is not None else None, rec]
-        return run
-
-    def _fast_release(self) -> None:
-        """Hand the Newton test's samples back to the stepper's record (before its Python path runs)."""
-        run = self.__dict__.get("_fast_samples")
-        if run is not None:
-            idx, c, meta, last, _ = run
-            rec = _newton._Run()
-            rec.samples = deque((int(idx[j]), float(c[j])) for j in range(int(meta[0])))
-            rec.steps, rec.last = int(meta[1]), last
-            _newton._RUNS[self] = rec
-            self._fast_samples = None
-
     def fast_step(self, old: State, dt: float, settings) -> tuple | None:
         """One step of ``dt`` [s] from ``old`` as the stepper's first try at it makes it
         (:func:`~twofluid.timestepping.backward_euler.integrate` to ``old.t + dt``), in one compiled call
@@ -178,7 +151,7 @@ class ReducedVerticalColumn(Reduced1D):
         not cover the step (the stepper's then)."""
         static = self._fast_static(old) if type(old) is State and self.fast_steps else None
         if static is None or not (old.n_bar.flags.c_contiguous and old.n.flags.c_contiguous):
-            self._fast_release()
+            _newton.release_kernel_samples(self)
             return None
         ker = static[0]
         ex = self._extrap
@@ -189,9 +162,9 @@ class ReducedVerticalColumn(Reduced1D):
         else:
             (DW, Dn), order, ex_t, ex_h = ex.D, ex.order, ex.t, (-1.0 if ex.h is None else ex.h)
             if not (DW.flags.c_contiguous and Dn.flags.c_contiguous):
-                self._fast_release()
+                _newton.release_kernel_samples(self)
                 return None
-        idx, c, meta, last, _ = self._fast_run()
+        idx, c, meta, last, _ = _newton.kernel_samples(self)
         if idx.size < meta[0] + 2:  # room for this step's sample
             idx.resize(idx.size + 64, refcheck=False)
             c.resize(c.size + 64, refcheck=False)
@@ -212,7 +185,7 @@ class ReducedVerticalColumn(Reduced1D):
         """After the call of :meth:`fast_call`'s arguments returned ``code``: (the new state, its iterations)
         where it made the step, else None (the Newton test's samples handed back to the stepper)."""
         if code != column_step_kernel.OK:
-            self._fast_release()
+            _newton.release_kernel_samples(self)
             return None
         old, t_new, a, P, info, DWo, Dno, cont, newton = ctx
         ex = self._extrap
@@ -225,5 +198,5 @@ class ReducedVerticalColumn(Reduced1D):
             ex.D, ex.order = [DWo[:rows], Dno[:rows]], rows
         ex.t, ex.state = t_new, new
         if newton:
-            self._fast_samples[3] = new
+            self._kernel_samples[3] = new
         return new, its

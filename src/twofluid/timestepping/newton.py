@@ -79,6 +79,36 @@ class _Run:
                                                and _same(s.V, old.V)))
 
 
+def kernel_samples(model) -> list:
+    """The test's samples of ``model``'s run as a compiled step keeps them: [indices (int64), constants,
+    [count, accepted steps] (int64), the last accepted state, the record they were taken from] (arrays
+    with room for a window more), taken from the stepper's record where its Python path made the last
+    step, kept on the model (``_kernel_samples``) while the compiled calls make the steps."""
+    run = model.__dict__.get("_kernel_samples")
+    rec = _RUNS.get(model)
+    if run is None or rec is not run[4]:  # (the stepper made steps of this model since)
+        samples = list(rec.samples) if rec is not None else []
+        cap = len(samples) + WINDOW + 8
+        idx, c = np.zeros(cap, dtype=np.int64), np.zeros(cap)
+        for j, (i, x) in enumerate(samples):
+            idx[j], c[j] = i, x
+        meta = np.array([len(samples), rec.steps if rec is not None else 0], dtype=np.int64)
+        run = model._kernel_samples = [idx, c, meta, rec.last if rec is not None else None, rec]
+    return run
+
+
+def release_kernel_samples(model) -> None:
+    """Hand :func:`kernel_samples` of ``model`` back to the stepper's record (before its Python path runs)."""
+    run = model.__dict__.get("_kernel_samples")
+    if run is not None:
+        idx, c, meta, last, _ = run
+        rec = _Run()
+        rec.samples = deque((int(idx[j]), float(c[j])) for j in range(int(meta[0])))
+        rec.steps, rec.last = int(meta[1]), last
+        _RUNS[model] = rec
+        model._kernel_samples = None
+
+
 def _same(a: np.ndarray, b: np.ndarray) -> bool:
     """np.array_equal of two arrays (a third of its time: this runs three times a step)."""
     return a is b or (a.shape == b.shape and bool((a == b).all()))
