@@ -194,7 +194,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 else:
                     fm = _kept_factor(keep, e, st[e, S_GM], gr[e], st[e, S_RG])
                     q = _law._prepare(dirn[e], st, par, e, s[e], gr[e], c, fm)
-                    _law._store(prep, e, q)
+                    _law._store_prepared(prep, e, q)
                     _prepared_key(pkey, e, dirn[e], st, s[e], gr[e], c[_law.C_GD])
                 if q[_law.Q_N] > 0.0:
                     keep[e, 0] = st[e, S_GM]
@@ -517,7 +517,7 @@ _HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_
                           _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight,
                           _law._branch, _law._branch_value, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
-                          _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._constants_row, _law._prepared_row,
+                          _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._store_prepared, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
