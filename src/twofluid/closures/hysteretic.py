@@ -298,9 +298,34 @@ def _floor_of(to, q, c):
 
 
 def _store(a, e, x):
-    """Row ``e`` of the work array ``a`` ← the tuple ``x`` (the kernel's per-element ``c``, ``q``)."""
+    """Row ``e`` of the work array ``a`` ← the tuple ``x`` (the kernel's per-element ``c``, once per call)."""
     for k in range(len(x)):
         a[e, k] = x[k]
+
+
+def _store_prepared(a, e, x):
+    """Row ``e`` of the work array ``a`` ← the prepared tuple ``x`` (:func:`_prepare`), written out:
+    compiled, :func:`_store`'s loop indexes the tuple at a run-time index, a jump over its 19 cases
+    per value, and the kernel stores a prepared tuple per element and sub-step."""
+    a[e, 0] = x[0]
+    a[e, 1] = x[1]
+    a[e, 2] = x[2]
+    a[e, 3] = x[3]
+    a[e, 4] = x[4]
+    a[e, 5] = x[5]
+    a[e, 6] = x[6]
+    a[e, 7] = x[7]
+    a[e, 8] = x[8]
+    a[e, 9] = x[9]
+    a[e, 10] = x[10]
+    a[e, 11] = x[11]
+    a[e, 12] = x[12]
+    a[e, 13] = x[13]
+    a[e, 14] = x[14]
+    a[e, 15] = x[15]
+    a[e, 16] = x[16]
+    a[e, 17] = x[17]
+    a[e, 18] = x[18]
 
 
 def _constants_row(a, e):

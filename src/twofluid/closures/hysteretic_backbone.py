@@ -56,6 +56,11 @@ def _gqh_w(x, w, c):
     :func:`twofluid.closures.backbones.gqh_slope_w`'s two values, the same operations in the same
     order (so the same number, to the bit), without the slope's three divisions, for the evaluations
     whose slope nothing uses (:func:`twofluid.closures.hysteretic._stress_value`)."""
-    th = c[C_TH1] + c[C_TH2] * w / (c[C_C3] + w)
+    return _gqh_value_w(x, w, c[C_TH1], c[C_TH2], c[C_C3])
+
+
+def _gqh_value_w(x, w, th1, th2, c3):
+    """:func:`_gqh_w` with the constants it takes given alone (θ1, θ2, θ3^θ5): the same operations."""
+    th = th1 + th2 * w / (c3 + w)
     r = ((1.0 + x) * (1.0 + x) - 4.0 * th * x) ** 0.5
     return 2.0 * x / (1.0 + x + r)

@@ -17,17 +17,32 @@ __all__ = ['masing_weight', 'direction']
 
 def _branch(y, fm, c):
     """(Φ(y), dΦ/dy): Φ = F (2 f(y/2) − f(y)) + f(y), odd in y = (γ − γ_0)/γ_r, a Masing/MRDF branch
-    over τ_max (F = 0: the backbone f, F = 1: Masing's 2 f(y/2)); ``c`` the element's constants."""
+    over τ_max (F = 0: the backbone f, F = 1: Masing's 2 f(y/2)); ``c`` the element's constants
+    (:func:`_branch_of` with the six of them it takes)."""
+    return _branch_of(y, fm, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5], c[C_H5])
+
+
+def _branch_of(y, fm, th1, th2, c3, th4, th5, h5):
+    """:func:`_branch` from the constants it takes (GQ/H θ1, θ2, θ3^θ5, θ4, θ5 and 2^−θ5) as eight
+    floats, which a compiled call passes in registers (the element's 13 constants as a tuple were
+    copied into every call)."""
     x = abs(y)
     if fm == 0.0:
-        phi, k = _hb._gqh(x, c)
+        if x <= 0.0:
+            phi, k = 0.0, 1.0
+        else:
+            phi, k = _bb.gqh_slope_w(x, th4 * x ** th5, th1, th2, c3, th5)
     elif fm == 1.0:
-        f2, k = _hb._gqh(0.5 * x, c)
+        h = 0.5 * x
+        if h <= 0.0:
+            f2, k = 0.0, 1.0
+        else:
+            f2, k = _bb.gqh_slope_w(h, th4 * h ** th5, th1, th2, c3, th5)
         phi = 2.0 * f2
     elif x > 0.0:  # f(x) and f(x/2) from one power
-        w = c[C_TH4] * x ** c[C_TH5]
-        f1, k1 = _bb.gqh_slope_w(x, w, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
-        f2, k2 = _bb.gqh_slope_w(0.5 * x, w * c[C_H5], c[C_TH1], c[C_TH2], c[C_C3], c[C_TH5])
+        w = th4 * x ** th5
+        f1, k1 = _bb.gqh_slope_w(x, w, th1, th2, c3, th5)
+        f2, k2 = _bb.gqh_slope_w(0.5 * x, w * h5, th1, th2, c3, th5)
         phi = fm * (2.0 * f2 - f1) + f1
         k = fm * (k2 - k1) + k1
     else:
@@ -37,16 +52,21 @@ def _branch(y, fm, c):
 
 def _branch_value(y, fm, c):
     """:func:`_branch`'s Φ(y) alone (the same operations, so the same number, without the slope's)."""
+    return _branch_value_of(y, fm, c[C_TH1], c[C_TH2], c[C_C3], c[C_TH4], c[C_TH5], c[C_H5])
+
+
+def _branch_value_of(y, fm, th1, th2, c3, th4, th5, h5):
+    """:func:`_branch_value` from the constants it takes as eight floats (:func:`_branch_of`)."""
     x = abs(y)
     if fm == 0.0:
-        phi = 0.0 if x <= 0.0 else _hb._gqh_w(x, c[C_TH4] * x ** c[C_TH5], c)
+        phi = 0.0 if x <= 0.0 else _hb._gqh_value_w(x, th4 * x ** th5, th1, th2, c3)
     elif fm == 1.0:
         h = 0.5 * x
-        phi = 2.0 * (0.0 if h <= 0.0 else _hb._gqh_w(h, c[C_TH4] * h ** c[C_TH5], c))
+        phi = 2.0 * (0.0 if h <= 0.0 else _hb._gqh_value_w(h, th4 * h ** th5, th1, th2, c3))
     elif x > 0.0:
-        w = c[C_TH4] * x ** c[C_TH5]
-        f1 = _hb._gqh_w(x, w, c)
-        f2 = _hb._gqh_w(0.5 * x, w * c[C_H5], c)
+        w = th4 * x ** th5
+        f1 = _hb._gqh_value_w(x, w, th1, th2, c3)
+        f2 = _hb._gqh_value_w(0.5 * x, w * h5, th1, th2, c3)
         phi = fm * (2.0 * f2 - f1) + f1
     else:
         phi = 0.0

@@ -187,22 +187,23 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 if redo[e] == 0:
                     continue
                 redo[e] = 0
-                c = _law._constants_row(cst, e)
-                same = _prepared_same(pkey, e, dirn[e], st, s[e], gr[e], c[_law.C_GD])
-                if same:
-                    q = _law._prepared_row(prep, e)  # the same as _prepare would give
-                else:
+                # (the row of ``prep`` read where its tuple is not needed: the same numbers, without
+                # loading both tuples for the elements whose branches are kept)
+                same = _prepared_same(pkey, e, dirn[e], st, s[e], gr[e], cst[e, _law.C_GD])
+                if not same:  # (same: the row is what _prepare would give)
+                    c = _law._constants_row(cst, e)
                     fm = _kept_factor(keep, e, st[e, S_GM], gr[e], st[e, S_RG])
                     q = _law._prepare(dirn[e], st, par, e, s[e], gr[e], c, fm)
-                    _law._store(prep, e, q)
+                    _law._store_prepared(prep, e, q)
                     _prepared_key(pkey, e, dirn[e], st, s[e], gr[e], c[_law.C_GD])
-                if q[_law.Q_N] > 0.0:
+                if prep[e, _law.Q_N] > 0.0:
                     keep[e, 0] = st[e, S_GM]
                     keep[e, 1] = gr[e]
                     keep[e, 2] = st[e, S_RG]
-                    keep[e, 3] = q[_law.Q_FM]
-                if q[_law.Q_N] >= 3.0 and not (same and _floor_fresh(cert, e, dirn[e] * st[e, S_T] * s[e], dirn[e], st[e, S_G])):
-                    _keep_floor(q, c, st[e, S_G], st[e, S_T], cert, e)  # (the same branch's floor, fresh: kept as it is)
+                    keep[e, 3] = prep[e, _law.Q_FM]
+                if prep[e, _law.Q_N] >= 3.0 and not (same and _floor_fresh(cert, e, dirn[e] * st[e, S_T] * s[e], dirn[e], st[e, S_G])):
+                    _keep_floor(_law._prepared_row(prep, e), _law._constants_row(cst, e), st[e, S_G], st[e, S_T], cert, e)
+                    # (the same branch's floor, fresh: kept as it is)
             if sweep == 4 or (sweep > 0 and changed == 0):
                 break
             converged = False
@@ -515,9 +516,9 @@ SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[
              "f8[::1], f8[::1], f8, f8, f8, f8)")
 _HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_key, _prepared_same, _keep_floor, _floor_fresh, _keep_seen, _floor_for, _moves_on, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight,
-                          _law._branch, _law._branch_value, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
+                          _law._branch, _law._branch_value, _hm._branch_of, _hm._branch_value_of, _hb._gqh_value_w, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
-                          _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._constants_row, _law._prepared_row,
+                          _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._store_prepared, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
