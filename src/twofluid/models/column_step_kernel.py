@@ -18,8 +18,8 @@ numbers bit for bit (``tests/unit/test_column_step_kernel.py``):
 - the whole Newton iterates (:func:`~twofluid.models.reduced_kernel._iterate_points`,
   :func:`~twofluid.models.reduced_kernel._whole_iterate`), accepted by the plain test or on the predicted
   change of the next iterate (:class:`twofluid.timestepping.newton.NewtonTest`: the carried contraction
-  constants are the arrays ``s_idx``, ``s_c`` and ``meta``, its compiled test
-  :func:`twofluid.timestepping.newton._accept`);
+  constants are the arrays ``s_idx``, ``s_c`` and ``meta``, its compiled helpers
+  :mod:`twofluid.timestepping.newton_kernel`);
 - the admissibility test (:func:`~twofluid.models.reduced_kernel._state_check`), the pressure
   recovery (:func:`~twofluid.models.reduced_kernel._step_pressure`) and the new rows of the
   extrapolation table (:func:`twofluid.models.extrapolation._push_entries`).
@@ -49,7 +49,7 @@ import numpy as np
 
 from ..closures import kernels as laws
 from ..fem import banded
-from ..timestepping import newton as _nt
+from ..timestepping import newton_kernel as _nk
 from . import extrapolation as _ex
 from . import reduced_kernel as _rk
 
@@ -58,26 +58,6 @@ __all__ = ["vertical_step", "compiled", "ALONE", "SIGNATURE", "OK",
 
 OK, NOT_CONVERGED, NOT_FINITE, NOT_ADMISSIBLE, NOT_FINITE_SHEAR = 0, 1, 2, 3, 4
 _CLEAR = 1e-6  # the models' floor of 1 − n (two_fluid_1d._CLEAR)
-
-
-def _scale(V, W, floor):
-    """TwoFluid1D.velocity_scale: max(max |V|, max |W|, floor), as Python's max of the three."""
-    a = 0.0
-    for x in V:
-        y = abs(x)
-        if y > a or y != y:
-            a = y
-    b = 0.0
-    for x in W:
-        y = abs(x)
-        if y > b or y != y:
-            b = y
-    out = a
-    if b > out:
-        out = b
-    if floor > out:
-        out = floor
-    return out
 
 
 def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, area, tb, w0, w1, law, dpar, d,
@@ -142,14 +122,7 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
             for i in range(nv):
                 kV[i] = V[i]
     elif order >= 2 and t_new > ex_t:
-        same = True
-        for i in range(ne):
-            if kn[i] != Dn[0, i]:
-                same = False
-        for i in range(nv):
-            if kW[i] != DW[0, i]:
-                same = False
-        if same:
+        if _nk.same(kn, Dn[0]) and _nk.same(kW, DW[0]):
             f = (t_new - ex_t) / ex_h
             if 2.0 < f:
                 f = 2.0
@@ -161,41 +134,14 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
                 y = y if not y > 1.0 else 1.0
                 kn[i] = y if not y < _CLEAR else _CLEAR
     # the Newton test's run: carried on where the old state is the last one it accepted
-    steps = meta[1]
-    count = meta[0]
-    if has_last:
-        cont = last_t == t_old
-        if cont:
-            for i in range(ne):
-                if ln[i] != on[i]:
-                    cont = False
-            for i in range(nv):
-                if lW[i] != oW[i] or lV[i] != oV[i]:
-                    cont = False
-    else:
-        cont = False
-    if not cont:
-        steps = 0
-        count = 0
-    C = 0.0
-    have_C = count > 0
-    for j in range(count):
-        if j == 0 or s_c[j] > C:
-            C = s_c[j]
-    fresh = count > 0 and s_idx[count - 1] >= steps - _nt.FRESH
+    steps, count, C, fresh, e_prev, step_C, have_step_C = _nk.start(has_last, last_t, t_old, lV, lW, ln, oV, oW,
+                                                                    on, s_idx, s_c, meta)
     n3 = np.empty((3, ne))
     s3 = np.empty((3, ne))
     aux = np.empty((3, ne))
     last = np.empty((len(_rk.LAST_ROWS), ne))
     nk = kn
-    prevV = kV  # the iterate before the last (NewtonTest.before)
-    prevW = kW
-    prevn = kn
-    have_before = False
-    e_prev = 0.0
-    have_e = False
-    step_C = 0.0
-    have_step_C = False
+    prevV, prevW, prevn = kV, kW, kn  # the iterate before the last (NewtonTest.before)
     done = False
     plain = False
     it = 0
@@ -209,50 +155,14 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
                            dir_val, fixed, floor, last, a, change)
         if change[0] == 0.0:
             return NOT_FINITE
-        dn = change[1]
-        dv = change[2]
         nV = a[:nv]
         nW = a[nv:2 * nv]
         nn = a[2 * nv:]
-        plain = dv < tol and dn < tol
-        e = dn
-        if dv > e:
-            e = dv
-        if not newton:
-            done = plain
-        else:  # NewtonTest.converged
-            if have_e and e_prev != 0.0:
-                c = e / (e_prev * e_prev)
-                if not have_step_C:
-                    step_C = c
-                    have_step_C = True
-                elif c > step_C:
-                    step_C = c
-            bV, bW, bn = prevV, prevW, prevn
-            use_before = have_before and it > 1
-            prevV, prevW, prevn = kV, kW, kn
-            have_before = True
-            e_prev = e
-            have_e = True
-            if e < tol:
-                done = True
-            else:
-                have = False
-                Cm = 0.0
-                if have_C:
-                    Cm = C
-                    have = True
-                if have_step_C and (not have or step_C > Cm):
-                    Cm = step_C
-                    have = True
-                if not have or _nt.SAFETY * Cm * e * e > tol:
-                    done = False
-                else:
-                    if not use_before:
-                        bV, bW, bn = kV, kW, kn
-                    done = _nt._accept(nV, nW, nn, kV, kW, kn, bV, bW, bn, _scale(nV, nW, floor),
-                                       _scale(kV, kW, floor), tol, _nt._SIDE_NOISE, _nt._ENTRY_FLOOR, it == 1,
-                                       fresh) != 0
+        # the plain test, or NewtonTest.converged
+        r, plain, e_prev, step_C, have_step_C = _nk.quadratic(change[1], change[2], tol, newton, e_prev, step_C,
+                                                              have_step_C, C, count)
+        done = r > 0 or (r < 0 and _nk.predicted(nV, nW, nn, kV, kW, kn, prevV, prevW, prevn, floor, tol, it, fresh))
+        prevV, prevW, prevn = kV, kW, kn
         nk = kn
         kV, kW, kn = nV, nW, nn
         if done:
@@ -282,20 +192,7 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
         a_out[i] = a[i]
     # NewtonTest.close: this step's constant joins the samples, the accepted step counts
     if newton:
-        if have_step_C:
-            s_idx[count] = steps
-            s_c[count] = step_C
-            count += 1
-        steps += 1
-        first = steps - _nt.WINDOW
-        drop = 0
-        while drop < count and s_idx[drop] < first:
-            drop += 1
-        for j in range(count - drop):
-            s_idx[j] = s_idx[j + drop]
-            s_c[j] = s_c[j + drop]
-        meta[0] = count - drop
-        meta[1] = steps
+        _nk.close(step_C, have_step_C, steps, count, s_idx, s_c, meta)
     info[0] = it
     info[1] = 0 if plain else 1
     info[2] = rows
@@ -325,10 +222,10 @@ SIGNATURE = ("i8(" + ",".join(
      "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1,
      "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, C1, C1]) + ")")
 
-_HELPERS = (_scale, _rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
+_HELPERS = (_rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
             _rk._whole_iterate, _rk._shift_law_points, _rk._shift_with_laws, _rk._first_iterate,
-            banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, _nt._accept,
+            banded._u, banded._gbsv22, banded._bt22, _ex._predict_entries, _ex._push_entries, *_nk.HELPERS,
             laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
             laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
 

@@ -18,7 +18,7 @@ same numbers bit for bit (``tests/unit/test_full_step.py``):
   :func:`twofluid.fem.banded._gbsv55`, :func:`~twofluid.models.full_kernel._unpack`,
   :func:`~twofluid.models.reduced_kernel._iterate_change`), accepted by the plain test or on the
   predicted change of the next iterate (:class:`twofluid.timestepping.newton.NewtonTest`, its carried
-  constants in ``s_idx``, ``s_c``, ``meta``; :func:`twofluid.timestepping.newton._accept`);
+  constants in ``s_idx``, ``s_c``, ``meta``; :mod:`twofluid.timestepping.newton_kernel`);
 - the admissibility test (:func:`~twofluid.models.reduced_kernel._state_check`) and the new rows of the
   extrapolation table (:func:`twofluid.models.extrapolation._push_entries`).
 
@@ -32,8 +32,7 @@ import numpy as np
 
 from ..closures import kernels as laws
 from ..fem import banded
-from ..timestepping import newton as _nt
-from . import column_step_kernel as _cs
+from ..timestepping import newton_kernel as _nk
 from . import extrapolation as _ex
 from . import full_kernel as _fk
 from . import reduced_kernel as _rk
@@ -98,14 +97,7 @@ def full_step(t_old, oV, oW, oP, on, onb, dt, mc, vc, shift_mc, lengths, mat, la
     kP = oP.copy()
     kn = on.copy()
     if order >= 2 and t_new > ex_t:
-        same = True
-        for i in range(ne):
-            if kn[i] != Dn[0, i]:
-                same = False
-        for i in range(nv):
-            if kW[i] != DW[0, i] or kV[i] != DV[0, i]:
-                same = False
-        if same:
+        if _nk.same(kn, Dn[0]) and _nk.same(kW, DW[0]) and _nk.same(kV, DV[0]):
             if order >= 3 and abs((t_new - ex_t) - ex_h) <= 1e-9 * ex_h:
                 _ex._predict_entries(DV, order, kV)
                 _ex._predict_entries(DW, order, kW)
@@ -127,25 +119,8 @@ def full_step(t_old, oV, oW, oP, on, onb, dt, mc, vc, shift_mc, lengths, mat, la
                     y = 1.0
                 kn[i] = y
     # the Newton test's run: carried on where the old state is the last one it accepted
-    steps = meta[1]
-    count = meta[0]
-    cont = has_last and last_t == t_old
-    if cont:
-        for i in range(ne):
-            if ln[i] != on[i]:
-                cont = False
-        for i in range(nv):
-            if lW[i] != oW[i] or lV[i] != oV[i]:
-                cont = False
-    if not cont:
-        steps = 0
-        count = 0
-    C = 0.0
-    have_C = count > 0
-    for j in range(count):
-        if j == 0 or s_c[j] > C:
-            C = s_c[j]
-    fresh = count > 0 and s_idx[count - 1] >= steps - _nt.FRESH
+    steps, count, C, fresh, e_prev, step_C, have_step_C = _nk.start(has_last, last_t, t_old, lV, lW, ln, oV, oW,
+                                                                    on, s_idx, s_c, meta)
     # work arrays of the iterates
     x3 = np.empty(3 * ne)
     s3 = np.empty(3 * ne)
@@ -160,14 +135,7 @@ def full_step(t_old, oV, oW, oP, on, onb, dt, mc, vc, shift_mc, lengths, mat, la
     b = np.empty(N)
     change = np.empty(3)
     bel = np.empty(nv)
-    prevV = kV  # the iterate before the last (NewtonTest.before)
-    prevW = kW
-    prevn = kn
-    have_before = False
-    e_prev = 0.0
-    have_e = False
-    step_C = 0.0
-    have_step_C = False
+    prevV, prevW, prevn = kV, kW, kn  # the iterate before the last (NewtonTest.before)
     done = False
     plain = False
     it = 0
@@ -196,47 +164,11 @@ def full_step(t_old, oV, oW, oP, on, onb, dt, mc, vc, shift_mc, lengths, mat, la
         _rk._iterate_change(out, nV, nW, nn, kV, kW, kn, floor, change)
         if change[0] == 0.0:
             return NOT_FINITE
-        dn = change[1]
-        dv = change[2]
-        plain = dv < tol and dn < tol
-        e = dn
-        if dv > e:
-            e = dv
-        if not newton:
-            done = plain
-        else:  # NewtonTest.converged
-            if have_e and e_prev != 0.0:
-                c = e / (e_prev * e_prev)
-                if not have_step_C:
-                    step_C = c
-                    have_step_C = True
-                elif c > step_C:
-                    step_C = c
-            bV, bW, bn = prevV, prevW, prevn
-            use_before = have_before and it > 1
-            prevV, prevW, prevn = kV, kW, kn
-            have_before = True
-            e_prev = e
-            have_e = True
-            if e < tol:
-                done = True
-            else:
-                have = False
-                Cm = 0.0
-                if have_C:
-                    Cm = C
-                    have = True
-                if have_step_C and (not have or step_C > Cm):
-                    Cm = step_C
-                    have = True
-                if not have or _nt.SAFETY * Cm * e * e > tol:
-                    done = False
-                else:
-                    if not use_before:
-                        bV, bW, bn = kV, kW, kn
-                    done = _nt._accept(nV, nW, nn, kV, kW, kn, bV, bW, bn, _cs._scale(nV, nW, floor),
-                                       _cs._scale(kV, kW, floor), tol, _nt._SIDE_NOISE, _nt._ENTRY_FLOOR, it == 1,
-                                       fresh) != 0
+        # the plain test, or NewtonTest.converged
+        r, plain, e_prev, step_C, have_step_C = _nk.quadratic(change[1], change[2], tol, newton, e_prev, step_C,
+                                                              have_step_C, C, count)
+        done = r > 0 or (r < 0 and _nk.predicted(nV, nW, nn, kV, kW, kn, prevV, prevW, prevn, floor, tol, it, fresh))
+        prevV, prevW, prevn = kV, kW, kn
         kV, kW, kP, kn = nV, nW, nP, nn
         if done:
             if _rk._state_check(nn, nV) != 0:
@@ -261,20 +193,7 @@ def full_step(t_old, oV, oW, oP, on, onb, dt, mc, vc, shift_mc, lengths, mat, la
         bel_out[i] = bel[i]
     # NewtonTest.close: this step's constant joins the samples, the accepted step counts
     if newton:
-        if have_step_C:
-            s_idx[count] = steps
-            s_c[count] = step_C
-            count += 1
-        steps += 1
-        first = steps - _nt.WINDOW
-        drop = 0
-        while drop < count and s_idx[drop] < first:
-            drop += 1
-        for j in range(count - drop):
-            s_idx[j] = s_idx[j + drop]
-            s_c[j] = s_c[j + drop]
-        meta[0] = count - drop
-        meta[1] = steps
+        _nk.close(step_C, have_step_C, steps, count, s_idx, s_c, meta)
     info[0] = it
     info[1] = 0 if plain else 1
     info[2] = rows
@@ -289,9 +208,9 @@ SIGNATURE = ("i8(" + ",".join(
      C2, C2, C2, "i8", "f8", "f8", "b1", "f8", "i8", "b1", C1, C1, C1, "f8", "b1",
      I1, C1, I1, C1, C2, C2, C2, C1, I1]) + ")")
 
-_HELPERS = (_drag, _table_rows, _cs._scale, _fk._fmax, _fk._put, _fk._closure_points, _fk._band_system,
+_HELPERS = (_drag, _table_rows, _fk._fmax, _fk._put, _fk._closure_points, _fk._band_system,
             _fk._residual, _fk._unpack, _rk._fmax, _rk._iterate_change, _rk._shift_points, _rk._shift,
-            _rk._state_check, banded._u, banded._gbsv55, _ex._predict_entries, _ex._push_entries, _nt._accept,
+            _rk._state_check, banded._u, banded._gbsv55, _ex._predict_entries, _ex._push_entries, *_nk.HELPERS,
             laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
             laws._solids_pressure, laws._viscosity, laws._mooney)
 
