@@ -90,9 +90,6 @@ def step(model, old: State, dt: float, settings) -> tuple | None:
     else:
         (DV, DW, Dn), order, ex_t, ex_h = ex.D, ex.order, ex.t, (-1.0 if ex.h is None else ex.h)
     idx, c, meta, last, _ = _newton.kernel_samples(model)
-    if idx.size < meta[0] + 2:  # room for this step's sample
-        idx.resize(idx.size + 64, refcheck=False)
-        c.resize(c.size + 64, refcheck=False)
     newton = bool(settings.newton_test and model.newton_iterates)  # (the stepper's NewtonTest or none)
     t_new = old.t + dt
     fi, val = model.dirichlet(t_new)

@@ -165,9 +165,6 @@ class ReducedVerticalColumn(Reduced1D):
                 _newton.release_kernel_samples(self)
                 return None
         idx, c, meta, last, _ = _newton.kernel_samples(self)
-        if idx.size < meta[0] + 2:  # room for this step's sample
-            idx.resize(idx.size + 64, refcheck=False)
-            c.resize(c.size + 64, refcheck=False)
         newton = bool(settings.newton_test and self.newton_iterates)  # (the stepper's NewtonTest or none)
         a, P, info = np.empty(3 * nv - 1), np.empty(ne), np.zeros(3, dtype=np.int64)
         DWo, Dno = np.empty((6, nv)), np.empty((6, ne))

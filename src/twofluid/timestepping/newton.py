@@ -82,7 +82,7 @@ class _Run:
 def kernel_samples(model) -> list:
     """The test's samples of ``model``'s run as a compiled step keeps them: [indices (int64), constants,
     [count, accepted steps] (int64), the last accepted state, the record they were taken from] (arrays
-    with room for a window more), taken from the stepper's record where its Python path made the last
+    with room for this step's sample at least), taken from the stepper's record where its Python path made the last
     step, kept on the model (``_kernel_samples``) while the compiled calls make the steps."""
     run = model.__dict__.get("_kernel_samples")
     rec = _RUNS.get(model)
@@ -94,6 +94,10 @@ def kernel_samples(model) -> list:
             idx[j], c[j] = i, x
         meta = np.array([len(samples), rec.steps if rec is not None else 0], dtype=np.int64)
         run = model._kernel_samples = [idx, c, meta, rec.last if rec is not None else None, rec]
+    idx, c = run[0], run[1]
+    if idx.size < run[2][0] + 2:  # room for this step's sample
+        idx.resize(idx.size + 64, refcheck=False)
+        c.resize(c.size + 64, refcheck=False)
     return run
 
 
