@@ -349,9 +349,9 @@ def _prepared_same(pkey, e, d, st, s, gr, gd):
     now), with the same open points (their count, and no reversal pushed since: the reversal count is
     the same), the same largest strain and generated ratio (the MRDF factor), strength, γ_r and γ_d
     (the branches' origins and dilation). What else ``_prepare`` reads is fixed over the call."""
-    return (pkey[e, 0] == d and st[e, S_DIR] == d and pkey[e, 1] == st[e, S_NSTK] and pkey[e, 2] == st[e, S_NREV]
-            and pkey[e, 3] == st[e, S_GM] and pkey[e, 4] == st[e, S_RG] and pkey[e, 5] == s and pkey[e, 6] == gr
-            and pkey[e, 7] == gd)
+    return ((pkey[e, 0] == d) & (st[e, S_DIR] == d) & (pkey[e, 1] == st[e, S_NSTK]) & (pkey[e, 2] == st[e, S_NREV])
+            & (pkey[e, 3] == st[e, S_GM]) & (pkey[e, 4] == st[e, S_RG]) & (pkey[e, 5] == s) & (pkey[e, 6] == gr)
+            & (pkey[e, 7] == gd))
 
 
 def _keep_floor(q, c, g, t, cert, e):
@@ -393,8 +393,9 @@ def _moves_on(g, d, st, par, e):
     points, or ``g`` short of the innermost one's target) and within γ_m (no backbone to reach, γ_m
     the same), no zone to widen (not liquefied). The tests of ``_commit_counted``, kept in step with it."""
     n = st[e, S_NSTK]
-    return (d == st[e, S_DIR] and not par[e, P_LIQ] > 0.0 and st[e, S_LIQ] == 0.0 and abs(g) <= st[e, S_GM]
-            and (n < 3.0 or d * (g - st[e, S_STK + 2 * (int(n) - 2)]) < 0.0))
+    inner = st[e, S_STK + 2 * (int(n) - 2)]  # (the innermost target where n ≥ 3; read, not used, otherwise)
+    return ((d == st[e, S_DIR]) & (not (par[e, P_LIQ] > 0.0)) & (st[e, S_LIQ] == 0.0) & (abs(g) <= st[e, S_GM])
+            & ((n < 3.0) | (d * (g - inner) < 0.0)))
 
 
 def _floor_fresh(cert, e, tc, d, g):
