@@ -42,10 +42,12 @@ def _half_cycle_damage_of(ta, ga, gt, sig0, crr, b):
     return ft / 30.0 * (csr / crr) ** (1.0 / b)
 
 
-def _count_damage(g, tau, st, par, e):
+def _count_damage(g, tau, st, e, gt, sig0, crr, b):
     """Count the damage of element ``e`` at its new stress ``tau`` [Pa] and strain ``g``, before
     they are committed: half cycles of stress found by rainflow counting (ASTM E1049's three-point
-    rule, applied as the history arrives), each weighted by :func:`half_cycle_damage`.
+    rule, applied as the history arrives), each weighted by :func:`half_cycle_damage` (of the
+    element's γ_t ``gt``, σ′_v0 ``sig0`` [Pa], CRR ``crr`` and b ``b``, given as floats: compiled, the
+    parameter array would cost a reference count in and out per call).
 
     The stack holds the stress turning points still open. A turning point of the stress ends the
     current half cycle, whose damage is then counted, and is pushed. When the stress goes past the
@@ -88,7 +90,7 @@ def _count_damage(g, tau, st, par, e):
             k -= 2
         closed = True
     st[e, S_RFN] = k + 1
-    dd = half_cycle_damage(0.5 * abs(tau - st[e, S_RF + 3 * k]), 0.5 * abs(g - st[e, S_RF + 3 * k + 1]), par, e)
+    dd = _half_cycle_damage_of(0.5 * abs(tau - st[e, S_RF + 3 * k]), 0.5 * abs(g - st[e, S_RF + 3 * k + 1]), gt, sig0, crr, b)
     if closed or dd > st[e, S_DPART]:
         st[e, S_DPART] = dd
 

@@ -516,7 +516,7 @@ SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
 _HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_key, _prepared_same, _keep_floor, _floor_fresh, _keep_seen, _floor_for, _moves_on, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
-                          _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight, _hm._masing_weight_of, _hm._mrdf_of, _hd._half_cycle_damage_of, _hd._generated_ratio_of,
+                          _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight, _hm._masing_weight_of, _hm._mrdf_of, _hd._half_cycle_damage_of, _hd._generated_ratio_of, _hb._strength_modulus_of,
                           _law._branch, _law._branch_value, _hm._branch_of, _hm._branch_value_of, _hb._gqh_value_w, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
                           _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._store_prepared, _law._constants_row, _law._prepared_row,
