@@ -348,7 +348,10 @@ def _prepared_same(pkey, e, d, st, s, gr, gd):
     and γ_d ``gd``: made in the same direction as the element kept moving in (no reversal then or
     now), with the same open points (their count, and no reversal pushed since: the reversal count is
     the same), the same largest strain and generated ratio (the MRDF factor), strength, γ_r and γ_d
-    (the branches' origins and dilation). What else ``_prepare`` reads is fixed over the call."""
+    (the branches' origins and dilation). What else ``_prepare`` reads is fixed over the call.
+    (Written with ``&``, not ``and``: without branches, numba's reference-count pruning removes the
+    count of ``pkey`` and ``st`` that each call would otherwise take in and out, per element and
+    sub-step; with short-circuit branches it does not. The same for :func:`_moves_on`.)"""
     return ((pkey[e, 0] == d) & (st[e, S_DIR] == d) & (pkey[e, 1] == st[e, S_NSTK]) & (pkey[e, 2] == st[e, S_NREV])
             & (pkey[e, 3] == st[e, S_GM]) & (pkey[e, 4] == st[e, S_RG]) & (pkey[e, 5] == s) & (pkey[e, 6] == gr)
             & (pkey[e, 7] == gd))
@@ -391,7 +394,8 @@ def _moves_on(g, d, st, par, e):
     changes only its strain, τ/τ_max and counted stress: no damage to count (it generates no pore
     pressure), no reversal (``d`` its last direction), no loop that may close (fewer than three open
     points, or ``g`` short of the innermost one's target) and within γ_m (no backbone to reach, γ_m
-    the same), no zone to widen (not liquefied). The tests of ``_commit_counted``, kept in step with it."""
+    the same), no zone to widen (not liquefied). The tests of ``_commit_counted``, kept in step with it
+    (without branches, as :func:`_prepared_same`: the innermost target is read whatever ``n``)."""
     n = st[e, S_NSTK]
     inner = st[e, S_STK + 2 * (int(n) - 2)]  # (the innermost target where n ≥ 3; read, not used, otherwise)
     return ((d == st[e, S_DIR]) & (not (par[e, P_LIQ] > 0.0)) & (st[e, S_LIQ] == 0.0) & (abs(g) <= st[e, S_GM])
