@@ -396,7 +396,7 @@ def _commit_counted(g, d, tau, tau_count, st, par, e, s, t, gr, c, fm):
     g_old = st[e, S_G]
     d_old = st[e, S_DIR]
     if par[e, P_LIQ] > 0.0:
-        _hd._count_damage(g, tau_count, st, par, e)
+        _hd._count_damage(g, tau_count, st, e, par[e, P_GT], par[e, P_SIG0], par[e, P_CRR], par[e, P_B])
     if d_old != 0.0 and d != d_old and st[e, S_RAT] > 0.0:  # strain after triggering: γ_c follows the mean
         _hr.follow_mean(g_old, st, par, e)
     if d_old != 0.0 and d != d_old:  # the strain reversed at g_old: a new branch

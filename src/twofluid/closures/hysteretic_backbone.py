@@ -28,11 +28,17 @@ def gqh_ratio(x, th1, th2, th3, th4, th5):
 
 def strength_modulus(ps, par, e):
     """(τ_max [Pa], G_max [Pa]) of element ``e`` at effective vertical stress ``ps`` [Pa]."""
-    tanphi = par[e, P_TANPHI]
-    if par[e, P_GMAXFIX] > 0.0:
-        return max(par[e, P_PSFIX] * tanphi, par[e, P_SR]), par[e, P_GMAXFIX]
-    p = max(ps, par[e, P_SR] / tanphi, 1e-3)
-    return p * tanphi, 218.8 * KPA * par[e, P_K2] * math.sqrt(p / KPA)
+    return _strength_modulus_of(ps, par[e, P_TANPHI], par[e, P_GMAXFIX], par[e, P_PSFIX], par[e, P_SR], par[e, P_K2])
+
+
+def _strength_modulus_of(ps, tanphi, gmaxfix, psfix, sr, k2):
+    """:func:`strength_modulus` from the element's tan φ′, fixed G_max and P_s (crust), S_r and K2max
+    given: the same operations, with no array in a function that branches (compiled, each array
+    such a function takes costs a reference count in and out per call)."""
+    if gmaxfix > 0.0:
+        return max(psfix * tanphi, sr), gmaxfix
+    p = max(ps, sr / tanphi, 1e-3)
+    return p * tanphi, 218.8 * KPA * k2 * math.sqrt(p / KPA)
 
 
 def _constants(st, par, e):

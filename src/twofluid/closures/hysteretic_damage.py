@@ -27,20 +27,27 @@ def seed_booker(damage, alpha):
 
 def half_cycle_damage(ta, ga, par, e):
     """Damage of a half cycle of stress amplitude ``ta`` [Pa] and strain amplitude ``ga`` [-]."""
-    gt = par[e, P_GT]
+    return _half_cycle_damage_of(ta, ga, par[e, P_GT], par[e, P_SIG0], par[e, P_CRR], par[e, P_B])
+
+
+def _half_cycle_damage_of(ta, ga, gt, sig0, crr, b):
+    """:func:`half_cycle_damage` from the element's γ_t, σ′_v0, CRR and b given (no array in a function
+    that branches: compiled, each array such a function takes costs a reference count in and out)."""
     ft = (ga - gt) / gt
     if ft <= 0.0 or ta <= 0.0:
         return 0.0
     if ft > 1.0:
         ft = 1.0
-    csr = ta / par[e, P_SIG0]
-    return ft / 30.0 * (csr / par[e, P_CRR]) ** (1.0 / par[e, P_B])
+    csr = ta / sig0
+    return ft / 30.0 * (csr / crr) ** (1.0 / b)
 
 
-def _count_damage(g, tau, st, par, e):
+def _count_damage(g, tau, st, e, gt, sig0, crr, b):
     """Count the damage of element ``e`` at its new stress ``tau`` [Pa] and strain ``g``, before
     they are committed: half cycles of stress found by rainflow counting (ASTM E1049's three-point
-    rule, applied as the history arrives), each weighted by :func:`half_cycle_damage`.
+    rule, applied as the history arrives), each weighted by :func:`half_cycle_damage` (of the
+    element's γ_t ``gt``, σ′_v0 ``sig0`` [Pa], CRR ``crr`` and b ``b``, given as floats: compiled, the
+    parameter array would cost a reference count in and out per call).
 
     The stack holds the stress turning points still open. A turning point of the stress ends the
     current half cycle, whose damage is then counted, and is pushed. When the stress goes past the
@@ -83,13 +90,17 @@ def _count_damage(g, tau, st, par, e):
             k -= 2
         closed = True
     st[e, S_RFN] = k + 1
-    dd = half_cycle_damage(0.5 * abs(tau - st[e, S_RF + 3 * k]), 0.5 * abs(g - st[e, S_RF + 3 * k + 1]), par, e)
+    dd = _half_cycle_damage_of(0.5 * abs(tau - st[e, S_RF + 3 * k]), 0.5 * abs(g - st[e, S_RF + 3 * k + 1]), gt, sig0, crr, b)
     if closed or dd > st[e, S_DPART]:
         st[e, S_DPART] = dd
 
 
 def generated_ratio(st, par, e):
     """r_g of element ``e`` from its damage (Seed–Booker, capped at r_cap) [-]."""
-    r = seed_booker(st[e, S_D] + st[e, S_DPART], par[e, P_ALPHA])
-    cap = par[e, P_RCAP]
+    return _generated_ratio_of(st[e, S_D] + st[e, S_DPART], par[e, P_ALPHA], par[e, P_RCAP])
+
+
+def _generated_ratio_of(damage, alpha, cap):
+    """:func:`generated_ratio` from the damage, α and r_cap given (no array in a function that branches)."""
+    r = seed_booker(damage, alpha)
     return r if r < cap else cap

@@ -86,7 +86,13 @@ def masing_weight(st, par, e):
     >>> a, masing_weight(st, par, 0)
     (0.0, 1.0)
     """
-    x = (st[e, S_RG] - R_MASING) / (par[e, P_RCAP] - R_MASING)
+    return _masing_weight_of(st[e, S_RG], par[e, P_RCAP])
+
+
+def _masing_weight_of(rg, rcap):
+    """:func:`masing_weight` from the generated ratio ``rg`` and ``r_cap`` given (no array in a
+    function that branches: compiled, each array it takes costs a reference count in and out)."""
+    x = (rg - R_MASING) / (rcap - R_MASING)
     if x <= 0.0:
         return 0.0
     if x >= 1.0:
@@ -98,15 +104,22 @@ def _mrdf(st, par, e, gr, c):
     """F of the unloading–reloading branches of element ``e`` (1: Masing): MRDF's factor at the
     largest strain so far, moved towards Masing's F = 1 by :func:`masing_weight` as the pore pressure
     is generated (a liquefied element flows between its dilation stops on Masing branches)."""
-    f = par[e, P_P1]
-    if par[e, P_P2] != 0.0:
-        xm = st[e, S_GM] / gr
+    return _mrdf_of(st[e, S_GM], st[e, S_RG], par[e, P_P1], par[e, P_P2], par[e, P_P3], par[e, P_LIQ], par[e, P_RCAP], gr, c)
+
+
+def _mrdf_of(gm, rg, p1, p2, p3, liq, rcap, gr, c):
+    """:func:`_mrdf` from the element's largest strain ``gm``, generated ratio ``rg`` and parameters
+    (p1, p2, p3, P_LIQ, r_cap) given: the same operations, with no array in a function that branches
+    (compiled, each array such a function takes costs a reference count in and out per call)."""
+    f = p1
+    if p2 != 0.0:
+        xm = gm / gr
         red = 1.0
         if xm > 0.0:
             red = _hb._gqh_w(xm, c[C_TH4] * xm ** c[C_TH5], c) / xm  # (the backbone's ratio alone)
-        f = par[e, P_P1] - par[e, P_P2] * max(1.0 - red, 0.0) ** par[e, P_P3]
-    if par[e, P_LIQ] > 0.0:
-        w = masing_weight(st, par, e)
+        f = p1 - p2 * max(1.0 - red, 0.0) ** p3
+    if liq > 0.0:
+        w = _masing_weight_of(rg, rcap)
         if w > 0.0:
             f = f + (1.0 - f) * w
     return f

@@ -348,10 +348,13 @@ def _prepared_same(pkey, e, d, st, s, gr, gd):
     and γ_d ``gd``: made in the same direction as the element kept moving in (no reversal then or
     now), with the same open points (their count, and no reversal pushed since: the reversal count is
     the same), the same largest strain and generated ratio (the MRDF factor), strength, γ_r and γ_d
-    (the branches' origins and dilation). What else ``_prepare`` reads is fixed over the call."""
-    return (pkey[e, 0] == d and st[e, S_DIR] == d and pkey[e, 1] == st[e, S_NSTK] and pkey[e, 2] == st[e, S_NREV]
-            and pkey[e, 3] == st[e, S_GM] and pkey[e, 4] == st[e, S_RG] and pkey[e, 5] == s and pkey[e, 6] == gr
-            and pkey[e, 7] == gd)
+    (the branches' origins and dilation). What else ``_prepare`` reads is fixed over the call.
+    (Written with ``&``, not ``and``: without branches, numba's reference-count pruning removes the
+    count of ``pkey`` and ``st`` that each call would otherwise take in and out, per element and
+    sub-step; with short-circuit branches it does not. The same for :func:`_moves_on`.)"""
+    return ((pkey[e, 0] == d) & (st[e, S_DIR] == d) & (pkey[e, 1] == st[e, S_NSTK]) & (pkey[e, 2] == st[e, S_NREV])
+            & (pkey[e, 3] == st[e, S_GM]) & (pkey[e, 4] == st[e, S_RG]) & (pkey[e, 5] == s) & (pkey[e, 6] == gr)
+            & (pkey[e, 7] == gd))
 
 
 def _keep_floor(q, c, g, t, cert, e):
@@ -391,10 +394,12 @@ def _moves_on(g, d, st, par, e):
     changes only its strain, τ/τ_max and counted stress: no damage to count (it generates no pore
     pressure), no reversal (``d`` its last direction), no loop that may close (fewer than three open
     points, or ``g`` short of the innermost one's target) and within γ_m (no backbone to reach, γ_m
-    the same), no zone to widen (not liquefied). The tests of ``_commit_counted``, kept in step with it."""
+    the same), no zone to widen (not liquefied). The tests of ``_commit_counted``, kept in step with it
+    (without branches, as :func:`_prepared_same`: the innermost target is read whatever ``n``)."""
     n = st[e, S_NSTK]
-    return (d == st[e, S_DIR] and not par[e, P_LIQ] > 0.0 and st[e, S_LIQ] == 0.0 and abs(g) <= st[e, S_GM]
-            and (n < 3.0 or d * (g - st[e, S_STK + 2 * (int(n) - 2)]) < 0.0))
+    inner = st[e, S_STK + 2 * (int(n) - 2)]  # (the innermost target where n ≥ 3; read, not used, otherwise)
+    return ((d == st[e, S_DIR]) & (not (par[e, P_LIQ] > 0.0)) & (st[e, S_LIQ] == 0.0) & (abs(g) <= st[e, S_GM])
+            & ((n < 3.0) | (d * (g - inner) < 0.0)))
 
 
 def _floor_fresh(cert, e, tc, d, g):
@@ -515,7 +520,7 @@ SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
 _HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_key, _prepared_same, _keep_floor, _floor_fresh, _keep_seen, _floor_for, _moves_on, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
-                          _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight,
+                          _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight, _hm._masing_weight_of, _hm._mrdf_of, _hd._half_cycle_damage_of, _hd._generated_ratio_of, _hb._strength_modulus_of,
                           _law._branch, _law._branch_value, _hm._branch_of, _hm._branch_value_of, _hb._gqh_value_w, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
                           _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._store_prepared, _law._constants_row, _law._prepared_row,
