@@ -31,16 +31,19 @@ __all__ = ["median", "surface_height", "interface_height", "t1_from_history", "s
 
 
 def median(values) -> float:
-    """The median of ``values`` (NaN for none): ``np.median``'s value, taken from the sorted entries.
+    """The median of ``values`` (NaN for none, and where one is NaN): ``np.median``'s value, taken from
+    the sorted entries.
 
     ``np.median`` imports ``numpy.ma`` (~10–16 ms of a run's start-up) to check for NaN.
 
-    >>> median([3.0, 1.0, 2.0]), median([4.0, 1.0, 2.0, 3.0])
-    (2.0, 2.5)
+    >>> median([3.0, 1.0, 2.0]), median([4.0, 1.0, 2.0, 3.0]), median([1.0, float("nan"), 2.0])
+    (2.0, 2.5, nan)
     """
     v = np.sort(np.asarray(values, dtype=float).ravel())
     m = v.size
-    return float(0.5 * (v[(m - 1) // 2] + v[m // 2])) if m else float("nan")
+    if not m or v[-1] != v[-1]:  # (the sort puts NaN last)
+        return float("nan")
+    return float(0.5 * (v[(m - 1) // 2] + v[m // 2]))
 
 
 def surface_height(y: np.ndarray, n: np.ndarray, threshold: float, bottom: float = 0.0) -> float:

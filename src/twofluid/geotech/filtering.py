@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..postprocess import median
+
 __all__ = ["CUTOFF_HZ", "low_pass", "low_passed_peak", "spectral_ordinates", "SA_PERIODS_S"]
 
 #: default cut-off of the low-passed PGA [Hz]
@@ -33,7 +35,7 @@ def _uniform(t, a):
     a = np.asarray(a, dtype=float)
     if t.size < 2:
         raise ValueError("low_pass: at least two samples are needed")
-    dt = float(np.median(np.diff(t)))
+    dt = median(np.diff(t))  # (np.median's value, without its import of numpy.ma)
     if not dt > 0.0:
         raise ValueError("low_pass: times must increase")
     tu = np.arange(t[0], t[-1] + 0.5 * dt, dt)

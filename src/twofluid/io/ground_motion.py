@@ -17,7 +17,6 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, replace
 from functools import lru_cache, partial
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -344,7 +343,11 @@ def liquefied_site_record(path: str | Path) -> BundledRecord | None:
 def bundled_record(name: str) -> Path:
     """Path of a record shipped in ``twofluid/data/ground_motions`` (see PROVENANCE.md there): by
     file name, or by path under that folder (``liquefied-site/RSN8119_CCHURCH_PRPCS.AT2``)."""
-    folder = resources.files("twofluid") / "data" / "ground_motions"
+    folder = Path(__file__).parent.parent / "data" / "ground_motions"  # (the package installed as files)
+    if not folder.is_dir():  # a zipped package (importlib.resources: ~10 ms of imports a run does not pay otherwise)
+        from importlib import resources
+
+        folder = resources.files("twofluid") / "data" / "ground_motions"
     entry = bundled(name)
     target = folder.joinpath(*(entry.path if entry else name).split("/"))
     if not target.is_file():

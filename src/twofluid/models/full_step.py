@@ -10,8 +10,6 @@ it keeps it, so the two paths can take turns.
 """
 from __future__ import annotations
 
-from contextlib import nullcontext
-
 import numpy as np
 
 from ..closures import kernels as closure_kernels
@@ -21,7 +19,6 @@ from .data_1d import State
 
 __all__ = ["step"]
 
-_QUIET = nullcontext()
 #: the methods whose work the compiled step does: a subclass or an instance replacing one takes the stepper
 _FAST_METHODS = ("begin_iteration", "check", "end_step", "iterate", "assemble", "solve", "unpack", "iterate_change",
                  "_first_iterate", "bed_force_shift", "_force_shift_at", "force_shift", "velocity_scale",
@@ -39,7 +36,7 @@ def _static(model):
         k = hit[0]
         if k[0] is model.clo and k[1] is model.mat and k[2] is model.bottom and k[3] is model.top \
                 and k[4] is model.mesh and k[5] is model.compiled and k[6] is model.compiled_closures \
-                and type(model) is k[7] and _FAST.isdisjoint(d):
+                and type(model) is k[7] and d.keys().isdisjoint(_FAST):  # (looks up the 18 names: not the dict's all)
             return hit[1]
     cls = type(model)
     ok = _CLASS_OK.get(cls)
@@ -102,14 +99,18 @@ def step(model, old: State, dt: float, settings) -> tuple | None:
     DVo, DWo, Dno = np.empty((6, nv)), np.empty((6, nv)), np.empty((6, ne))
     cont = ex.state is old and ex.t == old.t
     lt = last if last is not None else old
+    args = (float(old.t), old.V, old.W, old.P, old.n, old.n_bar, float(dt), *static[1:],
+            fixed, np.ascontiguousarray(val, dtype=float), float(model.velocity_floor), DV, DW, Dn, order,
+            float(ex_t or 0.0), float(ex_h), cont, float(settings.tol), int(settings.max_iter), newton,
+            lt.V, lt.W, lt.n, float(lt.t), last is not None, idx, c, meta, a, DVo, DWo, Dno, bel, info)
     try:
         # a diverging iterate is the stepper's to report, as in its own path (compiled code sets no NumPy
         # error state: only the plain Python of the un-jitted run needs it quiet)
-        with np.errstate(all="ignore") if ker is full_step_kernel.full_step else _QUIET:
-            code = ker(float(old.t), old.V, old.W, old.P, old.n, old.n_bar, float(dt), *static[1:],
-                       fixed, np.ascontiguousarray(val, dtype=float), float(model.velocity_floor), DV, DW, Dn, order,
-                       float(ex_t or 0.0), float(ex_h), cont, float(settings.tol), int(settings.max_iter), newton,
-                       lt.V, lt.W, lt.n, float(lt.t), last is not None, idx, c, meta, a, DVo, DWo, Dno, bel, info)
+        if ker is full_step_kernel.full_step:
+            with np.errstate(all="ignore"):
+                code = ker(*args)
+        else:
+            code = ker(*args)
     except (ZeroDivisionError, TypeError):  # a diverging iterate; an array not as the call takes it
         code = -1
     if code != full_step_kernel.OK:

@@ -297,8 +297,13 @@ class ColumnStep:
     def __init__(self, state: ColumnState, dt: float, substeps: int, iterations: int, solids_inflow: float,
                  surface: tuple = ()):
         # (a frozen dataclass's own __init__ sets each field through object.__setattr__: 1 µs more a step)
-        self.__dict__.update(state=state, dt=dt, substeps=substeps, iterations=iterations,
-                             solids_inflow=solids_inflow, surface=surface)
+        d = self.__dict__
+        d["state"] = state
+        d["dt"] = dt
+        d["substeps"] = substeps
+        d["iterations"] = iterations
+        d["solids_inflow"] = solids_inflow
+        d["surface"] = surface
 
 
 class LiquefactionColumn:
@@ -535,7 +540,12 @@ class LiquefactionColumn:
     def surface_displacement(self, s: ColumnState) -> float:
         """Horizontal (on a slope: downslope) displacement of the surface relative to the base [m],
         from the static state the run started at (:meth:`lateral_displacement`; level ground: 0)."""
-        return float(s.wave.u[-1] - s.wave.u[0]) - float(self.u_static[-1] - self.u_static[0])
+        u0 = self.u_static
+        kept = self.__dict__.get("_u_static_span")  # (the static part, kept while it is the same array)
+        if kept is None or kept[0] is not u0:
+            kept = self._u_static_span = (u0, float(u0[-1] - u0[0]))
+        u = s.wave.u
+        return float(u[-1] - u[0]) - kept[1]
 
     def base_acceleration(self, s: ColumnState) -> float:
         """Absolute horizontal acceleration of the base [m/s²] while the shear wave runs (else 0):
@@ -625,7 +635,9 @@ class LiquefactionColumn:
         dn = self._ndot * span  # (a new C-contiguous float64 array)
         m = max(1, math.ceil(span / (self.shear_step if self.flow is None else self._substep(t0)) - 1e-9))
         ne = wave.h.size
-        A, p_ref = self._skeleton_arrays()
+        key, clo = self.__dict__.get("_skeleton_key"), self.v.clo  # (_skeleton_arrays's test, inline)
+        A, p_ref = self._skeleton if key is not None and key[0] is clo.A and key[1] is clo.p_ref \
+            else self._skeleton_arrays()
         fixed = self.__dict__.get("_hyst_fixed")
         if fixed is None:  # the kernel (or its plain Python) and its fixed arguments, once per run
             fixed = self._hyst_fixed = (_hyst_kernel.runner(), *self.hysteretic_arguments())
@@ -913,6 +925,9 @@ class LiquefactionColumn:
 
     def _split_args(self):
         """The fixed arguments of the compiled split step, or None (:func:`.column_split.split_args`)."""
+        hit = self.__dict__.get("_split")  # (split_args's own test of what it kept, here: once a step)
+        if hit is not None and hit[0] is self.v.clo:
+            return hit[1]
         return _split.split_args(self)
 
     def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool, fixed=None):

@@ -217,7 +217,14 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         """Volume average over each element of a nodal field (over the elements ``at`` only, if given)."""
         if at is None:
             return np.einsum("ei,ie->e", nodal[self.vdofs], self.avg_weights)
-        return np.einsum("ei,ie->e", nodal[self.vdofs[at]], self.avg_weights[:, at])
+        hit = self.__dict__.get("_mean_at")
+        if hit is None or hit[0] is not at or hit[1] is not self.vdofs or hit[2] is not self.avg_weights:
+            if type(at) is not np.ndarray or at.flags.writeable:
+                return np.einsum("ei,ie->e", nodal[self.vdofs[at]], self.avg_weights[:, at])
+            # a read-only ``at`` (the probes' elements, asked at every row): its dofs and weights kept while it,
+            # the dofs and the weights are the same arrays (the same einsum of the same entries)
+            hit = self._mean_at = (at, self.vdofs, self.avg_weights, self.vdofs[at], self.avg_weights[:, at])
+        return np.einsum("ei,ie->e", nodal[hit[3]], hit[4])
 
     def slip(self, V, W, n) -> np.ndarray:
         """Element slip U_f − U_s [m/s], with 1 − n floored at ``_CLEAR`` (continuous as n → 1).
@@ -254,19 +261,18 @@ class TwoFluid1D(UpwindBedForces, LineDiagnostics):
         last = getattr(self, "_dirichlet_of", None)
         if last is not None and last[0] == t:
             return last[1], last[2]
-        ends = ((self.bottom, 0, 1.0), (self.top, self.nv - 1, -1.0))
         held = getattr(self, "_dirichlet_idx", None)
         if held is None or held[0] is not self.bottom or held[1] is not self.top or held[2] != self.nv:
-            idx = []
-            for b, node, _ in ends:
+            idx, fixed = [], []
+            for b, node, sign in ((self.bottom, 0, 1.0), (self.top, self.nv - 1, -1.0)):
                 if b.kind in ("inlet", "wall"):
                     idx += [node, self.nv + node]
-            held = self._dirichlet_idx = (self.bottom, self.top, self.nv, np.array(idx, dtype=int))
+                    fixed.append((b, sign))
+            held = self._dirichlet_idx = (self.bottom, self.top, self.nv, np.array(idx, dtype=int), tuple(fixed))
         val = []
-        for b, node, sign in ends:
-            if b.kind in ("inlet", "wall"):
-                u = self.inlet_value(b, t, sign)
-                val += [u, u]
+        for b, sign in held[4]:  # (the ends with prescribed V and W)
+            u = self.inlet_value(b, t, sign)
+            val += [u, u]
         idx, val = held[3], np.array(val, dtype=float)
         self._dirichlet_of = (t, idx, val)
         return idx, val

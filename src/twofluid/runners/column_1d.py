@@ -143,9 +143,10 @@ def _probe_values(model, s, probes, leading):
     elements, names = _probe_plan(model, probes)
     vals = dict(leading)
     f = model.element_fields(s, elements)  # at the probes' elements only
+    fields = [f[field].tolist() for field in _PROBED]  # (each entry as float() of it gives it)
     for j, keys in enumerate(names):
-        for key, field in zip(keys, _PROBED):
-            vals[key] = float(f[field][j])
+        for key, field in zip(keys, fields):
+            vals[key] = field[j]
     return vals
 
 
@@ -154,7 +155,9 @@ def _probe_plan(model, probes) -> tuple[np.ndarray, list[tuple[str, ...]]]:
     plan = _PLANS.get(model)
     if plan is None or plan[0] != tuple(probes):
         names = [tuple(f"{name}@{y:g}m" for name in _PROBED) for y in probes]
-        plan = _PLANS[model] = (tuple(probes), _probe_elements(model, probes), names)
+        elements = _probe_elements(model, probes)
+        elements.flags.writeable = False  # (read only: the model keeps what it derives from it, TwoFluid1D.element_mean)
+        plan = _PLANS[model] = (tuple(probes), elements, names)
     return plan[1], plan[2]
 
 
@@ -215,6 +218,7 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
     wall0 = time.perf_counter()
     with run_guard(b.t_end, progress, writer) as run:
         bar = run.bar
+        shown = bar.n  # (the bar's n, kept here as the bar sums it)
         for step in integrate(model, state, b.t_end, b.dt, stops=out_times, settings=b.settings):
             s = step.state
             outflow += step.dt * outflow_rate(s)
@@ -226,7 +230,9 @@ def run_1d(case: dict, out_dir=None, progress: bool = False) -> RunResult:
                 next_probe = t + interval
             if _at_output_time(t, out_times, near):
                 save_profile(s)
-            bar.update(t - bar.n)
+            dn = t - shown
+            bar.update(dn)
+            shown += dn
         writer.flush()  # in the guard: a full disk here is a failed run, said in its summary
     status, reason = run.status, run.reason
     wall = time.perf_counter() - wall0

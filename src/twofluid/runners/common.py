@@ -163,7 +163,7 @@ class _CountingBar:
         object.__setattr__(self, "steps", 0)
 
     def update(self, dn: float) -> None:
-        object.__setattr__(self, "steps", self.steps + 1)
+        self.__dict__["steps"] += 1  # (its own count: not the bar's attribute, see __setattr__)
         self._bar.update(dn)
 
     def reset(self, total=None) -> None:  # pseudo-time restarts (flow_2d): the steps go on counting

@@ -370,6 +370,15 @@ class _Recorder:
         self._last_ru = ru
         return ru
 
+    def surface_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """(:attr:`surface_t`, :attr:`surface_a`) as float64 arrays, made once for the lists as they are
+        (they only grow): the summary, its tables and the history read them several times."""
+        kept = self.__dict__.get("_surface_arrays")
+        if kept is None or kept[0] != len(self.surface_t) or kept[1] != len(self.surface_a):
+            kept = self._surface_arrays = (len(self.surface_t), len(self.surface_a),
+                                           np.array(self.surface_t, dtype=float), np.array(self.surface_a, dtype=float))
+        return kept[2], kept[3]
+
     def probe_names(self) -> list[str]:
         """Columns of probes.csv after time_s (:meth:`probe_row`)."""
         return (["base_acceleration_m_s2", "surface_acceleration_m_s2", "surface_settlement_m",
@@ -587,7 +596,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
     hist = {"t": np.array(rec.t), "r_u": np.array(rec.ru), "settlement_m": np.array(rec.settle),
             "base_excess_pore_pressure_Pa": np.array(rec.pbase),
             "field_t": np.array(rec.field_t), "field_r_u": np.array(rec.field),
-            "surface_t": np.array(rec.surface_t), "surface_acceleration_m_s2": np.array(rec.surface_a)}
+            "surface_t": np.array(rec.surface_arrays()[0]), "surface_acceleration_m_s2": np.array(rec.surface_arrays()[1])}
     return RunResult(status, out, summary, profiles, hist)
 
 
@@ -637,14 +646,15 @@ def _summary(case, b, rec, last, status, reason, n_steps, n_sub, wall, solids0, 
                   f"stopped at the end time {b.t_end:g} s before dissipation: {reached}" if done > 0.0 else
                   f"stopped at the end time {b.t_end:g} s (no dissipation criterion): {reached}")
     boil = report.sand_boil(rec.t, rec.ru_top, rec.flux_top, col.shaking_end, rec.ru_liq)
-    spec = report.spectra(b.motion, rec.surface_t, rec.surface_a, case["report"]["spectrum_periods"],
+    surface_t, surface_a = rec.surface_arrays()  # (the lists as arrays, once)
+    spec = report.spectra(b.motion, surface_t, surface_a, case["report"]["spectrum_periods"],
                           case["report"]["spectrum_damping"])
     pga_in = 0.0 if b.motion is None else b.motion.pga / report.G
-    pga_surf = 0.0 if not rec.surface_a else float(np.max(np.abs(rec.surface_a))) / report.G
+    pga_surf = 0.0 if not rec.surface_a else float(np.max(np.abs(surface_a))) / report.G
     pga_lp = sa_surf = None
     if len(rec.surface_a) > 2:
-        pga_lp = filtering.low_passed_peak(rec.surface_t, rec.surface_a) / report.G
-        sa_surf = {f"{p:g}": v / report.G for p, v in filtering.spectral_ordinates(rec.surface_t, rec.surface_a).items()}
+        pga_lp = filtering.low_passed_peak(surface_t, surface_a) / report.G
+        sa_surf = {f"{p:g}": v / report.G for p, v in filtering.spectral_ordinates(surface_t, surface_a).items()}
     pga_ts = None if total is None or total[0].size < 3 else filtering.low_passed_peak(*total) / report.G
     a_run = pga_ts if pga_ts is not None else (pga_lp if pga_lp is not None else pga_surf)
     simp_run = report.simplified_rows(col, site, case, min(a_run, 3.0))

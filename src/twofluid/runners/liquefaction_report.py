@@ -363,7 +363,7 @@ def write_tables(out, summary: dict, extra: dict, rec) -> None:
     _write_csv(out / "elements.csv", ELEMENT_COLUMNS, rows)
     if rec.surface_t:
         _write_numbers(out / "surface_motion.csv", ["time_s", "surface_acceleration_m_s2"],
-                       [rec.surface_t, rec.surface_a])
+                       list(rec.surface_arrays()))
     spec = extra["spectra"]
     if spec is not None:
         _write_numbers(out / "spectra.csv", ["period_s", "Sa_input_g", "Sa_surface_g", "amplification"],

@@ -27,6 +27,7 @@ import numpy as np
 from ..closures import hysteretic as law
 from ..geotech import lateral_spread as ls
 from ..io.results import CsvStream
+from ..postprocess import median
 
 __all__ = ["SlopeRecorder", "slope_summary", "slope_lines", "MOVING_M_S"]
 
@@ -309,7 +310,7 @@ def _newmark(case, col, rec, s_r, companion=None) -> dict:
         except (ArithmeticError, ValueError, RuntimeError) as exc:  # StepFailure is a RuntimeError
             note = f"not evaluated: the total-stress companion failed ({exc})"
             return dict(out, displacement_m=None, note=note, _two_way=dict(two, displacement_m=None, note=note))
-        dt = float(np.median(np.diff(t)))
+        dt = median(np.diff(t))  # (np.median's value, without its import of numpy.ma)
         grid = np.arange(0.0, t[-1] + 0.5 * dt, dt)
         acc = np.interp(grid, t, a[:, e])
         args = (acc, dt, float(s_r[e]), float(sigma_v[e]), slope)

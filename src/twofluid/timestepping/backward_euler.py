@@ -47,14 +47,31 @@ class PicardSettings:
     newton_test: bool = True  # models with ``newton_iterates``: accept on the predicted next change too
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Step:
+    """A converged step (frozen). Its ``__init__`` writes the fields into the instance's dict, as the
+    frozen dataclass's generated one does through ``object.__setattr__`` at three times the cost (one a step).
+
+    >>> s = Step(0.5, 0.1, 2, None, 5)
+    >>> s, s == Step(0.5, 0.1, 2, None, 5, 0)
+    (Step(t=0.5, dt=0.1, iterations=2, state=None, n_steps=5, rejected=0), True)
+    """
+
     t: float
     dt: float
     iterations: int
     state: object
     n_steps: int
     rejected: int = 0  # attempts at this step rejected (Picard not converged, state not admissible)
+
+    def __init__(self, t: float, dt: float, iterations: int, state: object, n_steps: int, rejected: int = 0):
+        d = self.__dict__
+        d["t"] = t
+        d["dt"] = dt
+        d["iterations"] = iterations
+        d["state"] = state
+        d["n_steps"] = n_steps
+        d["rejected"] = rejected
 
 
 class StepFailure(RuntimeError):
