@@ -17,7 +17,6 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -323,5 +322,7 @@ def _weights_version(path: str, mtime_ns: int, size: int) -> AnnWeights:
 
 @lru_cache(maxsize=1)
 def _default_weights() -> AnnWeights:
+    from importlib import resources  # (here: ~10 ms of imports that a run without the ANN closure does not pay)
+
     entry = resources.files("twofluid") / "data" / "ann" / DEFAULT_WEIGHTS
     return load_weights(Path(str(entry)))
