@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from twofluid.closures import hysteretic as law
+from twofluid.closures import hysteretic_damage as hd
 from twofluid.closures import hysteretic_memory as hm
 from twofluid.models import hysteretic_sand as hs
 
@@ -121,7 +122,11 @@ def _effective_stress_call(monkeypatch, off):
             m.setattr(hk, "_moves_on", lambda g, d, st, par, e: False)
         if "ratio" in off:  # the generated ratio always computed again after the commit
             generating = law._commit_generating
-            m.setattr(law, "_commit_generating", lambda *a: (generating(*a)[0], math.nan))
+            m.setattr(law, "_commit_generating", lambda *a: (generating(*a)[0], math.nan, math.nan))
+        if "inline" in off:  # every generating commit through closures.hysteretic._commit_generating
+            m.setattr(hk, "_WRITTEN_OUT", False)
+        if "known" in off:  # the generated ratio computed again where the damage is the same
+            m.setattr(hd, "_generated_ratio_known", lambda damage, alpha, cap, dk, rk: hd._generated_ratio_of(damage, alpha, cap))
         b = rl.build_column(c)
         b.column.shear_only = True
         states = []
@@ -136,7 +141,7 @@ def _effective_stress_call(monkeypatch, off):
 
 
 def test_the_kernel_with_its_shortcuts_is_the_kernel_without_them(monkeypatch):
-    t0, a0, s0 = _effective_stress_call(monkeypatch, ("floor", "prepared", "commit", "ratio"))
+    t0, a0, s0 = _effective_stress_call(monkeypatch, ("floor", "prepared", "commit", "ratio", "known", "inline"))
     t1, a1, s1 = _effective_stress_call(monkeypatch, ())
     assert len(s0) == 1 and s0[0][0] == 0 and t0.size > 100
     st = s0[0][1]

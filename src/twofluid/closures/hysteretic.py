@@ -451,27 +451,46 @@ def commit_generating(g, d, st, par, e, ps, t, save, tau_rate):
     gr = s / gmx
     q = _prepare(d, st, par, e, s, gr, c, -1.0)
     tau = _stress_value(g, q, c, g, -math.inf)[0]
-    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, q[Q_FM] if q[Q_N] > 0.0 else -1.0)[0]
+    return _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, q[Q_FM] if q[Q_N] > 0.0 else -1.0,
+                              math.nan, math.nan)[0]
 
 
-def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, fm):
+def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, fm, dk, rk):
     """:func:`commit_generating` with the element's constants ``c`` (:func:`_constants`) given, and
     the skeleton stress ``tau`` [Pa] at ``g`` of its branches prepared at ``ps`` (:func:`_prepare` in
     direction ``d`` with the strength ``s`` [Pa] and γ_r ``gr`` of :func:`strength_modulus` at ``ps``;
-    :func:`_stress_value`) and their F ``fm`` (< 0: none, no open point). Returns (the committed
-    stress [Pa], the generated ratio of the committed state, :func:`generated_ratio`, where it was
-    computed on the way; nan where not)."""
+    :func:`_stress_value`) and their F ``fm`` (< 0: none, no open point); ``rk``: the generated ratio
+    of the element's damage D + D_part = ``dk`` where the caller computed it before (nan: none), used
+    where the damage is that again (``_hd._generated_ratio_known``: the same number). Returns (the
+    committed stress [Pa], the generated ratio of the committed state, :func:`generated_ratio`, where
+    it was computed on the way, and the damage it is of; nan, nan where not). (The column's kernel
+    writes this out up to :func:`_generation_step`, ``models.hysteretic_kernel._WRITTEN_OUT``: kept in
+    step with it.)"""
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
-        return tau, math.nan
-    for k in range(NSTATE):
-        save[k] = st[e, k]
+        return tau, math.nan, math.nan
+    at_floor = s <= par[e, P_SR] * (1.0 + 1e-12)  # the strength at its floor: no iteration, no state to restore
+    if not at_floor:
+        for k in range(NSTATE):
+            save[k] = st[e, k]
     _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
-    r = _hd.generated_ratio(st, par, e)
+    alpha = par[e, P_ALPHA]
+    cap = par[e, P_RCAP]
+    dsum = st[e, S_D] + st[e, S_DPART]  # (generated_ratio's damage)
+    r = _hd._generated_ratio_known(dsum, alpha, cap, dk, rk)
     q1 = (1.0 - r) / (1.0 - r_old)
-    if q1 >= 1.0 - 1e-12 or s <= par[e, P_SR] * (1.0 + 1e-12):
-        return tau, r  # no generation, or the strength already at its floor: the explicit count holds
+    if q1 >= 1.0 - 1e-12 or at_floor:
+        return tau, r, dsum  # no generation, or the strength already at its floor: the explicit count holds
+    return _generation_step(g, d, st, par, e, ps, t, save, tau_rate, c, r_old, q1, dsum, r)
+
+
+def _generation_step(g, d, st, par, e, ps, t, save, tau_rate, c, r_old, q1, dsum, r):
+    """The backward-Euler step of :func:`_commit_generating` once its explicit count generated
+    (``q1`` < 1, the strength above its floor): ``save`` holds the state before the commit, ``dsum``
+    and ``r`` the damage and generated ratio the explicit count left. Returns as it does."""
+    alpha = par[e, P_ALPHA]
+    cap = par[e, P_RCAP]
     # φ(q) = q′(q) − q: φ(1) = q1 − 1 < 0, φ(q1) ≥ 0 (a lower strength, a lower stress, less damage)
     lo, hi = q1, 1.0
     f_hi = q1 - 1.0
@@ -492,15 +511,17 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, f
         qq = _prepare(d, st, par, e, s, gr, c, -1.0)
         tau = _stress_value(g, qq, c, g, -math.inf)[0]
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, qq[Q_FM] if qq[Q_N] > 0.0 else -1.0)
-        r = _hd.generated_ratio(st, par, e)
+        dk, rk = dsum, r
+        dsum = st[e, S_D] + st[e, S_DPART]
+        r = _hd._generated_ratio_known(dsum, alpha, cap, dk, rk)
         f = (1.0 - r) / (1.0 - r_old) - q
         if it == 0:
             if f <= 0.0:
-                return tau, r  # not bracketed (a turning point of the count): the explicit factor
+                return tau, r, dsum  # not bracketed (a turning point of the count): the explicit factor
             f_lo = f
             continue
         if abs(f) <= 1e-15 * q or hi - lo <= 1e-15 * hi:  # to round-off: the root, not the path to it
-            return tau, r
+            return tau, r, dsum
         if f > 0.0:
             lo, f_lo = q, f
             if side == 1:
@@ -511,7 +532,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, f
             if side == -1:
                 f_lo *= 0.5
             side = -1
-    return tau, r
+    return tau, r, dsum
 
 
 def new_state(n_elements: int, par=None) -> np.ndarray:

@@ -104,3 +104,18 @@ def _generated_ratio_of(damage, alpha, cap):
     """:func:`generated_ratio` from the damage, α and r_cap given (no array in a function that branches)."""
     r = seed_booker(damage, alpha)
     return r if r < cap else cap
+
+
+def _generated_ratio_known(damage, alpha, cap, dk, rk):
+    """:func:`_generated_ratio_of` the ``damage`` given, or ``rk`` where ``damage`` is ``dk`` and ``rk``
+    is the ratio computed of ``dk`` before (with the same α and r_cap): the same number, without its
+    power and arcsine. The column's commits keep each element's last one, as most sub-steps leave
+    the damage as it was (no half cycle grows beyond the threshold strain).
+
+    >>> r = _generated_ratio_of(0.3, 0.7, 0.999)
+    >>> _generated_ratio_known(0.3, 0.7, 0.999, 0.3, r) == r, _generated_ratio_known(0.3, 0.7, 0.999, 0.2, -1.0) == r
+    (True, True)
+    """
+    if damage == dk:
+        return rk
+    return _generated_ratio_of(damage, alpha, cap)

@@ -41,7 +41,9 @@ and the law's ``*_value`` functions: the same operations, so the same numbers); 
 evaluated at a Newton iterate or a commit gives a floor from that strain on as well
 (:func:`_keep_seen`, :func:`_floor_for`); a commit that only moves the strain (no damage to count, no
 reversal, no loop that may close, within γ_m: :func:`_moves_on`) writes those three numbers in place;
-and the commit with generation hands back the generated ratio it computed, not computed again.
+and the commit with generation hands back the generated ratio it computed, not computed again, and
+is handed each element's last one with the damage it is of (``keep``), used again where a commit
+leaves the damage as it was (``closures.hysteretic_damage._generated_ratio_known``: the same number).
 
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
@@ -60,13 +62,16 @@ import numpy as np
 from ..closures import hysteretic as _law
 from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm, hysteretic_ratchet as _hr
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_G, S_GC, S_GD, S_GM, S_LIQ, S_NREV, S_NSTK, S_RG, S_STK, S_T, S_TAU
+from ..closures.hysteretic import P_ALPHA, P_LIQ, P_RCAP, P_SIG0, P_SR, S_D, S_DPART, S_DIR, S_EPS, S_G, S_GC, S_GD, S_GM, S_LIQ, S_NREV, S_NSTK, S_RG, S_STK, S_T, S_TAU
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
 _MAX_EXPONENT = 700.0
 _NKEY = 10  # what an outer branch's floor depends on (_keep_floor)
 _NPKEY = 8  # what an element's prepared branches depend on (_prepared_key)
+#: whether :func:`_substeps` commits a generating element with ``closures.hysteretic._commit_generating``
+#: written out (True), or by calling it (the tests' check that the two agree, in plain Python)
+_WRITTEN_OUT = True
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
@@ -109,7 +114,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     flips = np.zeros(ne, dtype=np.int64)
     save = np.empty(st.shape[1])
     fixed = np.zeros(ne)  # 1: P_s cannot change over the call (:func:`_fixed_strength`)
-    keep = np.empty((ne, 4))  # (γ_m, γ_r, r_g) of each element's last F (_mrdf; nan: none yet), and F
+    keep = np.empty((ne, 6))  # (γ_m, γ_r, r_g) of each element's last F (_mrdf; nan: none yet), and F;
+    # then the damage D + D_part whose generated ratio its last commit computed (nan: none yet), and that ratio
     redo = np.zeros(ne, dtype=np.int64)  # 1: the element's branches to prepare before the next Newton sweep
     cst = np.empty((ne, _law.NCONST))  # each element's constants and its prepared branches for the
     prep = np.empty((ne, _law.NPREP))  # sub-step's Newton iterations (closures.hysteretic._prepare)
@@ -122,6 +128,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
         _law._store(cst, e, _hb._constants(st, par, e))
         keep[e, 0] = math.nan
         pkey[e, 0] = math.nan
+        keep[e, 4] = math.nan
         cert[e, 1] = -math.inf
         cert[e, 3] = math.nan
         cert[e, 3 + _NKEY] = math.nan
@@ -267,14 +274,32 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             c = _law._constants_row(cst, e)
             q = _law._prepared_row(prep, e)
             r_gen = math.nan
+            d_gen = math.nan
             a_e, f_e = _floor_for(cert, e, q[_law.Q_D], g)
             te, fo = _law._stress_value(g, q, c, a_e, f_e)
             if fo == fo:  # the outer branch evaluated at the committed strain: a floor from here on
                 _keep_seen(cert, e, g, fo)
             fm_e = q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                te, r_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, te, q[_law.Q_S],
-                                                    q[_law.Q_GR], fm_e)
+                r_old = st[e, S_RG]
+                if not _WRITTEN_OUT:  # (a switch of the tests; compiled, a constant: this branch is not there)
+                    te, r_gen, d_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, te,
+                                                               q[_law.Q_S], q[_law.Q_GR], fm_e, keep[e, 4], keep[e, 5])
+                elif psv[e] <= 0.0 or r_old >= par[e, P_RCAP]:  # (as _law._commit_generating does here)
+                    _law._commit_counted(g, dirn[e], te, te + tv, st, par, e, q[_law.Q_S], t, q[_law.Q_GR], c, fm_e)
+                else:  # _law._commit_generating written out up to its backward-Euler step (_law._generation_step),
+                    # kept in step with it: its call per element and sub-step cost its arrays' reference counts
+                    at_floor = q[_law.Q_S] <= par[e, P_SR] * (1.0 + 1e-12)
+                    if not at_floor:
+                        for k in range(save.size):
+                            save[k] = st[e, k]
+                    _law._commit_counted(g, dirn[e], te, te + tv, st, par, e, q[_law.Q_S], t, q[_law.Q_GR], c, fm_e)
+                    d_gen = st[e, S_D] + st[e, S_DPART]
+                    r_gen = _hd._generated_ratio_known(d_gen, par[e, P_ALPHA], par[e, P_RCAP], keep[e, 4], keep[e, 5])
+                    q1 = (1.0 - r_gen) / (1.0 - r_old)
+                    if not (q1 >= 1.0 - 1e-12 or at_floor):
+                        te, r_gen, d_gen = _law._generation_step(g, dirn[e], st, par, e, psv[e], t, save, tv, c, r_old, q1,
+                                                                 d_gen, r_gen)
             elif _moves_on(g, dirn[e], st, par, e):  # what _law._commit_counted does here, alone
                 st[e, S_G] = g
                 st[e, S_T] = te / s[e]
@@ -287,7 +312,12 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 st[e, S_DIR] = 0.0
             if e < ns and par[e, P_LIQ] > 0.0:
                 r_old = st[e, S_RG]
-                r_new = r_gen if r_gen == r_gen else _hd.generated_ratio(st, par, e)  # (the commit's, where it made it)
+                if r_gen == r_gen:  # (the commit's, where it made it: kept for the next commit's)
+                    r_new = r_gen
+                    keep[e, 4] = d_gen
+                    keep[e, 5] = r_gen
+                else:
+                    r_new = _hd.generated_ratio(st, par, e)
                 if r_new > r_old:
                     nb_old = nb[e]
                     nb[e] = nb_old + A[e] * (1.0 - nn[e]) * math.log((1.0 - r_new) / (1.0 - r_old))
@@ -520,14 +550,14 @@ SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
              "f8[::1], f8[::1], f8, f8, f8, f8)")
 _HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_key, _prepared_same, _keep_floor, _floor_fresh, _keep_seen, _floor_for, _moves_on, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
-                          _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight, _hm._masing_weight_of, _hm._mrdf_of, _hd._half_cycle_damage_of, _hd._generated_ratio_of, _hb._strength_modulus_of,
+                          _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight, _hm._masing_weight_of, _hm._mrdf_of, _hd._half_cycle_damage_of, _hd._generated_ratio_of, _hd._generated_ratio_known, _hb._strength_modulus_of,
                           _law._branch, _law._branch_value, _hm._branch_of, _hm._branch_value_of, _hb._gqh_value_w, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
                           _law._stress_below, _law._stress_value, _law._outer_floor, _law._floor_of, _law._store, _law._store_prepared, _law._constants_row, _law._prepared_row,
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
-                          _law._commit_generating, _hf.flows, _hz.widen_zone,
+                          _law._commit_generating, _law._generation_step, _hf.flows, _hz.widen_zone,
                           _hr.start, _hr.follow_mean, _hr.dilation_strain)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
