@@ -288,8 +288,8 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         for name, (func, signature) in exports.items():
             cc.export(name, signature)(_stub(func) if func in helpers else func)
         with _compiled_helpers(helpers), _no_jit_machine_code(), _helpers_optimised_in_module(), \
-                _plain_typing_messages(), _typing_memo(), _young_gc_only(), _no_llvm_lock_events(), \
-                warnings.catch_warnings():
+                _plain_typing_messages(), _typing_memo(), _lowering_memo(), _young_gc_only(), \
+                _no_llvm_lock_events(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -596,6 +596,55 @@ def _typing_memo():
         yield
     finally:
         context.BaseContext.resolve_function_type = resolve
+
+
+@contextlib.contextmanager
+def _lowering_memo():
+    """While a module builds, numba's target context finds the implementation of a function for a
+    signature (``get_function``: an operator on two ``float64``, a call of a helper) once: it looks it
+    up anew at every call site it lowers (some 7 000 in the bed models' process, for 1 300 distinct
+    function and signature pairs), inspecting the implementation's Python signature each time and,
+    where the first lookup misses, loading its registries again. The first answer for a context,
+    function and signature is kept for the build and given again: the same implementation, so the
+    same instructions. Lookups that fail are not kept, but for ``__array__``: numba's ``make_array``
+    asks for it at every array it lowers (1 300 times in that process), for an array-like type that
+    wraps an array, and each miss reloads the registries before it fails; numba registers none, so a
+    type's miss is remembered. Where this numba's context lacks the method replaced, nothing is
+    changed."""
+    try:
+        from numba.core import base
+
+        get_function = base.BaseContext.__dict__["get_function"]
+    except (ImportError, KeyError):
+        yield
+        return
+    memo: dict = {}
+    missing: set = set()
+
+    def memo_get_function(self, fn, sig, _firstcall=True):
+        if not _firstcall:
+            return get_function(self, fn, sig, _firstcall)
+        try:
+            key = (self, fn, sig.as_function())
+            impl = memo.get(key)
+            if impl is None and key in missing:
+                raise NotImplementedError(f"No definition for lowering {fn}{sig}")
+        except (TypeError, AttributeError):  # unhashable: looked up as numba does
+            return get_function(self, fn, sig, _firstcall)
+        if impl is None:
+            try:
+                impl = memo[key] = get_function(self, fn, sig, _firstcall)
+            except NotImplementedError:
+                if isinstance(fn, str) and fn == "__array__":
+                    missing.add(key)
+                raise
+        return impl
+
+    base.BaseContext.get_function = memo_get_function
+    try:
+        yield
+    finally:
+        base.BaseContext.get_function = get_function
 
 
 @contextlib.contextmanager

@@ -624,3 +624,43 @@ def test_build_kernels_forks_its_builders_from_a_process_that_set_numba_up_once(
     _aot_or_skip(report.split(":")[1])
     assert report == "toy_fork:aot" and list(cache.glob("_twofluid_toy_fork_*"))
     assert second == "False"
+
+
+def test_a_functions_lowering_is_looked_up_once_per_signature_while_a_module_builds():
+    """Inside a build numba's target context answers a repeated lookup of a function's implementation
+    for a signature from its first answer (the same implementation); a failing lookup raises each
+    time, and one of ``__array__`` (make_array's probe) without looking again; numba's own method is
+    back after."""
+    pytest.importorskip("numba")
+    import operator
+
+    from numba.core import base, types
+    from numba.core.registry import cpu_target
+    from numba.core.typing import signature
+
+    ctx = cpu_target.target_context
+    ctx.refresh()
+    looked = []
+    get_function = base.BaseContext.get_function
+
+    def counted(self, fn, sig, _firstcall=True):
+        looked.append((fn, _firstcall))
+        return get_function(self, fn, sig, _firstcall)
+
+    add = signature(types.float64, types.float64, types.float64)
+    array = types.float64[::1]
+    with pytest.MonkeyPatch.context() as m:
+        m.setattr(base.BaseContext, "get_function", counted)
+        with compiled._lowering_memo():
+            a = ctx.get_function(operator.add, add)
+            b = ctx.get_function(operator.add, add)
+            c = ctx.get_function(operator.mul, add)
+            for _ in range(2):
+                with pytest.raises(NotImplementedError):
+                    ctx.get_function("__array__", signature(array, array))
+                with pytest.raises(NotImplementedError):
+                    ctx.get_function("no_such_function", add)
+        assert base.BaseContext.get_function is counted
+    assert a is b and a is not c
+    assert [fn for fn, first in looked if first] == [operator.add, operator.mul, "__array__", "no_such_function",
+                                                     "no_such_function"]
