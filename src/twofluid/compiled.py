@@ -286,9 +286,10 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         cc.output_dir = str(work)
         cc.verbose = False
         for name, (func, signature) in exports.items():
-            cc.export(name, signature)(func)
+            cc.export(name, signature)(_stub(func) if func in helpers else func)
         with _compiled_helpers(helpers), _no_jit_machine_code(), _helpers_optimised_in_module(), \
-                _plain_typing_messages(), _typing_memo(), _young_gc_only(), warnings.catch_warnings():
+                _plain_typing_messages(), _typing_memo(), _lowering_memo(), _young_gc_only(), \
+                _no_llvm_lock_events(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -300,6 +301,35 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
         return None
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def _stub(func: Callable) -> Callable:
+    """A function calling ``func`` with its arguments, exported in its stead where ``func`` is also a
+    helper of its group (:func:`group`): numba then compiles ``func`` once, as the helper (its
+    dispatcher, :data:`_HELPER_DISPATCHERS`), for the export and for every kernel of the process that
+    calls it with the same argument types (another group's, built after it in the process), where
+    ``numba.pycc`` would type and lower the export anew. ``func`` itself where it takes ``*args``,
+    ``**kwargs`` or keyword-only arguments, or has no name of its own (a lambda).
+
+    >>> def total(x, y):
+    ...     return x + y
+    >>> stub = _stub(total)
+    >>> stub.__qualname__, stub(1.0, 2.0)
+    ('total_export', 3.0)
+    >>> f = lambda x: x
+    >>> _stub(f) is f
+    True
+    """
+    code = func.__code__
+    if code.co_flags & 0x0C or code.co_kwonlyargcount or not func.__name__.isidentifier():  # 0x0C: *args, **kw
+        return func
+    args = ", ".join(f"a{i}" for i in range(code.co_argcount))
+    ns: dict = {}
+    # the body names the helper as its module does: while the group compiles, its dispatcher
+    exec(f"def stub({args}):\n    return {func.__name__}({args})\n", func.__globals__, ns)
+    stub = ns["stub"]
+    stub.__qualname__ = stub.__name__ = f"{func.__qualname__}_export"
+    return stub
 
 
 #: C flags of numba's C helper code linked into every module (its boxing of arguments and its
@@ -326,6 +356,37 @@ def _mixin_shim(build_dir: str, module: str) -> str:
     return str(path)
 
 
+#: numba's C sources of its typed containers (``numba/cext``, which ``numba.pycc`` links into every
+#: module) and the prefix of the symbols each defines; ``utils.c`` serves them alone
+_CONTAINER_SOURCES = {"dictobject.c": b"numba_dict", "listobject.c": b"numba_list", "setobject.c": b"numba_set"}
+
+
+def _containers_called(sources: list, kernel_objects) -> list:
+    """``sources`` (numba's C helper sources of a module) without the typed containers' (a typed
+    dict, list or set: :data:`_CONTAINER_SOURCES`) that the kernels' machine code ``kernel_objects``
+    calls none of, nor ``numba/cext/utils.c`` where it calls none: the project's kernels use no typed
+    container, and their three sources take 0.6 s of CPU to compile (with ``utils.c``, once per cache
+    folder). A name that appears in an object file's symbol table appears in its bytes, so a module that
+    calls a container links it. Every source where the objects cannot be read.
+
+    >>> _containers_called(["/n/modulemixin.c", "/n/cext/dictobject.c", "/n/cext/utils.c"], [])
+    ['/n/modulemixin.c']
+    """
+    try:
+        blob = b"".join(Path(obj).read_bytes() for obj in kernel_objects)
+    except (OSError, TypeError):
+        return list(sources)
+    cext = [src for src in sources if os.path.basename(os.path.dirname(src)) == "cext"]
+    used = set()
+    for name in (os.path.basename(src) for src in cext):
+        prefix = _CONTAINER_SOURCES.get(name)
+        if name != "utils.c" and (prefix is None or prefix in blob):  # (a source numba adds later: kept)
+            used.add(name)
+    if used:
+        used.add("utils.c")
+    return [src for src in sources if src not in cext or os.path.basename(src) in used]
+
+
 def _cc_class(CC, folder: Path):
     """``numba.pycc.CC`` whose C helper code is compiled with :data:`_MIXIN_CFLAGS` once per numba
     version and interpreter into ``folder/.pycc-objects`` and reused by later builds: the sources
@@ -335,6 +396,11 @@ def _cc_class(CC, folder: Path):
     class _CC(CC):
         def _get_extra_cflags(self):
             return list(super()._get_extra_cflags()) + _MIXIN_CFLAGS
+
+        def _compile_object_files(self, build_dir):
+            objects, exports = super()._compile_object_files(build_dir)
+            self._kernel_objects = list(objects)
+            return objects, exports
 
         def _compile_mixins(self, build_dir):
             import numba
@@ -358,6 +424,7 @@ def _cc_class(CC, folder: Path):
             for src in sources:  # the object of "numba/pycc/../core/x.c" is written through the
                 # folder of numba/pycc in build_dir, which only a compile of modulemixin.c made
                 os.makedirs(os.path.join(build_dir, os.path.dirname(src).lstrip(os.sep)), exist_ok=True)
+            shared = _containers_called(shared, getattr(self, "_kernel_objects", None))
             with _lock(folder, f"pycc-objects-{key}"):  # one process compiles them, another waits for them
                 objects += self._shared_objects(shared, named, build_dir, include_dirs, macros, flags, store, key)
             return objects
@@ -529,6 +596,79 @@ def _typing_memo():
         yield
     finally:
         context.BaseContext.resolve_function_type = resolve
+
+
+@contextlib.contextmanager
+def _lowering_memo():
+    """While a module builds, numba's target context finds the implementation of a function for a
+    signature (``get_function``: an operator on two ``float64``, a call of a helper) once: it looks it
+    up anew at every call site it lowers (some 7 000 in the bed models' process, for 1 300 distinct
+    function and signature pairs), inspecting the implementation's Python signature each time and,
+    where the first lookup misses, loading its registries again. The first answer for a context,
+    function and signature is kept for the build and given again: the same implementation, so the
+    same instructions. Lookups that fail are not kept, but for ``__array__``: numba's ``make_array``
+    asks for it at every array it lowers (1 300 times in that process), for an array-like type that
+    wraps an array, and each miss reloads the registries before it fails; numba registers none, so a
+    type's miss is remembered. Where this numba's context lacks the method replaced, nothing is
+    changed."""
+    try:
+        from numba.core import base
+
+        get_function = base.BaseContext.__dict__["get_function"]
+    except (ImportError, KeyError):
+        yield
+        return
+    memo: dict = {}
+    missing: set = set()
+
+    def memo_get_function(self, fn, sig, _firstcall=True):
+        if not _firstcall:
+            return get_function(self, fn, sig, _firstcall)
+        try:
+            key = (self, fn, sig.as_function())
+            impl = memo.get(key)
+            if impl is None and key in missing:
+                raise NotImplementedError(f"No definition for lowering {fn}{sig}")
+        except (TypeError, AttributeError):  # unhashable: looked up as numba does
+            return get_function(self, fn, sig, _firstcall)
+        if impl is None:
+            try:
+                impl = memo[key] = get_function(self, fn, sig, _firstcall)
+            except NotImplementedError:
+                if isinstance(fn, str) and fn == "__array__":
+                    missing.add(key)
+                raise
+        return impl
+
+    base.BaseContext.get_function = memo_get_function
+    try:
+        yield
+    finally:
+        base.BaseContext.get_function = get_function
+
+
+@contextlib.contextmanager
+def _no_llvm_lock_events():
+    """While a module builds, numba broadcasts no event when it takes llvmlite's lock: numba asks
+    llvmlite to call two functions of its own around every call into LLVM (some 110 000 over the two
+    ``build-kernels`` processes), which broadcast a ``numba:llvm_lock`` event to numba's listeners
+    (its compile-time statistics, which nothing here reads): 4 µs a call, 0.4 s of CPU in all. The
+    callbacks are registered again after. Where this llvmlite keeps no such list, nothing is changed."""
+    try:
+        from llvmlite.binding import ffi
+
+        callbacks = ffi.lib._lock._cblist
+        if not isinstance(callbacks, list):
+            raise TypeError
+    except (ImportError, AttributeError, TypeError):
+        yield
+        return
+    saved = callbacks[:]
+    callbacks.clear()
+    try:
+        yield
+    finally:
+        callbacks[:] = saved + [c for c in callbacks if c not in saved]
 
 
 #: the garbage collector's thresholds while kernels build (:func:`_young_gc_only`): the youngest
@@ -731,7 +871,8 @@ def build_all(workers: int | None = None) -> list[str]:
     """Build every group of :data:`GROUPS` not yet in the cache folder, a set of :data:`FAMILIES` per
     process, ``workers`` processes at a time (default: the CPU count); returns the groups that could
     not be built ahead of time (empty where all were). With nothing to build it costs one process's
-    imports.
+    imports. The builders are forked from this process once it has set numba up (:func:`_fork_ready`),
+    else started afresh.
 
     >>> callable(build_all)
     True
@@ -749,26 +890,103 @@ def build_all(workers: int | None = None) -> list[str]:
                            env=dict(env, TWOFLUID_KERNELS_PROBE="1"), capture_output=True, text=True)
     missing = probe.stdout.split() if probe.returncode == 0 else [name for name, _ in GROUPS]
     code = ("import sys; from twofluid import compiled\n"
-            "with compiled._young_gc_only():\n"
-            "  for spec, name in zip(sys.argv[1::2], sys.argv[2::2]):\n"
-            "    compiled._build_group(spec); out = compiled._LOADED.get(name) or {None: None}\n"
-            "    print(name, 'aot' if all(type(f).__name__ == 'builtin_function_or_method' for f in out.values())"
-            " else 'jit', flush=True)")
+            "compiled._build_and_report(zip(sys.argv[1::2], sys.argv[2::2]), sys.stdout)")
     specs = dict(GROUPS)
     listed = [n for family in FAMILIES for n in family]
     sets = [[n for n in family if n in missing] for family in FAMILIES]
     sets += [[n] for n, _ in GROUPS if n in missing and n not in listed]
     pending = [s for s in sets if s]
+    fork = bool(pending) and _fork_ready()
     running, failed = [], []
     while pending or running:
         while pending and len(running) < workers:
             names = pending.pop(0)
-            argv = [a for n in names for a in (specs[n], n)]
-            running.append((names, subprocess.Popen([sys.executable, "-c", code, *argv], env=env,
-                                                    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)))
+            pairs = [(specs[n], n) for n in names]
+            running.append((names, _Forked(pairs, env) if fork else subprocess.Popen(
+                [sys.executable, "-c", code, *[a for pair in pairs for a in pair]], env=env,
+                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)))
         time.sleep(0.05)
         for r in [r for r in running if r[1].poll() is not None]:
             running.remove(r)
             report = dict(line.split()[:2] for line in r[1].communicate()[0].splitlines() if len(line.split()) >= 2)
             failed += [n for n in r[0] if report.get(n) != "aot"]
     return [n for n, _ in GROUPS if n in failed]
+
+
+def _build_and_report(pairs, out) -> None:
+    """Build the groups ``pairs`` ((getter spec, group name) of :data:`GROUPS`) in this process, as
+    :func:`build_all`'s builders do, writing a line per group to ``out``: its name and ``aot`` (built
+    ahead of time) or ``jit``."""
+    with _young_gc_only():
+        for spec, name in pairs:
+            _build_group(spec)
+            got = _LOADED.get(name) or {None: None}
+            how = "aot" if all(type(f).__name__ == "builtin_function_or_method" for f in got.values()) else "jit"
+            print(name, how, file=out, flush=True)
+
+
+def _fork_ready() -> bool:
+    """Whether :func:`build_all` may fork its builders from this process, and if so numba set up in it
+    first (imported, ``numba.pycc`` too, and its typing and target contexts' registries loaded: 0.9 s
+    of CPU that each builder started afresh pays, once for all of them): on Linux, in a process with
+    one thread, numba's JIT not disabled by its environment variable (read when numba is imported),
+    and no kernel module imported or group loaded (a forked builder starts as a fresh one would:
+    ``twofluid build-kernels``). False elsewhere (the builders are then started afresh)."""
+    import threading
+    import warnings
+
+    if not sys.platform.startswith("linux") or not hasattr(os, "fork") or threading.active_count() > 1 or \
+            _LOADED or os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0") or \
+            any(spec.split(":")[0] in sys.modules for _, spec in GROUPS):
+        return False
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # numba.pycc's pending deprecation
+            from numba.core.registry import cpu_target
+            from numba.pycc import CC  # noqa: F401
+
+            cpu_target.typing_context.refresh()
+            cpu_target.target_context.refresh()
+    except Exception:  # no numba, or one that cannot: the builders find out for themselves
+        return False
+    return True
+
+
+class _Forked:
+    """A builder of :func:`build_all` forked from this process (:func:`_fork_ready`), building
+    ``pairs`` (:func:`_build_and_report`) with the environment ``env``; ``poll()`` and
+    ``communicate()`` as a ``subprocess.Popen`` whose standard output is a pipe (its standard error,
+    and its own standard output, go nowhere)."""
+
+    def __init__(self, pairs, env: dict):
+        read, write = os.pipe()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:  # the builder: it leaves by os._exit alone (nothing of this process's exit runs twice)
+            status = 1
+            try:
+                os.close(read)
+                null = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(null, 1)
+                os.dup2(null, 2)
+                os.environ.clear()
+                os.environ.update(env)
+                with os.fdopen(write, "w") as out:
+                    _build_and_report(pairs, out)
+                status = 0
+            finally:
+                os._exit(status)
+        os.close(write)
+        self.pid, self.returncode, self._out = pid, None, os.fdopen(read)
+
+    def poll(self):
+        if self.returncode is None:
+            pid, status = os.waitpid(self.pid, os.WNOHANG)
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+        return self.returncode
+
+    def communicate(self):
+        with self._out:
+            return self._out.read(), None

@@ -527,3 +527,140 @@ def test_a_global_functions_call_is_typed_once_per_argument_types_while_a_module
     assert a is b and a.return_type == types.float64 and c is not None
     assert typed == [(types.float64,), (types.int64,)]
     assert typing.context.BaseContext.resolve_function_type is resolve
+
+
+def test_an_export_that_is_also_a_helper_is_compiled_once_for_the_module_and_its_callers(toy, monkeypatch):
+    """An export listed among its group's helpers is exported through a stub calling the helper
+    (``compiled._stub``): numba compiles it once, as the helper, and a kernel of another group built
+    after it in the process that calls it with the same argument types gets that compile, not a second."""
+    pytest.importorskip("numba.pycc")
+    from numba.core import compiler
+
+    kmod_a, kmod_b = _toy_build(toy, monkeypatch)
+    compiles = []
+    compile_extra = compiler.compile_extra
+
+    def counted(typingctx, targetctx, func, *args, **kw):
+        compiles.append(func.__qualname__)
+        return compile_extra(typingctx, targetctx, func, *args, **kw)
+
+    monkeypatch.setattr(compiler, "compile_extra", counted)
+    monkeypatch.setattr("numba.pycc.compiler.compile_extra", counted)
+    monkeypatch.setattr(compiled, "_HELPER_DISPATCHERS", {})
+    first = compiled.group("toy_stub", {"total": (kmod_a.total, SIGNATURE)}, helpers=(kmod_a.total, kmod_b.helper))
+    monkeypatch.delitem(compiled._LOADED, "toy_stub")
+    if type(first["total"]).__name__ != "builtin_function_or_method":
+        pytest.skip("no ahead-of-time build here (numba.pycc or a C toolchain missing): the JIT is used")
+    assert first["total"](X) == expected()
+    assert compiles.count("total") == 1 and "total_export" in compiles, compiles
+
+    def twice(x):
+        return 2.0 * kmod_a.total(x)
+
+    compiles.clear()
+    second = compiled.group("toy_stub_caller", {"twice": (twice, SIGNATURE)}, helpers=(kmod_a.total, kmod_b.helper))
+    monkeypatch.delitem(compiled._LOADED, "toy_stub_caller")
+    assert second["twice"](X) == 2.0 * expected()
+    assert [c.rsplit(".", 1)[-1] for c in compiles] == ["twice"], compiles  # the first group's helper reused
+
+
+def test_the_typed_containers_c_code_is_linked_only_into_a_module_that_calls_it(tmp_path):
+    """numba's C sources of its typed dict, list and set (and their ``utils.c``) are compiled and linked
+    only where a kernel's object file names one of their functions; numba's other sources always."""
+    cext = [f"/numba/cext/{name}" for name in ("dictobject.c", "listobject.c", "setobject.c", "utils.c")]
+    sources = ["/numba/pycc/modulemixin.c", *cext, "/numba/core/runtime/nrt.cpp", "/numba/cext/future.c"]
+    plain, with_dict = tmp_path / "plain.o", tmp_path / "dict.o"
+    plain.write_bytes(b"\x7fELF ... NRT_decref ... numba_gil_ensure")
+    with_dict.write_bytes(b"\x7fELF ... numba_dict_new_sized ...")
+    keep = ["/numba/pycc/modulemixin.c", "/numba/core/runtime/nrt.cpp"]
+    assert compiled._containers_called(sources[:-1], [plain]) == keep
+    assert compiled._containers_called(sources[:-1], [plain, with_dict]) == \
+        ["/numba/pycc/modulemixin.c", cext[0], cext[3], "/numba/core/runtime/nrt.cpp"]
+    assert compiled._containers_called(sources, [plain]) == sources[:1] + [cext[3]] + sources[-2:]  # (unknown: kept)
+    assert compiled._containers_called(sources, [tmp_path / "missing.o"]) == sources
+    assert compiled._containers_called(sources, None) == sources
+
+
+def test_no_llvm_lock_event_is_broadcast_while_a_module_builds_and_the_callbacks_are_back_after():
+    pytest.importorskip("numba")
+    from llvmlite.binding import ffi
+
+    before = list(ffi.lib._lock._cblist)
+    assert before  # numba's, registered when it is imported
+    with compiled._no_llvm_lock_events():
+        assert ffi.lib._lock._cblist == []
+    assert ffi.lib._lock._cblist == before
+
+
+def test_build_kernels_forks_its_builders_from_a_process_that_set_numba_up_once(toy, monkeypatch):
+    """Where no kernel module is imported yet (``twofluid build-kernels``), numba is set up once and the
+    builders are forked from the process; they build as a fresh process would, and report each group.
+    A process that imported a kernel module starts them afresh instead."""
+    pytest.importorskip("numba.pycc")
+    if not sys.platform.startswith("linux"):
+        pytest.skip("builders are forked on Linux alone")
+    src, cache = toy
+    code = textwrap.dedent(f'''
+        import sys
+        sys.path.insert(0, {str(src)!r})
+        from twofluid import compiled
+        ready = compiled._fork_ready()
+        import kmod_a, kmod_b
+        def build():
+            return compiled.group("toy_fork", {{"total": (kmod_a.total, {SIGNATURE!r})}}, helpers=(kmod_b.helper,))
+        kmod_a.build = build
+        builder = compiled._Forked([("kmod_a:build", "toy_fork")], dict(__import__("os").environ))
+        while builder.poll() is None:
+            pass
+        print(ready, builder.returncode, builder.communicate()[0].strip().replace(" ", ":"), "toy_fork" in compiled._LOADED)
+        import twofluid.models.reduced_kernel
+        print(compiled._fork_ready())
+    ''')
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=_env(cache), timeout=600)
+    assert r.returncode == 0, r.stderr[-3000:]
+    first, second = r.stdout.split("\n")[:2]
+    ready, status, report, loaded_here = first.split()
+    assert ready == "True" and status == "0" and loaded_here == "False"
+    _aot_or_skip(report.split(":")[1])
+    assert report == "toy_fork:aot" and list(cache.glob("_twofluid_toy_fork_*"))
+    assert second == "False"
+
+
+def test_a_functions_lowering_is_looked_up_once_per_signature_while_a_module_builds():
+    """Inside a build numba's target context answers a repeated lookup of a function's implementation
+    for a signature from its first answer (the same implementation); a failing lookup raises each
+    time, and one of ``__array__`` (make_array's probe) without looking again; numba's own method is
+    back after."""
+    pytest.importorskip("numba")
+    import operator
+
+    from numba.core import base, types
+    from numba.core.registry import cpu_target
+    from numba.core.typing import signature
+
+    ctx = cpu_target.target_context
+    ctx.refresh()
+    looked = []
+    get_function = base.BaseContext.get_function
+
+    def counted(self, fn, sig, _firstcall=True):
+        looked.append((fn, _firstcall))
+        return get_function(self, fn, sig, _firstcall)
+
+    add = signature(types.float64, types.float64, types.float64)
+    array = types.float64[::1]
+    with pytest.MonkeyPatch.context() as m:
+        m.setattr(base.BaseContext, "get_function", counted)
+        with compiled._lowering_memo():
+            a = ctx.get_function(operator.add, add)
+            b = ctx.get_function(operator.add, add)
+            c = ctx.get_function(operator.mul, add)
+            for _ in range(2):
+                with pytest.raises(NotImplementedError):
+                    ctx.get_function("__array__", signature(array, array))
+                with pytest.raises(NotImplementedError):
+                    ctx.get_function("no_such_function", add)
+        assert base.BaseContext.get_function is counted
+    assert a is b and a is not c
+    assert [fn for fn, first in looked if first] == [operator.add, operator.mul, "__array__", "no_such_function",
+                                                     "no_such_function"]

@@ -578,8 +578,11 @@ def _compile():
                  "step_pressure": _step_pressure, "step_constants": _step_constants, "iterate_points": _iterate_points, "whole_iterate": _whole_iterate,
                  "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws,
                  "first_iterate": _first_iterate}
+        # (the whole iterate's exports are helpers too: compiled once for this group and the column's step,
+        # which calls them with the same argument types; twofluid.compiled._stub)
         helpers = (_fmax, _sign, _closure_points, _band_system, _iterate_change, _shift_points, _shift, banded._u,
-                   banded._gbsv22, banded._bt22, extrapolation._predict_entries,
+                   banded._gbsv22, banded._bt22, extrapolation._predict_entries, _iterate_points, _whole_iterate,
+                   _shift_law_points, _shift_with_laws, _first_iterate,
                    laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
                    laws._wen_yu_reynolds, laws._wen_yu_given,
                    laws._solids_pressure, laws._viscosity, laws._mooney)
