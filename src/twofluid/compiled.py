@@ -42,6 +42,7 @@ True
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -198,17 +199,26 @@ def _module_name(name: str, func: Callable, signature: str, helpers: tuple = ())
     return _group_name(name, {name: (func, signature)}, helpers)
 
 
+@functools.lru_cache(maxsize=None)
+def _library_paths() -> tuple[str, ...]:
+    """The interpreter's standard library and installed libraries' folders (``sysconfig``), found once
+    a process: :func:`_sources` asks at each group a run loads, and ``sysconfig.get_paths`` takes about
+    0.1 ms a call."""
+    import sysconfig
+
+    paths = sysconfig.get_paths()
+    return tuple({p for k in ("stdlib", "platstdlib", "purelib", "platlib") if (p := paths.get(k))})
+
+
 def _sources(funcs) -> list[str]:
     """The source files of ``funcs`` and of every function and module that they name, followed
     through the functions so found, but the standard library's and installed libraries' (the
     package's own files count wherever it is installed): what a compiled kernel may have taken in
     (numba compiles callees and freezes global constants into the caller)."""
-    import sysconfig
     import types
 
     package = str(Path(__file__).parent)
-    libraries = tuple({p for k in ("stdlib", "platstdlib", "purelib", "platlib")
-                       if (p := sysconfig.get_paths().get(k))})
+    libraries = _library_paths()
 
     def ours(file: str) -> bool:  # the package's, or another project's sources (not a library's)
         return file.startswith(package) or (file.endswith(".py") and not file.startswith(libraries))
