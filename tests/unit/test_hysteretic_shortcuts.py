@@ -123,8 +123,6 @@ def _effective_stress_call(monkeypatch, off):
         if "ratio" in off:  # the generated ratio always computed again after the commit
             generating = law._commit_generating
             m.setattr(law, "_commit_generating", lambda *a: (generating(*a)[0], math.nan, math.nan))
-        if "inline" in off:  # every generating commit through closures.hysteretic._commit_generating
-            m.setattr(hk, "_WRITTEN_OUT", False)
         if "known" in off:  # the generated ratio computed again where the damage is the same
             m.setattr(hd, "_generated_ratio_known", lambda damage, alpha, cap, dk, rk: hd._generated_ratio_of(damage, alpha, cap))
         b = rl.build_column(c)
@@ -141,7 +139,7 @@ def _effective_stress_call(monkeypatch, off):
 
 
 def test_the_kernel_with_its_shortcuts_is_the_kernel_without_them(monkeypatch):
-    t0, a0, s0 = _effective_stress_call(monkeypatch, ("floor", "prepared", "commit", "ratio", "known", "inline"))
+    t0, a0, s0 = _effective_stress_call(monkeypatch, ("floor", "prepared", "commit", "ratio", "known"))
     t1, a1, s1 = _effective_stress_call(monkeypatch, ())
     assert len(s0) == 1 and s0[0][0] == 0 and t0.size > 100
     st = s0[0][1]

@@ -463,9 +463,7 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, f
     of the element's damage D + D_part = ``dk`` where the caller computed it before (nan: none), used
     where the damage is that again (``_hd._generated_ratio_known``: the same number). Returns (the
     committed stress [Pa], the generated ratio of the committed state, :func:`generated_ratio`, where
-    it was computed on the way, and the damage it is of; nan, nan where not). (The column's kernel
-    writes this out up to :func:`_generation_step`, ``models.hysteretic_kernel._WRITTEN_OUT``: kept in
-    step with it.)"""
+    it was computed on the way, and the damage it is of; nan, nan where not)."""
     r_old = st[e, S_RG]
     if par[e, P_LIQ] <= 0.0 or ps <= 0.0 or r_old >= par[e, P_RCAP]:
         _commit_counted(g, d, tau, tau + tau_rate, st, par, e, s, t, gr, c, fm)
@@ -482,15 +480,6 @@ def _commit_generating(g, d, st, par, e, ps, t, save, tau_rate, c, tau, s, gr, f
     q1 = (1.0 - r) / (1.0 - r_old)
     if q1 >= 1.0 - 1e-12 or at_floor:
         return tau, r, dsum  # no generation, or the strength already at its floor: the explicit count holds
-    return _generation_step(g, d, st, par, e, ps, t, save, tau_rate, c, r_old, q1, dsum, r)
-
-
-def _generation_step(g, d, st, par, e, ps, t, save, tau_rate, c, r_old, q1, dsum, r):
-    """The backward-Euler step of :func:`_commit_generating` once its explicit count generated
-    (``q1`` < 1, the strength above its floor): ``save`` holds the state before the commit, ``dsum``
-    and ``r`` the damage and generated ratio the explicit count left. Returns as it does."""
-    alpha = par[e, P_ALPHA]
-    cap = par[e, P_RCAP]
     # φ(q) = q′(q) − q: φ(1) = q1 − 1 < 0, φ(q1) ≥ 0 (a lower strength, a lower stress, less damage)
     lo, hi = q1, 1.0
     f_hi = q1 - 1.0

@@ -62,16 +62,13 @@ import numpy as np
 from ..closures import hysteretic as _law
 from ..closures import hysteretic_backbone as _hb, hysteretic_damage as _hd, hysteretic_dilation as _hz, hysteretic_flow as _hf, hysteretic_memory as _hm, hysteretic_ratchet as _hr
 from . import newmark_bands as _nb
-from ..closures.hysteretic import P_ALPHA, P_LIQ, P_RCAP, P_SIG0, P_SR, S_D, S_DPART, S_DIR, S_EPS, S_G, S_GC, S_GD, S_GM, S_LIQ, S_NREV, S_NSTK, S_RG, S_STK, S_T, S_TAU
+from ..closures.hysteretic import P_LIQ, P_SIG0, S_DIR, S_EPS, S_G, S_GC, S_GD, S_GM, S_LIQ, S_NREV, S_NSTK, S_RG, S_STK, S_T, S_TAU
 
 __all__ = ["substeps", "element_cycles", "compiled", "SIGNATURE"]
 
 _MAX_EXPONENT = 700.0
 _NKEY = 10  # what an outer branch's floor depends on (_keep_floor)
 _NPKEY = 8  # what an element's prepared branches depend on (_prepared_key)
-#: whether :func:`_substeps` commits a generating element with ``closures.hysteretic._commit_generating``
-#: written out (True), or by calling it (the tests' check that the two agree, in plain Python)
-_WRITTEN_OUT = True
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
@@ -274,32 +271,14 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             c = _law._constants_row(cst, e)
             q = _law._prepared_row(prep, e)
             r_gen = math.nan
-            d_gen = math.nan
             a_e, f_e = _floor_for(cert, e, q[_law.Q_D], g)
             te, fo = _law._stress_value(g, q, c, a_e, f_e)
             if fo == fo:  # the outer branch evaluated at the committed strain: a floor from here on
                 _keep_seen(cert, e, g, fo)
             fm_e = q[_law.Q_FM] if q[_law.Q_N] > 0.0 else -1.0
             if e < ns and par[e, P_LIQ] > 0.0:  # the generation counted at the stress it leaves
-                r_old = st[e, S_RG]
-                if not _WRITTEN_OUT:  # (a switch of the tests; compiled, a constant: this branch is not there)
-                    te, r_gen, d_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, te,
-                                                               q[_law.Q_S], q[_law.Q_GR], fm_e, keep[e, 4], keep[e, 5])
-                elif psv[e] <= 0.0 or r_old >= par[e, P_RCAP]:  # (as _law._commit_generating does here)
-                    _law._commit_counted(g, dirn[e], te, te + tv, st, par, e, q[_law.Q_S], t, q[_law.Q_GR], c, fm_e)
-                else:  # _law._commit_generating written out up to its backward-Euler step (_law._generation_step),
-                    # kept in step with it: its call per element and sub-step cost its arrays' reference counts
-                    at_floor = q[_law.Q_S] <= par[e, P_SR] * (1.0 + 1e-12)
-                    if not at_floor:
-                        for k in range(save.size):
-                            save[k] = st[e, k]
-                    _law._commit_counted(g, dirn[e], te, te + tv, st, par, e, q[_law.Q_S], t, q[_law.Q_GR], c, fm_e)
-                    d_gen = st[e, S_D] + st[e, S_DPART]
-                    r_gen = _hd._generated_ratio_known(d_gen, par[e, P_ALPHA], par[e, P_RCAP], keep[e, 4], keep[e, 5])
-                    q1 = (1.0 - r_gen) / (1.0 - r_old)
-                    if not (q1 >= 1.0 - 1e-12 or at_floor):
-                        te, r_gen, d_gen = _law._generation_step(g, dirn[e], st, par, e, psv[e], t, save, tv, c, r_old, q1,
-                                                                 d_gen, r_gen)
+                te, r_gen, d_gen = _law._commit_generating(g, dirn[e], st, par, e, psv[e], t, save, tv, c, te, q[_law.Q_S],
+                                                           q[_law.Q_GR], fm_e, keep[e, 4], keep[e, 5])
             elif _moves_on(g, dirn[e], st, par, e):  # what _law._commit_counted does here, alone
                 st[e, S_G] = g
                 st[e, S_T] = te / s[e]
@@ -557,7 +536,7 @@ _HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_
                           _law.skeleton_stress, _law._close_loops,
                           _law.half_cycle_damage, _law._count_damage, _law.commit, _law.commit_counted,
                           _law._commit_counted, _law.seed_booker, _law.generated_ratio, _law.commit_generating,
-                          _law._commit_generating, _law._generation_step, _hf.flows, _hz.widen_zone,
+                          _law._commit_generating, _hf.flows, _hz.widen_zone,
                           _hr.start, _hr.follow_mean, _hr.dilation_strain)
 
 ELEMENT_SIGNATURE = "f8(f8[:, ::1], f8[:, ::1], i8, f8, i8, i8, f8, f8, f8[::1], f8[::1], f8[::1], f8)"
