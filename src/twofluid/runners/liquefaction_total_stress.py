@@ -59,14 +59,18 @@ class WholeWave:
                 np.concatenate([np.zeros((1, a.shape[1])), a]))
 
 
-def one_call(col, s0, total: int, nodes: bool, kernel=None):
+def one_call(col, s0, total: int, nodes: bool, kernel=None, quick: bool = True):
     """(times [s], absolute acceleration [m/s²]) after each of ``total`` equal sub-steps of the whole
     shear wave of the hysteretic total-stress column ``col`` from ``s0`` (t = 0): of the surface
     node (``nodes`` False: shape (total,)) or of every node, bottom first (shape (total, nodes)); None
     where a sub-step would be halved (Newton did not converge) or a value is not finite.
 
     The arguments :meth:`LiquefactionColumn.step` gives the sub-steps for one step over the whole
-    wave; ``kernel``: :func:`twofluid.models.hysteretic_kernel.runner`'s by default."""
+    wave; ``kernel``: :func:`twofluid.models.hysteretic_kernel.runner`'s by default. With ``quick`` (the
+    default) Newton's iterations of each sub-step stop as well by their rate of contraction (the
+    kernel's ``quick``: the same solution to far below Newton's tolerance, about a quarter fewer
+    evaluations of the law); then the accelerations agree with the column's own steps to that
+    tolerance, not to round-off."""
     from ..models import hysteretic_kernel as hk
 
     span = col.shear_end - s0.t
@@ -84,7 +88,7 @@ def one_call(col, s0, total: int, nodes: bool, kernel=None):
     mid, tail = col.hysteretic_arguments()
     code = int(run(u, vel, acc, st, col.hysteretic, nb, np.ascontiguousarray(s0.vertical.n, dtype=float),
                    np.ascontiguousarray(col._ndot * span), A, p_ref, *mid, s0.t, h,
-                   col._record_at(times), col.shaking_end, out, tau, *tail))
+                   col._record_at(times), col.shaking_end, out, tau, *tail[:-1], 1 if quick else 0))
     if code != 0:
         return None
     return times, (out.reshape(total, ne + 1) if nodes else out)
