@@ -45,6 +45,11 @@ and the commit with generation hands back the generated ratio it computed, not c
 is handed each element's last one with the damage it is of (``keep``), used again where a commit
 leaves the damage as it was (``closures.hysteretic_damage._generated_ratio_known``: the same number).
 
+The total-stress companion's call (its last argument ``quick`` 1) stops Newton's iterations as well
+once the next update, at the rate the last two contracted by, would be within the tolerance
+(:func:`_contracted`): the same solution to far below the tolerance, without the update that only
+confirms it; the two-fluid run's calls (``quick`` 0) iterate as before, to the bit.
+
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
 :func:`substeps` with ``jit=False``), which is slow but steps through in a debugger.

@@ -7,7 +7,9 @@ steps only cut the shear wave into pieces: steps of Δt to the end of the shakin
 of the shear wave, each cut into m = ⌈Δt/shear_step⌉ sub-steps of Δt/m. Where both stretches are
 whole numbers of steps, those are N·m equal sub-steps (:func:`plan`), which one call over the whole
 wave takes as well: the same sub-steps, their times summed from the start instead of from each
-step's, so the same accelerations to round-off. Two step sizes whose plans give the same count are
+step's, and Newton's iterations stopped by their rate of contraction as well (:func:`one_call`'s
+``quick``: about a quarter fewer evaluations of the law where they take three updates, the last
+only confirming the second), so the same accelerations to far below Newton's tolerance. Two step sizes whose plans give the same count are
 the same call (the sloping site: steps of 0.02 s in 4 sub-steps and of 0.01 s in 2).
 """
 from __future__ import annotations
