@@ -45,6 +45,11 @@ and the commit with generation hands back the generated ratio it computed, not c
 is handed each element's last one with the damage it is of (``keep``), used again where a commit
 leaves the damage as it was (``closures.hysteretic_damage._generated_ratio_known``: the same number).
 
+The total-stress companion's call (its last argument ``quick`` 1) stops Newton's iterations as well
+once the next update, at the rate the last two contracted by, would be within the tolerance
+(:func:`_contracted`): the same solution to far below the tolerance, without the update that only
+confirms it; the two-fluid run's calls (``quick`` 0) iterate as before, to the bit.
+
 The same source runs compiled (:func:`compiled`, numba, built ahead of time by
 :mod:`twofluid.compiled`) and as plain Python (``TWOFLUID_DISABLE_JIT=1`` or
 :func:`substeps` with ``jit=False``), which is slow but steps through in a debugger.
@@ -72,14 +77,18 @@ _NPKEY = 8  # what an element's prepared branches depend on (_prepared_key)
 
 
 def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, impedance, first,
-              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma, body, rho_b):
+              tol, max_iter, t0, dt, a_in, shaking_end, surface, tau_out, nm_beta, nm_gamma, body, rho_b, quick):
     """Advance len(a_in) sub-steps in place; returns 0, 1 (Newton did not converge: halve the
     sub-step) or 2 (a non-finite value). ``surface`` [m/s²]: the absolute acceleration (record while
     it shakes plus the node's relative acceleration) of the surface node after each sub-step (size
     m = len(a_in)), or of every node, bottom first, sub-step after sub-step (size m·(ne + 1)). ``body`` [m/s²]: the downslope body force per unit mass
     of an infinite slope, g sin α (0 on level ground; :func:`_body_force`); ``rho_b`` [kg/m³]: the
     density the saturated elements' driving weight leaves out (ρ_f under still open water, a
-    submerged slope: the buoyant weight drives; 0 with slope-parallel seepage: the total weight)."""
+    submerged slope: the buoyant weight drives; 0 with slope-parallel seepage: the total weight).
+    ``quick``: 0, Newton's iterations to the tolerance (the two-fluid run); 1 (the total-stress
+    companion, :func:`twofluid.runners.liquefaction_total_stress.one_call`), stopped as well once the
+    next update, at the last rate of contraction of this branch's iterations, would be within the
+    tolerance (:func:`_contracted`): the same solution to far below the tolerance, in fewer evaluations of the law."""
     ne = h.size
     nv = ne + 1
     m = a_in.size
@@ -171,6 +180,7 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dirn[e] = st[e, S_DIR]
             else:
                 dirn[e] = _hm.direction((un[e + 1] - un[e]) / h[e], st, e)
+        d_last = math.inf  # the last Newton update (quick: for the rate of contraction; inf: none yet)
         for e in range(ne):
             flips[e] = 0
             redo[e] = 1
@@ -241,11 +251,13 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dmax, umax = _nb.newton_update(un, du, first, relax)
                 if dmax < 0.0:
                     return 2
-                if dmax <= tol * max(umax, 1e-9):
+                if dmax <= tol * max(umax, 1e-9) or (quick == 1 and _contracted(dmax, d_last, tol * max(umax, 1e-9))):
                     converged = True
                     break
+                d_last = dmax
             if not converged:
                 break
+            d_last = math.inf  # (a new branch: no rate known)
             changed = 0
             for e in range(ne):
                 dg = (un[e + 1] - un[e]) / h[e] - st[e, 0]  # from the committed strain (column S_G)
@@ -312,6 +324,19 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
             for j in range(nv):
                 surface[i * nv + j] = (ag if t <= shaking_end + 1e-12 else 0.0) + a[j]
     return 0
+
+
+def _contracted(d, d_last, tol):
+    """Whether Newton's iterations may stop after an update of size ``d`` that followed one of
+    ``d_last`` with the same branches (the quick iterations of :func:`_substeps`): the updates contract
+    (rate r = d/d_last < 1; ``d_last`` inf: no update before, no rate) and what the rest of them would
+    add at that rate, d r/(1 − r), is within ``tol``. Newton's iterations contract faster than that
+    (quadratically), so the solution is within ``tol`` of theirs.
+
+    >>> _contracted(1.5e-8, 4e-4, 1e-10), _contracted(1.5e-8, 4e-4, 1e-13), _contracted(1e-20, float("inf"), 1.0)
+    (True, False, False)
+    """
+    return d < d_last < math.inf and d * d <= tol * (d_last - d)
 
 
 def _fixed_strength(par, dn, ns, fixed):
@@ -527,8 +552,8 @@ def _element_cycles(st, par, mode, amplitude, steps_per_cycle, max_cycles, ru_li
 #: argument types for the ahead-of-time build (C-contiguous float64 arrays, floats, integers)
 SIGNATURE = ("i8(f8[::1], f8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], "
              "f8[::1], f8[::1], f8[::1], f8[::1], i8, f8, f8, f8, i8, f8, i8, f8, f8, f8[::1], f8, "
-             "f8[::1], f8[::1], f8, f8, f8, f8)")
-_HELPERS = _nb.HELPERS + (_body_force, _fixed_strength, _kept_factor, _prepared_key, _prepared_same, _keep_floor, _floor_fresh, _keep_seen, _floor_for, _moves_on, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
+             "f8[::1], f8[::1], f8, f8, f8, f8, i8)")
+_HELPERS = _nb.HELPERS + (_body_force, _contracted, _fixed_strength, _kept_factor, _prepared_key, _prepared_same, _keep_floor, _floor_fresh, _keep_seen, _floor_for, _moves_on, _hb._bb.gqh_core, _hb._bb.gqh_core_c, _hb._bb.gqh_core_slope_c, _hb._bb.gqh_slope_w, _law.gqh_ratio, _law.strength_modulus,
                           _law._constants, _law._gqh, _law._gqh_w, _law._dil, _law._env, _law._env_value, _law.masing_weight, _hm._masing_weight_of, _hm._mrdf_of, _hd._half_cycle_damage_of, _hd._generated_ratio_of, _hd._generated_ratio_known, _hb._strength_modulus_of,
                           _law._branch, _law._branch_value, _hm._branch_of, _hm._branch_value_of, _hb._gqh_value_w, _law._mrdf, _law._origin, _law._on, _law._on_value, _law._reversal_branch, _law._backbone, _law._backbone_value,
                           _law._open_count, _law._open_point, _law._open_stress, _law.direction, _law._prepare,
@@ -575,8 +600,8 @@ def element_cycles(*args, jit: bool = True, bias: float = 0.0) -> float:
 def runner():
     """The sub-steps' function to call for a whole run, resolved once (the compiled kernel, or
     :func:`_substeps` where :func:`compiled` gives None): arguments as :func:`_substeps`, ``body`` and
-    ``rho_b`` (as :func:`substeps` takes them) last and as floats; returns the code as :func:`substeps`
-    does once passed to ``int``.
+    ``rho_b`` (as :func:`substeps` takes them) as floats and ``quick`` as an integer last; returns the
+    code as :func:`substeps` does once passed to ``int``.
 
     >>> runner() in (compiled(), _substeps)
     True
@@ -585,10 +610,11 @@ def runner():
     return _substeps if k is None else k
 
 
-def substeps(*args, jit: bool = True, body: float = 0.0, rho_b: float = 0.0) -> int:
+def substeps(*args, jit: bool = True, body: float = 0.0, rho_b: float = 0.0, quick: int = 0) -> int:
     """Run the sub-steps (arguments as :func:`_substeps` but ``body``, the slope's g sin α [m/s²],
-    and ``rho_b``, the density its saturated elements' driving weight leaves out [kg/m³], keywords:
-    0 on level ground and with slope-parallel seepage), compiled where possible."""
-    args = args + (float(body), float(rho_b))
+    ``rho_b``, the density its saturated elements' driving weight leaves out [kg/m³], and ``quick``,
+    keywords: 0 on level ground and with slope-parallel seepage, and Newton's iterations as the
+    two-fluid run takes them), compiled where possible."""
+    args = args + (float(body), float(rho_b), int(quick))
     k = compiled() if jit else None
     return int(k(*args)) if k is not None else int(_substeps(*args))

@@ -678,12 +678,13 @@ class LiquefactionColumn:
         that do not change over a run: those after ``p_ref`` up to ``t0`` (the wave's ρ, η and element
         lengths, which :meth:`_wave_properties` updates in place, the saturated count, the Rayleigh
         coefficients, the base, Newton's tolerance and iterations), and those after ``tau_out`` (Newmark's
-        β and γ, the slope's body force and the density it leaves out)."""
+        β and γ, the slope's body force and the density it leaves out, and ``quick`` 0: Newton's
+        iterations to the tolerance, as the run takes them)."""
         wave = self.wave
         return ((wave.rho, wave.eta, wave.h, self.n_sat, wave.a0, wave.a1,
                  0.0 if wave.base_impedance is None else wave.base_impedance,
                  0 if wave.base_impedance is not None else 1, wave.tol, wave.max_iter),
-                (self.newmark[0], self.newmark[1], float(self.body), float(self.rho_b)))
+                (self.newmark[0], self.newmark[1], float(self.body), float(self.rho_b), 0))
 
     def _skeleton_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """The skeleton law's A and p_ref per saturated element as the kernel takes them (contiguous

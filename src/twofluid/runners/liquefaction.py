@@ -211,8 +211,9 @@ def total_stress_surface(case: dict, one_call: bool = True, kernel=None):
     Nothing moves vertically in such a run (``LiquefactionColumn.shear_only``), so the column's
     vertical steps only cut the shear wave into pieces. With ``one_call`` (the default) the whole
     shear wave is one call of the compiled sub-steps, where that gives the same sub-steps as the
-    run's vertical steps (:func:`_whole_wave`): the same accelerations to round-off (the sub-steps'
-    times are summed differently; tests/unit/test_total_stress_surface.py); on a slope that call
+    run's vertical steps (:func:`_whole_wave`): the same accelerations to far below Newton's
+    tolerance (the sub-steps' times are summed differently, and the call stops Newton's iterations
+    by their rate of contraction as well, ``one_call``'s ``quick``; tests/unit/test_total_stress_surface.py); on a slope that call
     keeps every node's acceleration (``Surface.whole``). Otherwise, or with ``one_call=False``, the
     column runs step by step as the two-fluid run does. ``kernel``: the hysteretic sub-steps' function
     (:func:`twofluid.models.hysteretic_kernel.runner`'s by default)."""

@@ -228,8 +228,9 @@ def total_stress_node_motion(case: dict, polarity: int, one_call: bool = True, c
 
     With ``one_call`` (the default) the whole wave is one call of the compiled sub-steps where that
     repeats the steps' sub-steps (:mod:`twofluid.runners.liquefaction_total_stress`): the same
-    accelerations to round-off (the sub-steps' times summed from the start instead of from each
-    step's; tests/unit/test_total_stress_nodes.py); ``companion``, the run's own companion call
+    accelerations to far below Newton's tolerance (the sub-steps' times summed from the start instead
+    of from each step's, and Newton's iterations stopped by their rate of contraction as well;
+    tests/unit/test_total_stress_nodes.py); ``companion``, the run's own companion call
     (:class:`~twofluid.runners.liquefaction_total_stress.WholeWave`), serves where it is that call
     (the same polarity and count of sub-steps). Otherwise, or with ``one_call=False``, the column
     runs step by step."""

@@ -7,7 +7,9 @@ steps only cut the shear wave into pieces: steps of Δt to the end of the shakin
 of the shear wave, each cut into m = ⌈Δt/shear_step⌉ sub-steps of Δt/m. Where both stretches are
 whole numbers of steps, those are N·m equal sub-steps (:func:`plan`), which one call over the whole
 wave takes as well: the same sub-steps, their times summed from the start instead of from each
-step's, so the same accelerations to round-off. Two step sizes whose plans give the same count are
+step's, and Newton's iterations stopped by their rate of contraction as well (:func:`one_call`'s
+``quick``: about a quarter fewer evaluations of the law where they take three updates, the last
+only confirming the second), so the same accelerations to far below Newton's tolerance. Two step sizes whose plans give the same count are
 the same call (the sloping site: steps of 0.02 s in 4 sub-steps and of 0.01 s in 2).
 """
 from __future__ import annotations
@@ -59,14 +61,18 @@ class WholeWave:
                 np.concatenate([np.zeros((1, a.shape[1])), a]))
 
 
-def one_call(col, s0, total: int, nodes: bool, kernel=None):
+def one_call(col, s0, total: int, nodes: bool, kernel=None, quick: bool = True):
     """(times [s], absolute acceleration [m/s²]) after each of ``total`` equal sub-steps of the whole
     shear wave of the hysteretic total-stress column ``col`` from ``s0`` (t = 0): of the surface
     node (``nodes`` False: shape (total,)) or of every node, bottom first (shape (total, nodes)); None
     where a sub-step would be halved (Newton did not converge) or a value is not finite.
 
     The arguments :meth:`LiquefactionColumn.step` gives the sub-steps for one step over the whole
-    wave; ``kernel``: :func:`twofluid.models.hysteretic_kernel.runner`'s by default."""
+    wave; ``kernel``: :func:`twofluid.models.hysteretic_kernel.runner`'s by default. With ``quick`` (the
+    default) Newton's iterations of each sub-step stop as well by their rate of contraction (the
+    kernel's ``quick``: the same solution to far below Newton's tolerance, about a quarter fewer
+    evaluations of the law); then the accelerations agree with the column's own steps to that
+    tolerance, not to round-off."""
     from ..models import hysteretic_kernel as hk
 
     span = col.shear_end - s0.t
@@ -84,7 +90,7 @@ def one_call(col, s0, total: int, nodes: bool, kernel=None):
     mid, tail = col.hysteretic_arguments()
     code = int(run(u, vel, acc, st, col.hysteretic, nb, np.ascontiguousarray(s0.vertical.n, dtype=float),
                    np.ascontiguousarray(col._ndot * span), A, p_ref, *mid, s0.t, h,
-                   col._record_at(times), col.shaking_end, out, tau, *tail))
+                   col._record_at(times), col.shaking_end, out, tau, *tail[:-1], 1 if quick else 0))
     if code != 0:
         return None
     return times, (out.reshape(total, ne + 1) if nodes else out)
