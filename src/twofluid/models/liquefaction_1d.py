@@ -655,13 +655,16 @@ class LiquefactionColumn:
             dt = span / m
             rows = self._rows
             if attempt == 0 and rows is not None and rows.at is self.a_g_at:  # (the record read for many steps at once)
-                times, a_in = rows.rows(t0, m, dt, self._h)
+                a_in = rows.rows(t0, m, dt, self._h)[1]
+                times, end = rows.times, rows.end
             elif attempt == 0 and self.a_g_at is not None:
                 self._rows = rows = _record_rows.RecordRows(self.a_g_at)
-                times, a_in = rows.rows(t0, m, dt, self._h)
+                a_in = rows.rows(t0, m, dt, self._h)[1]
+                times, end = rows.times, rows.end
             else:
                 times = t0 + np.arange(1.0, m + 1.0) * dt
                 a_in = self._record_at(times)
+                times, end = times.tolist(), float(a_in[-1])
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
             st = shear.copy() if copy_st else np.array(shear, dtype=float)
             nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
@@ -676,8 +679,7 @@ class LiquefactionColumn:
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
         # (np.diff's arithmetic)
         out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / h_wave if strain else np.empty(h_wave.size), tau)
-        times = times.tolist()
-        self._a_last = (times[-1], float(a_in[-1]))  # (the record at the step's end: :meth:`accelerations`)
+        self._a_last = (times[-1], end)  # (the record at the step's end: :meth:`accelerations`)
         return out, nb, st, m, tuple(zip(times, surface.tolist()))
 
     def hysteretic_arguments(self) -> tuple[tuple, tuple]:

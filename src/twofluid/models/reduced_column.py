@@ -168,21 +168,29 @@ class ReducedVerticalColumn(Reduced1D):
                 _newton.release_kernel_samples(self)
                 return None
         idx, c, meta, last, _ = _newton.kernel_samples(self)
-        newton = bool(settings.newton_test and self.newton_iterates)  # (the stepper's NewtonTest or none)
+        d = self.__dict__
+        given = d.get("_fast_settings")  # (the settings' values as the call takes them, and one info array a
+        if given is None or given[0] is not settings:  # model: read as soon as the call returns)
+            given = self._fast_settings = (settings, float(settings.tol), int(settings.max_iter),
+                                           bool(settings.newton_test), np.zeros(3, dtype=np.int64))
+        _, tol, max_iter, newton, info = given
+        newton = newton and bool(self.newton_iterates)  # (the stepper's NewtonTest or none)
         a, P = np.empty(3 * nv - 1), np.empty(ne)
-        info = self.__dict__.get("_fast_info")  # (read as soon as the call returns: one array a model)
-        if info is None:
-            info = self._fast_info = np.zeros(3, dtype=np.int64)
         DWo, Dno = np.empty((6, nv)), np.empty((6, ne))
         t_old = old.t
         t_new = t_old + dt
-        V = self._V_wall if self.bottom.kind == "wall" else self._mixture_velocity(t_new)
+        if self.bottom.kind == "wall":
+            V = d.get("_V_zero")  # (:attr:`_V_wall`, inline)
+            if V is None:
+                V = self._V_wall
+        else:
+            V = self._mixture_velocity(t_new)
         cont = ex.state is old and ex.t == t_old
         lt = old if last is None else last
         hit = self._fast
-        args = (float(t_old), oV, old.W, on, onb, float(dt), V, *(hit[3] if hit[2] is static else static[1:]), DW, Dn, order,
-                float(ex_t or 0.0), float(ex_h), cont, float(settings.tol), int(settings.max_iter), newton, lt.V,
-                lt.W, lt.n, float(lt.t), last is not None, idx, c, meta, a, P, DWo, Dno, info, *more)
+        args = (float(t_old), oV, old.W, on, onb, float(dt), V, *(hit[3] if hit[2] is static else static[1:]), DW,
+                Dn, order, float(ex_t or 0.0), float(ex_h), cont, tol, max_iter, newton, lt.V, lt.W, lt.n,
+                float(lt.t), last is not None, idx, c, meta, a, P, DWo, Dno, info, *more)
         return static[0], args, (old, t_new, a, P, info, DWo, Dno, cont, newton, n_bar)
 
     def fast_done(self, ctx: tuple, code: int) -> tuple | None:
