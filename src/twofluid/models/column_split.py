@@ -26,7 +26,8 @@ __all__ = ["split_args", "split_step"]
 def split_args(col):
     """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
     (besides the vertical step's: (the compiled call, the ends' nodes, its outputs and the next shear step's wave
-    properties, its work array, whether it is compiled, the shear column's element lengths)), or None where it
+    properties, its work array, whether it is compiled, the shear column's element lengths, the array of dn/dt and
+    the next step's n change)), or None where it
     does not cover the column ``col`` (a vertical model without the compiled step, an upwind solids flux); kept
     while the closures are the same objects."""
     v = col.v
@@ -46,7 +47,8 @@ def split_args(col):
                np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float),
                np.empty(ns),  # the call's work array (dP_s/dn̄, not kept)
                ker is not _kernel.vertical_step,  # compiled: called without run_vertical's NumPy error state
-               np.ascontiguousarray(col.wave.h, dtype=float))
+               np.ascontiguousarray(col.wave.h, dtype=float),
+               np.empty(2 * ns))  # dn/dt and the next step's n change: read before the next call writes them
     col._split = (v.clo, out)
     return out
 
@@ -55,8 +57,8 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
     """The vertical step of ``h`` [s] from ``vert`` (the state with the shear's new n̄) of the column
     ``col``'s split step of ``dt`` [s], and what follows it, in one compiled call (module docstring;
     ``u``: the shear's displacements; ``check``: the call tests that n̄ and ``u`` are finite): (the new
-    state, its iterations, the solids outflow [m³/s]), with ``col._ndot`` and the next shear step's wave
-    properties (``col._props``) and σ′_v of the new state (``col._ps``, what
+    state, its iterations, the solids outflow [m³/s]), with ``col._ndot`` (an array the next call writes again) and
+    the next shear step's wave properties (``col._props``) and σ′_v of the new state (``col._ps``, what
     ``LiquefactionColumn.granular_pressure`` gives for it) set; None where the call does not cover it or cannot make the step
     (nothing changed). ``fixed``: ``col._split_args()``, where the caller has it. ``n_bar``: where given,
     ``vert`` is the column's state before the step and ``n_bar`` the shear's new n̄, an array nobody else
@@ -70,9 +72,9 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
         fixed = col._split_args()
         if fixed is None:
             return None
-    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, work, direct, hw = fixed
+    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, work, direct, hw, ndot = fixed
     ne = vert.n.size
-    ndot, ps = np.empty(2 * ne), np.empty(ne)
+    ps = np.empty(ne)
     v = col.v
     call = v.fast_call(vert, h, col.settings, (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta,
                                                eta_s, ps, work, hw, _E if gamma is None else gamma), n_bar)
@@ -90,8 +92,9 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
     if made is None:
         return None
     new = made[0]
+    outflow, span = out_s.tolist()
     col._ndot = rate = ndot[:ne]
-    col._dn = (rate, float(out_s[1]), ndot[ne:])
+    col._dn = (rate, span, ndot[ne:])
     col._props = (new.n, wrho, weta) if props else None
     col._ps = (new, ps)
-    return new, made[1], float(out_s[0])
+    return new, made[1], outflow

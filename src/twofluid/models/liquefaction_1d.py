@@ -630,8 +630,8 @@ class LiquefactionColumn:
         if fixed is None:  # the kernel (or its plain Python), its fixed arguments, the saturated ρ and η: once per run
             wave, ns = self.wave, self.n_sat
             fixed = self._hyst_fixed = (_hyst_kernel.runner(), *self.hysteretic_arguments(), wave.rho[:ns],
-                                        wave.eta[:ns], wave.h)
-        run, mid, tail, rho_sat, eta_sat, h_wave = fixed
+                                        wave.eta[:ns], wave.h, {})
+        run, mid, tail, rho_sat, eta_sat, h_wave, kept = fixed
         props = self._props
         if props is not None and props[0] is n:  # set by the compiled split step that made this state (its n
             rho_sat[...] = props[1]  # a C-contiguous float64 array)
@@ -668,7 +668,10 @@ class LiquefactionColumn:
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
             st = shear.copy() if copy_st else np.array(shear, dtype=float)
             nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
-            surface, tau = np.empty(m), np.empty(h_wave.size)
+            surface = kept.get(m)  # (the surface's samples: written whole, read at once; one array for each m)
+            if surface is None:
+                surface = kept[m] = np.empty(m)
+            tau = np.empty(h_wave.size)
             code = int(run(u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, *mid, t0, dt, a_in, self.shaking_end,
                            surface, tau, *tail))
             if code != 1:
@@ -884,7 +887,7 @@ class LiquefactionColumn:
             defer = (fused and self.flow is None and not self.shear_end - 1e-12 <= t_new and type(v0) is State
                      and fast is not None and t0 < t_new - eps)
             try:
-                wave, n_bar, hist, m, surface = self._shear_hysteretic(s, t_new, False) if defer else \
+                wave, n_bar, hist, m, surface = self._shear_hysteretic(s, t_new, not defer) if hyst else \
                     self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(t0, dt, str(exc), s) from None
