@@ -292,10 +292,12 @@ class ColumnStep:
     substeps: int  # shear sub-steps in it
     iterations: int  # Picard iterations of the vertical step (last sub-step)
     solids_inflow: float  # solids volume that entered through the ends during the step [m³]
-    surface: tuple = ()  # (t [s], absolute surface acceleration [m/s²]) after each shear sub-step
+    surface: tuple  # (t [s], absolute surface acceleration [m/s²]) after each shear sub-step (default ())
 
     def __init__(self, state: ColumnState, dt: float, substeps: int, iterations: int, solids_inflow: float,
-                 surface: tuple = ()):
+                 surface: tuple = (), samples: tuple | None = None):
+        """``samples``: where given, the (times, accelerations) lists that ``surface`` pairs up, made when
+        first read (:attr:`samples`: the lists as they are, which a run's record keeps)."""
         # (a frozen dataclass's own __init__ sets each field through object.__setattr__: 1 µs more a step)
         d = self.__dict__
         d["state"] = state
@@ -303,7 +305,26 @@ class ColumnStep:
         d["substeps"] = substeps
         d["iterations"] = iterations
         d["solids_inflow"] = solids_inflow
-        d["surface"] = surface
+        if samples is None:
+            d["surface"] = surface
+        else:
+            d["_samples"] = samples
+
+    def __getattr__(self, name):  # (only where the instance has no such attribute: ``surface`` not made yet)
+        raw = self.__dict__.get("_samples") if name == "surface" else None
+        if raw is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        pairs = self.__dict__["surface"] = tuple(zip(*raw))
+        return pairs
+
+    @property
+    def samples(self) -> tuple[list, list]:
+        """(times [s], absolute surface accelerations [m/s²]) of :attr:`surface`, as two lists (not to be written)."""
+        raw = self.__dict__.get("_samples")
+        if raw is not None:
+            return raw
+        pairs = self.surface
+        return (list(p[0] for p in pairs), list(p[1] for p in pairs))
 
 
 class LiquefactionColumn:
@@ -567,7 +588,8 @@ class LiquefactionColumn:
         law; the crust's G_max, density and (zero) liquefied-soil viscosity are fixed.
         """
         if self.hysteretic is not None:
-            return self._shear_hysteretic(s, t_new)
+            w, n_bar, hist, m, (times, acc) = self._shear_hysteretic(s, t_new)
+            return w, n_bar, hist, m, tuple(zip(times, acc))
         v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
         n = s.vertical.n
         mu_m = self._wave_properties(s)
@@ -621,9 +643,10 @@ class LiquefactionColumn:
 
     def _shear_hysteretic(self, s: ColumnState, t_new: float, strain: bool = True):
         """The sub-steps of :meth:`_shear` with the hysteretic law (:mod:`~twofluid.models.hysteretic_kernel`);
-        a sub-step whose Newton iterations fail is retried at half the size (four times at most). ``strain``
-        False: the new wave state's γ is an array left for the caller to write (the compiled split step
-        writes it, :meth:`step`)."""
+        a sub-step whose Newton iterations fail is retried at half the size (four times at most); returns as
+        :meth:`_shear` does, but for the sub-steps' (times, absolute surface accelerations) as two lists.
+        ``strain`` False: the new wave state's γ is an array left for the caller to write (the compiled split
+        step writes it, :meth:`step`)."""
         vert = s.vertical
         n = vert.n
         fixed = self.__dict__.get("_hyst_fixed")
@@ -683,7 +706,7 @@ class LiquefactionColumn:
         # (np.diff's arithmetic)
         out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / h_wave if strain else np.empty(h_wave.size), tau)
         self._a_last = (times[-1], end)  # (the record at the step's end: :meth:`accelerations`)
-        return out, nb, st, m, tuple(zip(times, surface.tolist()))
+        return out, nb, st, m, (times, surface.tolist())
 
     def hysteretic_arguments(self) -> tuple[tuple, tuple]:
         """The fixed arguments of the hysteretic sub-steps (:func:`twofluid.models.hysteretic_kernel._substeps`)
@@ -872,7 +895,7 @@ class LiquefactionColumn:
         v0 = s.vertical
         t0 = v0.t
         t_new = t0 + dt
-        wave, n_bar, hist, m, surface = s.wave, v0.n_bar, s.shear, 0, ()
+        wave, n_bar, hist, m, surface, samples = s.wave, v0.n_bar, s.shear, 0, (), None
         hyst = self.hysteretic is not None
         # the vertical step and what follows it in one compiled call (:meth:`_split_step`) where it covers it
         fixed = self._split_args() if hyst and dt > 0.0 and not self.shear_only else None
@@ -887,8 +910,10 @@ class LiquefactionColumn:
             defer = (fused and self.flow is None and not self.shear_end - 1e-12 <= t_new and type(v0) is State
                      and fast is not None and t0 < t_new - eps)
             try:
-                wave, n_bar, hist, m, surface = self._shear_hysteretic(s, t_new, not defer) if hyst else \
-                    self._shear(s, t_new)
+                if hyst:  # (the surface's samples as two lists: ColumnStep pairs them up where asked)
+                    wave, n_bar, hist, m, samples = self._shear_hysteretic(s, t_new, not defer)
+                else:
+                    wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(t0, dt, str(exc), s) from None
             # (not where the shear wave stops: the floor comes first; a flowing slope decides first)
@@ -897,7 +922,7 @@ class LiquefactionColumn:
                 raise self._not_finite(t0, dt, s)
             if self.flow is not None and not self.shear_only:
                 if self._flowing_phase(t0):
-                    surface = ()  # the surface motion (spectra, a_max) covers the shaking and free_vibration
+                    surface, samples = (), None  # the surface motion (spectra, a_max) covers the shaking and free_vibration
                 self._flow_decide(t_new, wave)
         floor = hyst and t0 < self.shear_end - 1e-12 <= t_new  # the shear wave stops
         if floor:
@@ -905,7 +930,7 @@ class LiquefactionColumn:
             fused = False
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
-            return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface))
+            return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface), samples)
         its, inflow, made, split = 0, 0.0, None, False
         tried = fused and sheared and type(v0) is State and fast is not None and t0 < t_new - eps
         if tried:  # n̄ the shear's own new array: the split step starts from v0 with it (no copy of v0 made)
@@ -948,7 +973,7 @@ class LiquefactionColumn:
         if hyst and dt > 0.0 and not split:
             self._ndot = (vert.n - v0.n) / dt
             self._props = None
-        return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface))
+        return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface), samples)
 
     @staticmethod
     def _not_finite(t0: float, dt: float, s: ColumnState) -> StepFailure:
@@ -961,13 +986,9 @@ class LiquefactionColumn:
             return hit[1]
         return _split.split_args(self)
 
-    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool, fixed=None, n_bar=None,
-                    gamma=None):
-        """The vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None
-        (:func:`.column_split.split_step`; ``fixed``: :meth:`_split_args`, where the caller has it; ``n_bar``: the
-        shear's new n̄ where ``vert`` is the state before the step, ``gamma``: the shear's strains to write, as
-        there)."""
-        return _split.split_step(self, vert, h, dt, u, check, fixed, n_bar, gamma)
+    #: the vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None:
+    #: :func:`.column_split.split_step` with the column as its first argument (a method, one call less a step)
+    _split_step = _split.split_step
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:

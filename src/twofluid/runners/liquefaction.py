@@ -306,7 +306,7 @@ class _Recorder:
         self.t, self.ru, self.sig, self.settle, self.pbase = [], [], [], [], []
         self.ru_top, self.flux_top = [], []
         self._surface_t, self._surface_a = [], []  # (:attr:`surface_t`, :attr:`surface_a`)
-        self._surface_steps = []  # the steps' (t, a) pairs not yet in those lists
+        self._surface_steps = []  # the steps' (times, accelerations) lists not yet in those lists
         self.field_t, self.field = [], []
         self.ever = np.zeros(ne, dtype=bool)
         self.damage = DamageRecord(col)  # CSR_eq15 snapshots and the residual strains
@@ -332,7 +332,9 @@ class _Recorder:
             self._fixed = (*map(_c, of), _c(col.v.mesh.lengths))
         return self._fixed
 
-    def record(self, s: ColumnState, field: bool, surface=()):
+    def record(self, s: ColumnState, field: bool, samples=((), ())):
+        """Record the state ``s`` (``field``: its r_u row kept too; ``samples``: the step's (times, surface
+        accelerations) lists, ``ColumnStep.samples``); returns its r_u."""
         col, v = self.col, s.vertical
         ne, k = self._sizes
         ru = np.empty(ne)
@@ -361,8 +363,8 @@ class _Recorder:
         self.pbase.append(pbase)
         self.ru_top.append(ru_top)
         self.flux_top.append(flux_top)  # = col.surface_seepage(s)
-        if surface:
-            self._surface_steps.append(surface)
+        if samples[0]:
+            self._surface_steps.append(samples)
         if field:
             self.field_t.append(v.t)
             self.field.append(ru)
@@ -384,10 +386,9 @@ class _Recorder:
         return self._surface_a
 
     def _surface_lists(self) -> None:
-        """The steps' (t, a) pairs recorded since into :attr:`surface_t` and :attr:`surface_a`."""
+        """The steps' samples recorded since into :attr:`surface_t` and :attr:`surface_a`."""
         t, a = self._surface_t, self._surface_a
-        for surface in self._surface_steps:
-            times, acc = zip(*surface)
+        for times, acc in self._surface_steps:
             t.extend(times)
             a.extend(acc)
         self._surface_steps.clear()
@@ -550,7 +551,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             inflow += step.solids_inflow
             at_mark = t > near.low and near.at(t)
             field = t >= next_field - 1e-12 or at_mark
-            ru = record(s, field, step.surface)
+            ru = record(s, field, step.samples)
             if srec is not None:
                 srec.record(s)
                 if at_mark or abs(t - col.shear_end) < 1e-9 * max(1.0, t):
