@@ -19,7 +19,7 @@ import numpy as np
 from . import column_step_kernel as _kernel
 from .reduced_column import run_vertical
 
-_E = np.zeros(0)  # (no strains to write)
+_E, _E2 = np.zeros(0), np.zeros((0, 0))  # (no strains to write, no law state to copy)
 
 __all__ = ["split_args", "split_step"]
 
@@ -53,7 +53,8 @@ def split_args(col):
     return out
 
 
-def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed=None, n_bar=None, gamma=None):
+def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed=None, n_bar=None, gamma=None,
+               shear=None):
     """The vertical step of ``h`` [s] from ``vert`` (the state with the shear's new n̄) of the column
     ``col``'s split step of ``dt`` [s], and what follows it, in one compiled call (module docstring;
     ``u``: the shear's displacements; ``check``: the call tests that n̄ and ``u`` are finite): (the new
@@ -67,7 +68,10 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
     ``vert`` with ``n_bar`` that carries on its extrapolation history, without that copy made. ``gamma``: where
     given, the call writes the shear column's strains from ``u`` there (whether it makes the step or not, unless
     the check finds ``u`` or n̄ not finite). Where the call makes the step it also leaves the n change of a next
-    step of ``dt`` for its shear sub-steps (``col._dn``: (``col._ndot``, that step's span, the change))."""
+    step of ``dt`` for its shear sub-steps (``col._dn``: (``col._ndot``, that step's span, the change)), and where
+    ``shear`` (the hysteretic law's state the shear sub-steps made) is given, a copy of it for the next sub-steps to
+    start from (``col._shear_next``: (``shear``, the copy)), the copy :meth:`LiquefactionColumn._shear_hysteretic
+    <twofluid.models.liquefaction_1d.LiquefactionColumn._shear_hysteretic>` would make."""
     if fixed is None:
         fixed = col._split_args()
         if fixed is None:
@@ -76,8 +80,10 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
     ne = vert.n.size
     ps = np.empty(ne)
     v = col.v
+    nxt = _E2 if shear is None else np.empty(shear.shape)
     call = v.fast_call(vert, h, col.settings, (check, u, float(dt), node0, node1, out_s, ndot, props, mix, wrho, weta,
-                                               eta_s, ps, work, hw, _E if gamma is None else gamma), n_bar)
+                                               eta_s, ps, work, hw, _E if gamma is None else gamma,
+                                               _E2 if shear is None else shear, nxt), n_bar)
     if call is None:
         return None
     args, ctx = call[1], call[2]
@@ -97,4 +103,5 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
     col._dn = (rate, span, ndot[ne:])
     col._props = (new.n, wrho, weta) if props else None
     col._ps = (new, ps)
+    col._shear_next = None if shear is None else (shear, nxt)
     return new, made[1], outflow

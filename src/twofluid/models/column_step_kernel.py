@@ -64,7 +64,7 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
                   A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                   fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
                   newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info,
-                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, dps, hw, gam):
+                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, dps, hw, gam, st_src, st_next):
     """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
     n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
     (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
@@ -90,7 +90,8 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     shear step's mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity
     ``weta`` = μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
     element-wise arithmetic, and unless ``ps`` is empty σ′_v = P_s(n, n̄) of the new state in ``ps`` (``dps``
-    its slope; ``LiquefactionColumn.granular_pressure``, which the run's record reads)."""
+    its slope; ``LiquefactionColumn.granular_pressure``, which the run's record reads), and unless ``st_next`` is
+    empty a copy of the shear law's state ``st_src`` there (the next shear sub-steps' start, which they write)."""
     ne = on.size
     nv = ne + 1
     if check:
@@ -223,6 +224,10 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
             weta[i] = weta[i] + eta_s[i]
     if ps.size > 0:
         laws._solids_pressure(a_out[2 * nv:], onb, A, p_ref, modulus, fluidized, ps, dps)
+    if st_next.size > 0:
+        for i in range(st_src.shape[0]):
+            for j in range(st_src.shape[1]):
+                st_next[i, j] = st_src[i, j]
     return OK
 
 
@@ -232,7 +237,7 @@ SIGNATURE = ("i8(" + ",".join(
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
      "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1,
-     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, C1, C1, C1, C1]) + ")")
+     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, C1, C1, C1, C1, C2, C2]) + ")")
 
 _HELPERS = (_rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
@@ -242,9 +247,10 @@ _HELPERS = (_rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._it
             laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
 
 _E = np.zeros(0)
+_E2 = np.zeros((0, 0))
 #: the arguments of :func:`vertical_step` from ``check`` on for the vertical step alone (nothing tested,
 #: written or recorded besides)
-ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, _E, _E, _E, _E)
+ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, _E, _E, _E, _E, _E2, _E2)
 
 _COMPILED = None
 _TRIED = False

@@ -138,6 +138,7 @@ __all__ = ["Sand", "Crust", "VerticalColumn", "ColumnState", "LiquefactionColumn
 
 #: Largest liquefied-soil viscosity the shear wave takes [Pa·s] (the power law is capped here).
 VISCOSITY_MAX = 1e5
+_F8 = np.dtype(np.float64)
 
 
 @dataclass(frozen=True)
@@ -408,6 +409,7 @@ class LiquefactionColumn:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
         self._dn = None  # (_ndot, a step's span, _ndot × span) made by the compiled split step (:func:`.column_split.split_step`)
+        self._shear_next = None  # (a law state, its copy) made by the compiled split step, for the next sub-steps
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
         self._ps = None  # (vertical state, its σ′_v) made by the compiled split step
         # the record at the hysteretic sub-steps' times, read for many steps at once (None: step by step)
@@ -674,6 +676,9 @@ class LiquefactionColumn:
         shear, n_bar = s.shear, vert.n_bar
         copy_st = type(shear) is np.ndarray and shear.dtype == np.float64  # (np.array(x, dtype=float) of them)
         copy_nb = type(n_bar) is np.ndarray and n_bar.dtype == np.float64
+        ready = self._shear_next  # (the split step's copy of this law state, where it made one)
+        ready = ready[1] if ready is not None and ready[0] is shear else None
+        self._shear_next = None
         for attempt in range(5):
             dt = span / m
             rows = self._rows
@@ -689,7 +694,8 @@ class LiquefactionColumn:
                 a_in = self._record_at(times)
                 times, end = times.tolist(), float(a_in[-1])
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
-            st = shear.copy() if copy_st else np.array(shear, dtype=float)
+            st = ready if attempt == 0 and ready is not None else \
+                shear.copy() if copy_st else np.array(shear, dtype=float)
             nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
             surface = kept.get(m)  # (the surface's samples: written whole, read at once; one array for each m)
             if surface is None:
@@ -936,7 +942,9 @@ class LiquefactionColumn:
         if tried:  # n̄ the shear's own new array: the split step starts from v0 with it (no copy of v0 made)
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
-            made = self._split_step(v0, h, dt, wave.u, check, fixed, n_bar, wave.gamma if defer else None)
+            made = self._split_step(v0, h, dt, wave.u, check, fixed, n_bar, wave.gamma if defer else None,
+                                    hist if defer and type(hist) is np.ndarray and hist.dtype is _F8
+                                    and hist.flags.c_contiguous else None)
             if made is not None:
                 vert, its, outflow = made
                 inflow -= h * outflow
