@@ -225,9 +225,10 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     if ps.size > 0:
         laws._solids_pressure(a_out[2 * nv:], onb, A, p_ref, modulus, fluidized, ps, dps)
     if st_next.size > 0:
-        for i in range(st_src.shape[0]):
-            for j in range(st_src.shape[1]):
-                st_next[i, j] = st_src[i, j]
+        src = st_src.reshape(st_src.size)  # (views of the C-contiguous arrays: one loop)
+        dst = st_next.reshape(st_next.size)
+        for i in range(src.size):
+            dst[i] = src[i]
     return OK
 
 
