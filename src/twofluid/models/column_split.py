@@ -27,7 +27,7 @@ def split_args(col):
     """The fixed arguments of :func:`~twofluid.models.column_step_kernel.vertical_step` from ``check`` on
     (besides the vertical step's: (the compiled call, the ends' nodes, its outputs and the next shear step's wave
     properties, its work array, whether it is compiled, the shear column's element lengths, the array of dn/dt and
-    the next step's n change)), or None where it
+    the next step's n change and its two halves)), or None where it
     does not cover the column ``col`` (a vertical model without the compiled step, an upwind solids flux); kept
     while the closures are the same objects."""
     v = col.v
@@ -47,8 +47,9 @@ def split_args(col):
                np.ascontiguousarray(col._eta_s if props else np.zeros(ns), dtype=float),
                np.empty(ns),  # the call's work array (dP_s/dn̄, not kept)
                ker is not _kernel.vertical_step,  # compiled: called without run_vertical's NumPy error state
-               np.ascontiguousarray(col.wave.h, dtype=float),
-               np.empty(2 * ns))  # dn/dt and the next step's n change: read before the next call writes them
+               np.ascontiguousarray(col.wave.h, dtype=float))
+        ndot = np.empty(2 * ns)  # dn/dt and the next step's n change: read before the next call writes them
+        out += (ndot, ndot[:ns], ndot[ns:])
     col._split = (v.clo, out)
     return out
 
@@ -76,7 +77,7 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
         fixed = col._split_args()
         if fixed is None:
             return None
-    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, work, direct, hw, ndot = fixed
+    ker, node0, node1, out_s, props, mix, wrho, weta, eta_s, work, direct, hw, ndot, rate, dn = fixed
     ne = vert.n.size
     ps = np.empty(ne)
     v = col.v
@@ -99,8 +100,8 @@ def split_step(col, vert, h: float, dt: float, u: np.ndarray, check: bool, fixed
         return None
     new = made[0]
     outflow, span = out_s.tolist()
-    col._ndot = rate = ndot[:ne]
-    col._dn = (rate, span, ndot[ne:])
+    col._ndot = rate
+    col._dn = (rate, span, dn)
     col._props = (new.n, wrho, weta) if props else None
     col._ps = (new, ps)
     col._shear_next = None if shear is None else (shear, nxt)

@@ -515,7 +515,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
 
     def write_field(s, ru):  # whole rows, finite values only (io.results)
         if check_finite("ru_field.csv", s.t, {"r_u": ru}):
-            ffile.table(np.concatenate([[s.t], ru])[None, :], field_formats)
+            row = np.empty((1, ru.size + 1))  # (t, r_u...)
+            row[0, 0] = s.t
+            row[0, 1:] = ru
+            ffile.table(row, field_formats)
 
     write_field(state, ru0)
     writer.probe_row(state.t, rec.probe_row(state, ru0))

@@ -133,7 +133,7 @@ def kernel_samples(model) -> list:
         meta = np.array([len(samples), rec.steps if rec is not None else 0], dtype=np.int64)
         run = model._kernel_samples = [idx, c, meta, rec.last if rec is not None else None, rec]
     idx, c = run[0], run[1]
-    if idx.size < run[2][0] + 2:  # room for this step's sample
+    if idx.size < run[2].item(0) + 2:  # room for this step's sample
         idx.resize(idx.size + 64, refcheck=False)
         c.resize(c.size + 64, refcheck=False)
     return run
