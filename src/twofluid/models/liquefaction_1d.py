@@ -674,8 +674,8 @@ class LiquefactionColumn:
         A, p_ref = self._skeleton if key is not None and key[0] is clo.A and key[1] is clo.p_ref \
             else self._skeleton_arrays()
         shear, n_bar = s.shear, vert.n_bar
-        copy_st = type(shear) is np.ndarray and shear.dtype == np.float64  # (np.array(x, dtype=float) of them)
-        copy_nb = type(n_bar) is np.ndarray and n_bar.dtype == np.float64
+        copy_st = type(shear) is np.ndarray and shear.dtype is _F8  # (np.array(x, dtype=float) of others)
+        copy_nb = type(n_bar) is np.ndarray and n_bar.dtype is _F8
         ready = self._shear_next  # (the split step's copy of this law state, where it made one)
         ready = ready[1] if ready is not None and ready[0] is shear else None
         self._shear_next = None
@@ -909,12 +909,13 @@ class LiquefactionColumn:
         check = False  # the finite test of the shear's results left to that call
         eps = 1e-9 * max(dt, 1e-12)  # (integrate's)
         fast = getattr(self.v, "fast_step", None)
-        sheared = t0 < self.shear_end - 1e-12
+        flow, end = self.flow, self.shear_end - 1e-12  # (the shear wave's end: only _flow_decide moves it)
+        sheared = t0 < end
         defer = False  # the shear's γ left to the split step (tried below with the check)
         if sheared:
             self._h = dt
-            defer = (fused and self.flow is None and not self.shear_end - 1e-12 <= t_new and type(v0) is State
-                     and fast is not None and t0 < t_new - eps)
+            defer = (fused and flow is None and not end <= t_new and type(v0) is State and fast is not None
+                     and t0 < t_new - eps)
             try:
                 if hyst:  # (the surface's samples as two lists: ColumnStep pairs them up where asked)
                     wave, n_bar, hist, m, samples = self._shear_hysteretic(s, t_new, not defer)
@@ -923,14 +924,15 @@ class LiquefactionColumn:
             except NewmarkFailure as exc:
                 raise StepFailure(t0, dt, str(exc), s) from None
             # (not where the shear wave stops: the floor comes first; a flowing slope decides first)
-            check = fused and self.flow is None and not self.shear_end - 1e-12 <= t_new
+            check = fused and flow is None and not end <= t_new
             if not check and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
                 raise self._not_finite(t0, dt, s)
-            if self.flow is not None and not self.shear_only:
+            if flow is not None and not self.shear_only:
                 if self._flowing_phase(t0):
                     surface, samples = (), None  # the surface motion (spectra, a_max) covers the shaking and free_vibration
                 self._flow_decide(t_new, wave)
-        floor = hyst and t0 < self.shear_end - 1e-12 <= t_new  # the shear wave stops
+                end = self.shear_end - 1e-12
+        floor = hyst and t0 < end <= t_new  # the shear wave stops
         if floor:
             n_bar = self._apply_floor(s, n_bar, hist)  # the reconsolidation floor
             fused = False
@@ -942,9 +944,9 @@ class LiquefactionColumn:
         if tried:  # n̄ the shear's own new array: the split step starts from v0 with it (no copy of v0 made)
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
+            # (deferred: the hysteretic sub-steps' own law state, a C-contiguous float64 array, copied for the next)
             made = self._split_step(v0, h, dt, wave.u, check, fixed, n_bar, wave.gamma if defer else None,
-                                    hist if defer and type(hist) is np.ndarray and hist.dtype is _F8
-                                    and hist.flags.c_contiguous else None)
+                                    hist if defer else None)
             if made is not None:
                 vert, its, outflow = made
                 inflow -= h * outflow
