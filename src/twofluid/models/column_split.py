@@ -4,9 +4,10 @@
 shear sub-steps (:mod:`~twofluid.models.hysteretic_kernel`), then :func:`split_step` here: one call of
 :func:`~twofluid.models.column_step_kernel.vertical_step` with the vertical step's arguments
 (:meth:`ReducedVerticalColumn.fast_call <twofluid.models.reduced_column.ReducedVerticalColumn.fast_call>`)
-and those from ``check`` on makes the finite test of the shear's results, the vertical step, the solids outflow, dn/dt (the next
-sub-steps' interpolation of n), the next shear step's mixture density and viscosity and σ′_v of the
-new state. The numbers are those of the
+and those from ``check`` on makes the finite test of the shear's results, the shear column's strains, the vertical
+step, the solids outflow, dn/dt (the next sub-steps' interpolation of n, and its product with the next step's likely
+span), the next shear step's mixture density and viscosity, σ′_v of the new state and the copy of the shear law's
+state the next sub-steps start from. The numbers are those of the
 Python path bit for bit (``tests/unit/test_column_split_step.py``); a step the call cannot make
 changes nothing, and the column takes the stepper's path for it whole
 (:func:`~twofluid.timestepping.backward_euler.integrate`, whose tries the vertical model's

@@ -31,9 +31,10 @@ takes the Python path for that step (which halves the step, says why, and so on)
 With the hysteretic law the column's split step calls it once after its shear sub-steps
 (:mod:`~twofluid.models.column_split`), with the arguments from ``check`` on, to do in the same call
 what the column's Python did around the step, each with NumPy's element-wise arithmetic in the same
-order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the shear's results
-before it; after it the solids outflow, dn/dt, the next shear step's mixture density and viscosity
-(:func:`~twofluid.closures.kernels._viscosity`) and σ′_v of the new state, which the run's record reads. One function: as a second export calling the step
+order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the shear's results and the
+shear column's strains before it; after it the solids outflow, dn/dt (and its product with the next step's likely
+span), the next shear step's mixture density and viscosity (:func:`~twofluid.closures.kernels._viscosity`), σ′_v of
+the new state, which the run's record reads, and the copy of the shear law's state the next sub-steps start from. One function: as a second export calling the step
 as a helper it cost the build 3 s of CPU more (its body optimised twice). The run's record of the
 new state stays a call of its own (:mod:`~twofluid.models.record_kernel`): made here too it saved
 about 6 µs a step and cost the build 1.5 s of CPU (its pairwise sum compiled a second time); the
