@@ -61,7 +61,7 @@ def _run(monkeypatch, fused: bool, fail_every: int = 0, t_end: float = 5.0):
         s = step.state
         v, w = s.vertical, s.wave
         rows.append(((v.t, step.iterations, step.substeps, step.solids_inflow, step.surface),
-                     (v.V, v.W, v.n, v.P, v.n_bar, w.u, w.v, w.a, w.gamma, w.tau, s.shear, col._ndot,
+                     (v.V, v.W, v.n, v.P, v.n_bar, w.u, w.v, w.a, w.gamma, w.tau, s.shear, col._ndot.copy(),
                       col.wave.rho.copy(), col.wave.eta.copy(), col.granular_pressure(s))))
     assert col.shear_end < t_end  # (the run went past the floor's step)
     return rows, counts

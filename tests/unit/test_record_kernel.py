@@ -50,9 +50,15 @@ def _memory(ne, ng):
 def _kernel_record(f, args, mem, ne, k):
     peak, t_peak, first, ever, peak_strain, max_c = mem
     liq = np.zeros(ne, dtype=bool)
-    ru, c, ru_e, sig_e, sc = np.empty(ne), np.empty(ne), np.empty(k), np.empty(k), np.zeros(4)
+    ru, c, ru_e, sig_e, sc = np.empty(ne), np.empty(ne), np.empty(k), np.empty(k), np.zeros(5)
     f(*args, peak, t_peak, first, ever, liq, peak_strain, max_c, ru, c, ru_e, sig_e, sc)
-    return ru, c, liq, ru_e, sig_e, list(map(float, sc))
+    # the fifth entry: the lowest liquefied element (what the damage record took from liq.argmax()), -1 for none
+    assert sc[4] == (int(liq.argmax()) if liq.any() else -1)
+    sc4 = np.zeros(4)  # (four entries: the same four, nothing more written)
+    f(*args, peak.copy(), t_peak.copy(), first.copy(), ever.copy(), liq.copy(), peak_strain.copy(), max_c.copy(),
+      np.empty(ne), np.empty(ne), np.empty(k), np.empty(k), sc4)
+    assert sc4.tolist() == sc[:4].tolist() or np.isnan(sc[:4]).any()
+    return ru, c, liq, ru_e, sig_e, list(map(float, sc[:4]))
 
 
 def _same(a, b):

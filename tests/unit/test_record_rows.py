@@ -41,6 +41,7 @@ def test_the_rows_are_each_steps_own_times_and_record_values():
         assert times.tolist() == want.tolist()
         assert values.tolist() == gm.value_at(motion, want).tolist()
         assert times.flags.c_contiguous and values.flags.c_contiguous
+        assert rows.times == times.tolist() and rows.end == float(values[-1])  # (the row as lists too)
         taken += 1
         t = t_new
     assert t > motion.duration  # (past the record's end: 0)

@@ -31,9 +31,10 @@ takes the Python path for that step (which halves the step, says why, and so on)
 With the hysteretic law the column's split step calls it once after its shear sub-steps
 (:mod:`~twofluid.models.column_split`), with the arguments from ``check`` on, to do in the same call
 what the column's Python did around the step, each with NumPy's element-wise arithmetic in the same
-order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the shear's results
-before it; after it the solids outflow, dn/dt, the next shear step's mixture density and viscosity
-(:func:`~twofluid.closures.kernels._viscosity`) and σ′_v of the new state, which the run's record reads. One function: as a second export calling the step
+order (bit for bit, ``tests/unit/test_column_split_step.py``): the finite test of the shear's results and the
+shear column's strains before it; after it the solids outflow, dn/dt (and its product with the next step's likely
+span), the next shear step's mixture density and viscosity (:func:`~twofluid.closures.kernels._viscosity`), σ′_v of
+the new state, which the run's record reads, and the copy of the shear law's state the next sub-steps start from. One function: as a second export calling the step
 as a helper it cost the build 3 s of CPU more (its body optimised twice). The run's record of the
 new state stays a call of its own (:mod:`~twofluid.models.record_kernel`): made here too it saved
 about 6 µs a step and cost the build 1.5 s of CPU (its pairwise sum compiled a second time); the
@@ -64,7 +65,7 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
                   A, p_ref, modulus, fluidized, vpar, vol, h, g3, viscous, shifted, dir_row, dir_col, dir_val,
                   fixed, floor, liq_src, top_outlet, p_end, DW, Dn, order, ex_t, ex_h, ex_cont, tol, max_iter,
                   newton, lV, lW, ln, last_t, has_last, s_idx, s_c, meta, a_out, P_out, DWo, Dno, info,
-                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, dps):
+                  check, u, dt_step, node0, node1, out_s, ndot, props, mix, wrho, weta, eta_s, ps, dps, hw, gam, st_src, st_next):
     """One backward-Euler step of ``dt`` [s] from the old state (``t_old``, V ``oV``, W ``oW``, n ``on``,
     n̄ ``onb``) with the nodal mixture velocity ``V`` at the new time (module docstring). ``rho`` =
     (ρ_s + ρ_f, ρ_s − ρ_f, ρ_f, μ_f, (ρ_s − ρ_f) g_y), ``g3`` = (ρ_s − ρ_f, g_y, g); the model's
@@ -79,13 +80,19 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     What the hysteretic column's split step does after its shear sub-steps besides (the arguments from
     ``check`` on; :data:`ALONE` for none of it, :mod:`~twofluid.models.column_split`): with ``check``, first
     the test that the new n̄ ``onb`` and the displacements ``u`` are finite (:data:`NOT_FINITE_SHEAR` if
-    not, nothing done); after the step, on success only, the solids outflow through the ends (``out_s[0]``
+    not, nothing done); then, unless ``gam`` is empty, the shear column's strains ``gam`` = (u[i + 1] −
+    u[i])/``hw``[i] (``hw`` its element lengths; NumPy's ``(u[1:] − u[:-1])/hw``), whatever comes of the step;
+    after the step, on success only, the solids outflow through the ends (``out_s[0]``
     [m³/s] unless ``out_s`` is empty; the nodes ``node0``, ``node1``: ``diagnostics_1d.solids_outflow``
-    with the Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s] unless empty, with ``props`` the next
+    with the Galerkin flux), ``ndot`` = (n − n_old)/``dt_step`` [1/s] unless empty (in ``ndot[:ne]``; where
+    ``ndot`` has room for 2 ne, also the n change of a next step of ``dt_step`` from the new time t as the
+    next shear sub-steps take it, ``ndot[ne:]`` = ``ndot[:ne]`` × s, with its span s = (t + ``dt_step``) − t
+    in ``out_s[1]``), with ``props`` the next
     shear step's mixture density ``wrho`` = n ρ_f + (1 − n) ρ_s (``mix`` = (ρ_f, ρ_s)) and viscosity
     ``weta`` = μ_m(n) + ``eta_s`` [Pa·s] (``LiquefactionColumn._wave_properties``), each with NumPy's
     element-wise arithmetic, and unless ``ps`` is empty σ′_v = P_s(n, n̄) of the new state in ``ps`` (``dps``
-    its slope; ``LiquefactionColumn.granular_pressure``, which the run's record reads)."""
+    its slope; ``LiquefactionColumn.granular_pressure``, which the run's record reads), and unless ``st_next`` is
+    empty a copy of the shear law's state ``st_src`` there (the next shear sub-steps' start, which they write)."""
     ne = on.size
     nv = ne + 1
     if check:
@@ -97,6 +104,8 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
             xi = u[i]
             if not xi - xi == 0.0:
                 return NOT_FINITE_SHEAR
+    for i in range(gam.size):
+        gam[i] = (u[i + 1] - u[i]) / hw[i]
     t_new = t_old + dt
     # the bed-force shift at the old state (Reduced1D._force_shift_at) and the step's constants
     alpha = np.zeros(ne)
@@ -203,6 +212,11 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
     if ndot.size > 0:
         for i in range(ne):
             ndot[i] = (a_out[2 * nv + i] - on[i]) / dt_step
+        if ndot.size >= 2 * ne:
+            span = (t_new + dt_step) - t_new
+            out_s[1] = span
+            for i in range(ne):
+                ndot[ne + i] = ndot[i] * span
     if props:
         n_end = a_out[2 * nv:]
         laws._viscosity(n_end, rho[3], vpar[0], vpar[1], vpar[2], vpar[3], vpar[4], vpar[5], False, weta)
@@ -211,6 +225,11 @@ def vertical_step(t_old, oV, oW, on, onb, dt, V, rho, mc, inv2vol, srcT, mR0, ar
             weta[i] = weta[i] + eta_s[i]
     if ps.size > 0:
         laws._solids_pressure(a_out[2 * nv:], onb, A, p_ref, modulus, fluidized, ps, dps)
+    if st_next.size > 0:
+        src = st_src.reshape(st_src.size)  # (views of the C-contiguous arrays: one loop)
+        dst = st_next.reshape(st_next.size)
+        for i in range(src.size):
+            dst[i] = src[i]
     return OK
 
 
@@ -220,7 +239,7 @@ SIGNATURE = ("i8(" + ",".join(
      C1, C1, C1, "b1", C1, C1, C1, C1, "b1", "b1", I1, I1, C1,
      I1, "f8", C2, "b1", "f8", C2, C2, "i8", "f8", "f8", "b1", "f8", "i8",
      "b1", C1, C1, C1, "f8", "b1", I1, C1, I1, C1, C1, C2, C2, I1,
-     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, C1, C1]) + ")")
+     "b1", C1, "f8", "i8", "i8", C1, C1, "b1", C1, C1, C1, C1, C1, C1, C1, C1, C2, C2]) + ")")
 
 _HELPERS = (_rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._iterate_change, _rk._shift_points,
             _rk._shift, _rk._step_constants, _rk._state_check, _rk._step_pressure, _rk._iterate_points,
@@ -230,9 +249,10 @@ _HELPERS = (_rk._fmax, _rk._sign, _rk._closure_points, _rk._band_system, _rk._it
             laws._wen_yu_reynolds, laws._wen_yu_given, laws._solids_pressure, laws._viscosity, laws._mooney)
 
 _E = np.zeros(0)
+_E2 = np.zeros((0, 0))
 #: the arguments of :func:`vertical_step` from ``check`` on for the vertical step alone (nothing tested,
 #: written or recorded besides)
-ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, _E, _E)
+ALONE = (False, _E, 1.0, 0, 0, _E, _E, False, _E, _E, _E, _E, _E, _E, _E, _E, _E2, _E2)
 
 _COMPILED = None
 _TRIED = False

@@ -138,6 +138,7 @@ __all__ = ["Sand", "Crust", "VerticalColumn", "ColumnState", "LiquefactionColumn
 
 #: Largest liquefied-soil viscosity the shear wave takes [Pa·s] (the power law is capped here).
 VISCOSITY_MAX = 1e5
+_F8 = np.dtype(np.float64)
 
 
 @dataclass(frozen=True)
@@ -292,10 +293,12 @@ class ColumnStep:
     substeps: int  # shear sub-steps in it
     iterations: int  # Picard iterations of the vertical step (last sub-step)
     solids_inflow: float  # solids volume that entered through the ends during the step [m³]
-    surface: tuple = ()  # (t [s], absolute surface acceleration [m/s²]) after each shear sub-step
+    surface: tuple  # (t [s], absolute surface acceleration [m/s²]) after each shear sub-step (default ())
 
     def __init__(self, state: ColumnState, dt: float, substeps: int, iterations: int, solids_inflow: float,
-                 surface: tuple = ()):
+                 surface: tuple = (), samples: tuple | None = None):
+        """``samples``: where given, the (times, accelerations) lists that ``surface`` pairs up, made when
+        first read (:attr:`samples`: the lists as they are, which a run's record keeps)."""
         # (a frozen dataclass's own __init__ sets each field through object.__setattr__: 1 µs more a step)
         d = self.__dict__
         d["state"] = state
@@ -303,7 +306,26 @@ class ColumnStep:
         d["substeps"] = substeps
         d["iterations"] = iterations
         d["solids_inflow"] = solids_inflow
-        d["surface"] = surface
+        if samples is None:
+            d["surface"] = surface
+        else:
+            d["_samples"] = samples
+
+    def __getattr__(self, name):  # (only where the instance has no such attribute: ``surface`` not made yet)
+        raw = self.__dict__.get("_samples") if name == "surface" else None
+        if raw is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        pairs = self.__dict__["surface"] = tuple(zip(*raw))
+        return pairs
+
+    @property
+    def samples(self) -> tuple[list, list]:
+        """(times [s], absolute surface accelerations [m/s²]) of :attr:`surface`, as two lists (not to be written)."""
+        raw = self.__dict__.get("_samples")
+        if raw is not None:
+            return raw
+        pairs = self.surface
+        return (list(p[0] for p in pairs), list(p[1] for p in pairs))
 
 
 class LiquefactionColumn:
@@ -386,6 +408,8 @@ class LiquefactionColumn:
         if self.hysteretic is not None and self.hysteretic.shape[0] != nt:
             raise ValueError(f"hysteretic parameters for {self.hysteretic.shape[0]} elements, the column has {nt}")
         self._ndot = np.zeros(ns)  # dn/dt of the last vertical step (the sub-steps' interpolation)
+        self._dn = None  # (_ndot, a step's span, _ndot × span) made by the compiled split step (:func:`.column_split.split_step`)
+        self._shear_next = None  # (a law state, its copy) made by the compiled split step, for the next sub-steps
         self._props = None  # (n, ρ, η): the wave properties at porosity n set by the compiled split step
         self._ps = None  # (vertical state, its σ′_v) made by the compiled split step
         # the record at the hysteretic sub-steps' times, read for many steps at once (None: step by step)
@@ -566,7 +590,8 @@ class LiquefactionColumn:
         law; the crust's G_max, density and (zero) liquefied-soil viscosity are fixed.
         """
         if self.hysteretic is not None:
-            return self._shear_hysteretic(s, t_new)
+            w, n_bar, hist, m, (times, acc) = self._shear_hysteretic(s, t_new)
+            return w, n_bar, hist, m, tuple(zip(times, acc))
         v, wave, sand, ns = self.v, self.wave, self.sand, self.n_sat
         n = s.vertical.n
         mu_m = self._wave_properties(s)
@@ -618,48 +643,64 @@ class LiquefactionColumn:
             return np.array([self.a_g(t) for t in times.tolist()], dtype=float)
         return np.ascontiguousarray(self.a_g_at(times), dtype=float)
 
-    def _shear_hysteretic(self, s: ColumnState, t_new: float):
+    def _shear_hysteretic(self, s: ColumnState, t_new: float, strain: bool = True):
         """The sub-steps of :meth:`_shear` with the hysteretic law (:mod:`~twofluid.models.hysteretic_kernel`);
-        a sub-step whose Newton iterations fail is retried at half the size (four times at most)."""
-        wave, ns, vert = self.wave, self.n_sat, s.vertical
+        a sub-step whose Newton iterations fail is retried at half the size (four times at most); returns as
+        :meth:`_shear` does, but for the sub-steps' (times, absolute surface accelerations) as two lists.
+        ``strain`` False: the new wave state's γ is an array left for the caller to write (the compiled split
+        step writes it, :meth:`step`)."""
+        vert = s.vertical
         n = vert.n
+        fixed = self.__dict__.get("_hyst_fixed")
+        if fixed is None:  # the kernel (or its plain Python), its fixed arguments, the saturated ρ and η: once per run
+            wave, ns = self.wave, self.n_sat
+            fixed = self._hyst_fixed = (_hyst_kernel.runner(), *self.hysteretic_arguments(), wave.rho[:ns],
+                                        wave.eta[:ns], wave.h, {})
+        run, mid, tail, rho_sat, eta_sat, h_wave, kept = fixed
         props = self._props
         if props is not None and props[0] is n:  # set by the compiled split step that made this state (its n
-            wave.rho[:ns], wave.eta[:ns] = props[1], props[2]  # a C-contiguous float64 array)
+            rho_sat[...] = props[1]  # a C-contiguous float64 array)
+            eta_sat[...] = props[2]
         else:
             n = np.ascontiguousarray(n, dtype=float)
             self._wave_properties(s)
         w = s.wave
         t0 = vert.t
         span = t_new - t0
-        dn = self._ndot * span  # (a new C-contiguous float64 array)
+        ndot, pred = self._ndot, self._dn  # (the split step's product for a step of this span, where it made it)
+        dn = pred[2] if pred is not None and pred[0] is ndot and pred[1] == span else ndot * span
         m = max(1, math.ceil(span / (self.shear_step if self.flow is None else self._substep(t0)) - 1e-9))
-        ne = wave.h.size
         key, clo = self.__dict__.get("_skeleton_key"), self.v.clo  # (_skeleton_arrays's test, inline)
         A, p_ref = self._skeleton if key is not None and key[0] is clo.A and key[1] is clo.p_ref \
             else self._skeleton_arrays()
-        fixed = self.__dict__.get("_hyst_fixed")
-        if fixed is None:  # the kernel (or its plain Python) and its fixed arguments, once per run
-            fixed = self._hyst_fixed = (_hyst_kernel.runner(), *self.hysteretic_arguments())
-        run, mid, tail = fixed
-        shear, n_bar = s.shear, s.vertical.n_bar
-        copy_st = type(shear) is np.ndarray and shear.dtype == np.float64  # (np.array(x, dtype=float) of them)
-        copy_nb = type(n_bar) is np.ndarray and n_bar.dtype == np.float64
+        shear, n_bar = s.shear, vert.n_bar
+        copy_st = type(shear) is np.ndarray and shear.dtype is _F8  # (np.array(x, dtype=float) of others)
+        copy_nb = type(n_bar) is np.ndarray and n_bar.dtype is _F8
+        ready = self._shear_next  # (the split step's copy of this law state, where it made one)
+        ready = ready[1] if ready is not None and ready[0] is shear else None
+        self._shear_next = None
         for attempt in range(5):
             dt = span / m
             rows = self._rows
             if attempt == 0 and rows is not None and rows.at is self.a_g_at:  # (the record read for many steps at once)
-                times, a_in = rows.rows(t0, m, dt, self._h)
+                a_in = rows.rows(t0, m, dt, self._h)[1]
+                times, end = rows.times, rows.end
             elif attempt == 0 and self.a_g_at is not None:
                 self._rows = rows = _record_rows.RecordRows(self.a_g_at)
-                times, a_in = rows.rows(t0, m, dt, self._h)
+                a_in = rows.rows(t0, m, dt, self._h)[1]
+                times, end = rows.times, rows.end
             else:
                 times = t0 + np.arange(1.0, m + 1.0) * dt
                 a_in = self._record_at(times)
+                times, end = times.tolist(), float(a_in[-1])
             u, vel, acc = w.u.copy(), w.v.copy(), w.a.copy()
-            st = shear.copy() if copy_st else np.array(shear, dtype=float)
+            st = ready if attempt == 0 and ready is not None else \
+                shear.copy() if copy_st else np.array(shear, dtype=float)
             nb = n_bar.copy() if copy_nb else np.array(n_bar, dtype=float)
-            surface, tau = np.empty(m), np.empty(ne)
+            surface = kept.get(m)  # (the surface's samples: written whole, read at once; one array for each m)
+            if surface is None:
+                surface = kept[m] = np.empty(m)
+            tau = np.empty(h_wave.size)
             code = int(run(u, vel, acc, st, self.hysteretic, nb, n, dn, A, p_ref, *mid, t0, dt, a_in, self.shaking_end,
                            surface, tau, *tail))
             if code != 1:
@@ -668,10 +709,10 @@ class LiquefactionColumn:
         if code != 0:
             raise NewmarkFailure(f"shear step at t = {t_new:.6g} s: "
                                  + ("Newton did not converge" if code == 1 else "a non-finite value"))
-        out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / wave.h, tau)  # (np.diff's arithmetic)
-        times = times.tolist()
-        self._a_last = (times[-1], float(a_in[-1]))  # (the record at the step's end: :meth:`accelerations`)
-        return out, nb, st, m, tuple(zip(times, surface.tolist()))
+        # (np.diff's arithmetic)
+        out = WaveState(t_new, u, vel, acc, (u[1:] - u[:-1]) / h_wave if strain else np.empty(h_wave.size), tau)
+        self._a_last = (times[-1], end)  # (the record at the step's end: :meth:`accelerations`)
+        return out, nb, st, m, (times, surface.tolist())
 
     def hysteretic_arguments(self) -> tuple[tuple, tuple]:
         """The fixed arguments of the hysteretic sub-steps (:func:`twofluid.models.hysteretic_kernel._substeps`)
@@ -858,56 +899,81 @@ class LiquefactionColumn:
 
     def step(self, s: ColumnState, dt: float) -> ColumnStep:
         """One split step of length ``dt`` [s] (module docstring); raises StepFailure."""
-        t0 = s.t
+        v0 = s.vertical
+        t0 = v0.t
         t_new = t0 + dt
-        wave, n_bar, hist, m, surface = s.wave, s.vertical.n_bar, s.shear, 0, ()
+        wave, n_bar, hist, m, surface, samples = s.wave, v0.n_bar, s.shear, 0, (), None
+        hyst = self.hysteretic is not None
         # the vertical step and what follows it in one compiled call (:meth:`_split_step`) where it covers it
-        fixed = self._split_args() if self.hysteretic is not None and dt > 0.0 and not self.shear_only else None
+        fixed = self._split_args() if hyst and dt > 0.0 and not self.shear_only else None
         fused = fixed is not None
         check = False  # the finite test of the shear's results left to that call
-        if t0 < self.shear_end - 1e-12:
+        eps = 1e-9 * max(dt, 1e-12)  # (integrate's)
+        fast = getattr(self.v, "fast_step", None)
+        flow, end = self.flow, self.shear_end - 1e-12  # (the shear wave's end: only _flow_decide moves it)
+        sheared = t0 < end
+        defer = False  # the shear's γ left to the split step (tried below with the check)
+        if sheared:
             self._h = dt
+            defer = (fused and flow is None and not end <= t_new and type(v0) is State and fast is not None
+                     and t0 < t_new - eps)
             try:
-                wave, n_bar, hist, m, surface = self._shear(s, t_new)
+                if hyst:  # (the surface's samples as two lists: ColumnStep pairs them up where asked)
+                    wave, n_bar, hist, m, samples = self._shear_hysteretic(s, t_new, not defer)
+                else:
+                    wave, n_bar, hist, m, surface = self._shear(s, t_new)
             except NewmarkFailure as exc:
                 raise StepFailure(t0, dt, str(exc), s) from None
             # (not where the shear wave stops: the floor comes first; a flowing slope decides first)
-            check = fused and self.flow is None and not self.shear_end - 1e-12 <= t_new
+            check = fused and flow is None and not end <= t_new
             if not check and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
                 raise self._not_finite(t0, dt, s)
-            if self.flow is not None and not self.shear_only:
+            if flow is not None and not self.shear_only:
                 if self._flowing_phase(t0):
-                    surface = ()  # the surface motion (spectra, a_max) covers the shaking and free_vibration
+                    surface, samples = (), None  # the surface motion (spectra, a_max) covers the shaking and free_vibration
                 self._flow_decide(t_new, wave)
-        floor = self.hysteretic is not None and t0 < self.shear_end - 1e-12 <= t_new  # the shear wave stops
+                end = self.shear_end - 1e-12
+        floor = hyst and t0 < end <= t_new  # the shear wave stops
         if floor:
             n_bar = self._apply_floor(s, n_bar, hist)  # the reconsolidation floor
             fused = False
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
-            return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface))
-        v0 = s.vertical
-        # the stepper and the compiled step read the old arrays and write new ones: no copy needed
-        vert = State(v0.t, v0.V, v0.W, v0.P, v0.n, n_bar) if type(v0) is State else v0.copy(n_bar=n_bar)
-        if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
-            self.v.continue_from(v0, vert)
+            return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface), samples)
         its, inflow, made, split = 0, 0.0, None, False
-        eps = 1e-9 * max(dt, 1e-12)  # (integrate's)
-        fast = getattr(self.v, "fast_step", None)
-        if fast is not None and vert.t < t_new - eps:  # the stepper's first try in one compiled call
+        tried = fused and sheared and type(v0) is State and fast is not None and t0 < t_new - eps
+        if tried:  # n̄ the shear's own new array: the split step starts from v0 with it (no copy of v0 made)
             h = min(dt, t_new - t0)  # (integrate's first step to t_new)
             h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
-            if fused:
-                made = self._split_step(vert, h, dt, wave.u, check, fixed)
-                if made is not None:
-                    vert, its, outflow = made
-                    inflow -= h * outflow
-                    split = True
-            else:
-                made = fast(vert, h, self.settings)
-                if made is not None:
-                    vert, its = made
-                    inflow -= h * self.v.solids_outflow(vert)
+            # (deferred: the hysteretic sub-steps' own law state, a C-contiguous float64 array, copied for the next)
+            made = self._split_step(v0, h, dt, wave.u, check, fixed, n_bar, wave.gamma if defer else None,
+                                    hist if defer else None)
+            if made is not None:
+                vert, its, outflow = made
+                inflow -= h * outflow
+                split = True
+            elif defer:  # (the call did not make the step: γ as the shear gives it)
+                u = wave.u
+                wave.gamma = (u[1:] - u[:-1]) / self.wave.h
+        if made is None:
+            # the stepper and the compiled step read the old arrays and write new ones: no copy needed
+            vert = State(v0.t, v0.V, v0.W, v0.P, v0.n, n_bar) if type(v0) is State else v0.copy(n_bar=n_bar)
+            if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
+                self.v.continue_from(v0, vert)
+            if not tried and fast is not None and vert.t < t_new - eps:  # the stepper's first try in one compiled call
+                h = min(dt, t_new - t0)  # (integrate's first step to t_new)
+                h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
+                if fused:
+                    made = self._split_step(vert, h, dt, wave.u, check, fixed)
+                    if made is not None:
+                        vert, its, outflow = made
+                        inflow -= h * outflow
+                        split = True
+                else:
+                    made = fast(vert, h, self.settings)
+                    if made is not None:
+                        vert, its = made
+                        inflow -= h * self.v.solids_outflow(vert)
         if check and made is None and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
             raise self._not_finite(t0, dt, s)
         if made is None or vert.t < t_new - eps:  # the stepper (all of the step, or the rest)
@@ -915,10 +981,10 @@ class LiquefactionColumn:
             for st in integrate(self.v, vert, t_new, dt, settings=self.settings):  # (each try in one
                 vert, its = st.state, st.iterations  # compiled call where it can be: the model's compiled_step)
                 inflow -= st.dt * self.v.solids_outflow(vert)  # backward Euler: end-of-step flux
-        if self.hysteretic is not None and dt > 0.0 and not split:
-            self._ndot = (vert.n - s.vertical.n) / dt
+        if hyst and dt > 0.0 and not split:
+            self._ndot = (vert.n - v0.n) / dt
             self._props = None
-        return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface))
+        return ColumnStep(ColumnState(vert, wave, hist), dt, m, its, inflow, tuple(surface), samples)
 
     @staticmethod
     def _not_finite(t0: float, dt: float, s: ColumnState) -> StepFailure:
@@ -931,10 +997,9 @@ class LiquefactionColumn:
             return hit[1]
         return _split.split_args(self)
 
-    def _split_step(self, vert: State, h: float, dt: float, u: np.ndarray, check: bool, fixed=None):
-        """The vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None
-        (:func:`.column_split.split_step`; ``fixed``: :meth:`_split_args`, where the caller has it)."""
-        return _split.split_step(self, vert, h, dt, u, check, fixed)
+    #: the vertical step of ``h`` [s] from ``vert`` and what follows it in one compiled call, or None:
+    #: :func:`.column_split.split_step` with the column as its first argument (a method, one call less a step)
+    _split_step = _split.split_step
 
     def run(self, s: ColumnState, t_end: float, dt: float, dt_after: float | None = None,
             stops=(), stop: Callable[[ColumnState], bool] | None = None) -> Iterator[ColumnStep]:

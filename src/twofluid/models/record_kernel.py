@@ -118,8 +118,10 @@ def record_step(t, P, p_hydro, sigma_v0, n, n0, lengths, gamma, ps, elem, sig0_e
     ``peak``, ``t_peak``, ``first`` (NaN until liquefied), ``ever``, ``peak_strain``,
     ``max_contribution``. Written: ``liq`` (r_u > ru_liq), ``ru``, ``contribution``, ``ru_elem``,
     ``sig_elem`` (σ′_v/σ′_v0 at ``elem``) and ``scalars`` = (settlement [m], base excess pressure
-    [Pa], top r_u, seepage at the water table [m/s])."""
+    [Pa], top r_u, seepage at the water table [m/s]) and, where it has a fifth entry, the lowest element
+    with ``liq`` (−1: none; ``int(liq.argmax())`` where there is one)."""
     ne = ru.size
+    low = -1
     for e in range(ne):
         r = (P[e] - p_hydro[e]) / sigma_v0[e]
         ru[e] = r
@@ -129,6 +131,8 @@ def record_step(t, P, p_hydro, sigma_v0, n, n0, lengths, gamma, ps, elem, sig0_e
         lq = r > ru_liq
         liq[e] = lq
         if lq:
+            if low < 0:
+                low = e
             ever[e] = True
             if first[e] != first[e]:
                 first[e] = t
@@ -149,6 +153,8 @@ def record_step(t, P, p_hydro, sigma_v0, n, n0, lengths, gamma, ps, elem, sig0_e
     scalars[1] = P[0] - p_hydro[0]
     scalars[2] = ru[ne - 1]
     scalars[3] = 0.5 * (V_top + W_top) - nt * 0.5 * (V_top - W_top) / (1.0 - nt)
+    if scalars.size > 4:
+        scalars[4] = low
     return scalars
 
 

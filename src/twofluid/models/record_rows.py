@@ -38,14 +38,19 @@ class RecordRows:
         self.at = at
         self._m, self._dt, self._k = 0, 0.0, 0
         self._starts, self._times, self._values = [], None, None
+        self._lists = self._ends = None
+        #: the times of the rows last returned as a list of floats, and the record at the last of them
+        self.times, self.end = [], 0.0
 
     def rows(self, t0: float, m: int, dt: float, h: float) -> tuple[np.ndarray, np.ndarray]:
         """(t0 + [1, ..., m] ``dt``, the record there) of the step from ``t0`` [s] (``m`` sub-steps of
         ``dt`` [s]; ``h`` [s]: the step, which the next steps will likely take too): C-contiguous
-        float64 rows, not to be written."""
+        float64 rows, not to be written; :attr:`times` and :attr:`end` set to the times as a list and
+        the last value as a float."""
         k = self._k
         if m == self._m and dt == self._dt and k < len(self._starts) and self._starts[k] == t0:
             self._k = k + 1
+            self.times, self.end = self._lists[k], self._ends[k]
             return self._times[k], self._values[k]
         starts, t = [t0], t0
         for _ in range(self.ROWS - 1):  # (the run's sum of its steps)
@@ -55,4 +60,6 @@ class RecordRows:
         values = np.ascontiguousarray(self.at(times.ravel()), dtype=float).reshape(times.shape)
         self._m, self._dt, self._k = m, dt, 1
         self._starts, self._times, self._values = starts, times, values
+        self._lists, self._ends = times.tolist(), values[:, -1].tolist()
+        self.times, self.end = self._lists[0], self._ends[0]
         return times[0], values[0]

@@ -120,7 +120,7 @@ class ReducedVerticalColumn(Reduced1D):
                           self.bed_forces != "galerkin", *consts, float(self.velocity_floor),
                           c(self._liq_src, dtype=float), top,
                           float(self.top.pressure if top else self.bottom.pressure))
-        self._fast = (laws, self.clo, static)
+        self._fast = (laws, self.clo, static, None if static is None else static[1:])
         return static
 
     def fast_step(self, old: State, dt: float, settings) -> tuple | None:
@@ -144,18 +144,21 @@ class ReducedVerticalColumn(Reduced1D):
         made = self.fast_done(ctx, run_vertical(ker, args, ()))
         return None if made is None else (made[0], made[1], int(ctx[4][1]))
 
-    def fast_call(self, old: State, dt: float, settings, more: tuple = ()) -> tuple | None:
+    def fast_call(self, old: State, dt: float, settings, more: tuple = (), n_bar=None) -> tuple | None:
         """What :meth:`fast_step` calls: (the compiled :func:`~twofluid.models.column_step_kernel.vertical_step`,
         its arguments up to ``info`` and then ``more`` (those after it: :data:`~.column_step_kernel.ALONE` for
         the vertical step alone), what :meth:`fast_done` takes after the call), or None where the call does
-        not cover the step (the stepper's then)."""
+        not cover the step (the stepper's then). ``n_bar``: where given, the step starts from ``old`` with this
+        reference porosity, as from the copy of ``old`` with it that :meth:`continue_from` would carry on from
+        (not made), and the new state takes ``n_bar`` itself (an array nobody else holds), not a copy."""
         static = self._fast_static(old) if type(old) is State and self.fast_steps else None
-        if static is None or not (old.n_bar.flags.c_contiguous and old.n.flags.c_contiguous):
+        onb = old.n_bar if n_bar is None else n_bar
+        if static is None or not (onb.flags.c_contiguous and old.n.flags.c_contiguous):
             _newton.release_kernel_samples(self)
             return None
-        ker = static[0]
         ex = self._extrap
-        ne, nv = old.n.size, old.V.size
+        on, oV = old.n, old.V
+        ne, nv = on.size, oV.size
         if ex.D is None:
             DW = Dn = np.zeros((1, 1))
             order, ex_t, ex_h = 0, 0.0, -1.0
@@ -165,18 +168,30 @@ class ReducedVerticalColumn(Reduced1D):
                 _newton.release_kernel_samples(self)
                 return None
         idx, c, meta, last, _ = _newton.kernel_samples(self)
-        newton = bool(settings.newton_test and self.newton_iterates)  # (the stepper's NewtonTest or none)
-        a, P, info = np.empty(3 * nv - 1), np.empty(ne), np.zeros(3, dtype=np.int64)
+        d = self.__dict__
+        given = d.get("_fast_settings")  # (the settings' values as the call takes them, and one info array a
+        if given is None or given[0] is not settings:  # model: read as soon as the call returns)
+            given = self._fast_settings = (settings, float(settings.tol), int(settings.max_iter),
+                                           bool(settings.newton_test), np.zeros(3, dtype=np.int64))
+        _, tol, max_iter, newton, info = given
+        newton = newton and bool(self.newton_iterates)  # (the stepper's NewtonTest or none)
+        a, P = np.empty(3 * nv - 1), np.empty(ne)
         DWo, Dno = np.empty((6, nv)), np.empty((6, ne))
-        t_new = old.t + dt
-        V = self._V_wall if self.bottom.kind == "wall" else self._mixture_velocity(t_new)
-        cont = ex.state is old and ex.t == old.t
-        has_last = last is not None
-        lt = last if has_last else old
-        args = (float(old.t), old.V, old.W, old.n, old.n_bar, float(dt), V, *static[1:], DW, Dn, order,
-                float(ex_t or 0.0), float(ex_h), cont, float(settings.tol), int(settings.max_iter), newton, lt.V,
-                lt.W, lt.n, float(lt.t), has_last, idx, c, meta, a, P, DWo, Dno, info, *more)
-        return ker, args, (old, t_new, a, P, info, DWo, Dno, cont, newton)
+        t_old = old.t
+        t_new = t_old + dt
+        if self.bottom.kind == "wall":
+            V = d.get("_V_zero")  # (:attr:`_V_wall`, inline)
+            if V is None:
+                V = self._V_wall
+        else:
+            V = self._mixture_velocity(t_new)
+        cont = ex.state is old and ex.t == t_old
+        lt = old if last is None else last
+        hit = self._fast
+        args = (float(t_old), oV, old.W, on, onb, float(dt), V, *(hit[3] if hit[2] is static else static[1:]), DW,
+                Dn, order, float(ex_t or 0.0), float(ex_h), cont, tol, max_iter, newton, lt.V, lt.W, lt.n,
+                float(lt.t), last is not None, idx, c, meta, a, P, DWo, Dno, info, *more)
+        return static[0], args, (old, t_new, a, P, info, DWo, Dno, cont, newton, n_bar)
 
     def fast_done(self, ctx: tuple, code: int) -> tuple | None:
         """After the call of :meth:`fast_call`'s arguments returned ``code``: (the new state, its iterations)
@@ -184,10 +199,10 @@ class ReducedVerticalColumn(Reduced1D):
         if code != column_step_kernel.OK:
             _newton.release_kernel_samples(self)
             return None
-        old, t_new, a, P, info, DWo, Dno, cont, newton = ctx
+        old, t_new, a, P, info, DWo, Dno, cont, newton, n_bar = ctx
         ex = self._extrap
         nv = old.V.size
-        new = State(t_new, a[:nv], a[nv:2 * nv], P, a[2 * nv:], old.n_bar.copy())
+        new = State(t_new, a[:nv], a[nv:2 * nv], P, a[2 * nv:], old.n_bar.copy() if n_bar is None else n_bar)
         its, _, rows = info.tolist()
         if rows == 2:
             ex.D, ex.order, ex.h = [DWo[:2], Dno[:2]], 2, t_new - (ex.t if cont else old.t)

@@ -306,7 +306,8 @@ class _Recorder:
         self.max_contribution = np.zeros(ne)
         self.t, self.ru, self.sig, self.settle, self.pbase = [], [], [], [], []
         self.ru_top, self.flux_top = [], []
-        self.surface_t, self.surface_a = [], []
+        self._surface_t, self._surface_a = [], []  # (:attr:`surface_t`, :attr:`surface_a`)
+        self._surface_steps = []  # the steps' (times, accelerations) lists not yet in those lists
         self.field_t, self.field = [], []
         self.ever = np.zeros(ne, dtype=bool)
         self.damage = DamageRecord(col)  # CSR_eq15 snapshots and the residual strains
@@ -316,7 +317,8 @@ class _Recorder:
         self._sig0_elem = _c(self.sig0_elem)
         self._ru_liq = float(ru_liq)
         self._liq = np.zeros(ne, dtype=bool)
-        self._scalars = np.zeros(4)
+        self._scalars = np.zeros(5)  # (with the lowest liquefied element: the damage record's)
+        self.last_contribution = np.zeros(ne)  # (each record writes it whole: one array)
         self._sizes = (ne, self._elem.size)
         self._fixed, self._fixed_of = (), (None, None, None)  # the column's constant arrays as the kernel takes them
         self._last_ru = None  # the r_u of the last :meth:`record` (its report depths: self.ru[-1])
@@ -331,10 +333,12 @@ class _Recorder:
             self._fixed = (*map(_c, of), _c(col.v.mesh.lengths))
         return self._fixed
 
-    def record(self, s: ColumnState, field: bool, surface=()):
+    def record(self, s: ColumnState, field: bool, samples=((), ())):
+        """Record the state ``s`` (``field``: its r_u row kept too; ``samples``: the step's (times, surface
+        accelerations) lists, ``ColumnStep.samples``); returns its r_u."""
         col, v = self.col, s.vertical
         ne, k = self._sizes
-        ru, contribution = np.empty(ne), np.empty(ne)
+        ru = np.empty(ne)
         ru_elem, sig_elem = np.empty(k), np.empty(k)
         done = col._ps  # (the split step's σ′_v of the state it made: P, n and σ′_v as the record takes them)
         if done is not None and done[0] is v:
@@ -347,13 +351,12 @@ class _Recorder:
         fixed = self._fixed if col.p_hydro is was[0] and col.sigma_v0 is was[1] and col.n0 is was[2] else \
             self._constants()
         p_hydro, sigma_v0, n0, lengths = fixed
-        settle, pbase, ru_top, flux_top = self._step(
+        settle, pbase, ru_top, flux_top, low = self._step(
             float(v.t), P, p_hydro, sigma_v0, n, n0, lengths, _c(s.wave.gamma), ps,
             self._elem, self._sig0_elem, self._ru_liq, float(v.V[-1]), float(v.W[-1]), self.peak, self.t_peak,
-            self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, contribution,
+            self.first, self.ever, self._liq, self.peak_strain, self.max_contribution, ru, self.last_contribution,
             ru_elem, sig_elem, self._scalars).tolist()
-        self.damage.record(s, self._liq)
-        self.last_contribution = contribution
+        self.damage.record(s, self._liq, int(low))
         self.t.append(v.t)
         self.ru.append(ru_elem)
         self.sig.append(sig_elem)
@@ -361,15 +364,35 @@ class _Recorder:
         self.pbase.append(pbase)
         self.ru_top.append(ru_top)
         self.flux_top.append(flux_top)  # = col.surface_seepage(s)
-        if surface:
-            times, acc = zip(*surface)
-            self.surface_t.extend(times)
-            self.surface_a.extend(acc)
+        if samples[0]:
+            self._surface_steps.append(samples)
         if field:
             self.field_t.append(v.t)
             self.field.append(ru)
         self._last_ru = ru
         return ru
+
+    @property
+    def surface_t(self) -> list:
+        """The times [s] of the surface's acceleration samples (the shear sub-steps' ends), a list that grows."""
+        if self._surface_steps:
+            self._surface_lists()
+        return self._surface_t
+
+    @property
+    def surface_a(self) -> list:
+        """The surface's absolute acceleration [m/s²] at :attr:`surface_t`, a list that grows."""
+        if self._surface_steps:
+            self._surface_lists()
+        return self._surface_a
+
+    def _surface_lists(self) -> None:
+        """The steps' samples recorded since into :attr:`surface_t` and :attr:`surface_a`."""
+        t, a = self._surface_t, self._surface_a
+        for times, acc in self._surface_steps:
+            t.extend(times)
+            a.extend(acc)
+        self._surface_steps.clear()
 
     def surface_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """(:attr:`surface_t`, :attr:`surface_a`) as float64 arrays, made once for the lists as they are
@@ -493,7 +516,10 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
 
     def write_field(s, ru):  # whole rows, finite values only (io.results)
         if check_finite("ru_field.csv", s.t, {"r_u": ru}):
-            ffile.table(np.concatenate([[s.t], ru])[None, :], field_formats)
+            row = np.empty((1, ru.size + 1))  # (t, r_u...)
+            row[0, 0] = s.t
+            row[0, 1:] = ru
+            ffile.table(row, field_formats)
 
     write_field(state, ru0)
     writer.probe_row(state.t, rec.probe_row(state, ru0))
@@ -529,7 +555,7 @@ def run_validated(case: dict, out_dir=None, progress: bool = False, reference: b
             inflow += step.solids_inflow
             at_mark = t > near.low and near.at(t)
             field = t >= next_field - 1e-12 or at_mark
-            ru = record(s, field, step.surface)
+            ru = record(s, field, step.samples)
             if srec is not None:
                 srec.record(s)
                 if at_mark or abs(t - col.shear_end) < 1e-9 * max(1.0, t):

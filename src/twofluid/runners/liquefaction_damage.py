@@ -60,18 +60,27 @@ class DamageRecord:
         self.d_first_below = np.full(ns, np.nan)
         self._end_shear = None  # the law's state at the last step of the shaking (its damage: d_end)
         self.lowest = ns  # lowest element index that has liquefied so far
-        self.gamma_end = np.zeros(h.size)
+        self._gamma = np.zeros(h.size)  # γ of the last state recorded (its own array: read when asked)
 
-    def record(self, s, liquefied) -> None:
-        """Snapshots of this state ``s`` (a ColumnState) with ``liquefied`` (bool per saturated element)."""
-        self.gamma_end[:] = s.wave.gamma
+    @property
+    def gamma_end(self) -> np.ndarray:
+        """γ of every element of the shear column in the last state recorded (zeros before one) [-], a copy."""
+        return np.array(self._gamma, dtype=float)
+
+    def record(self, s, liquefied, low: int | None = None) -> None:
+        """Snapshots of this state ``s`` (a ColumnState) with ``liquefied`` (bool per saturated element);
+        ``low``: the lowest liquefied element, −1 where none is (found in ``liquefied`` where not given)."""
+        self._gamma = s.wave.gamma  # (each step's strains are a new array, not written after the step)
         if not self.active:
             return
         st = s.shear
         if s.t <= self.shaking_end + 1e-9:
             self._end_shear = st  # (each step's law state is a new array; the damage columns stay as they are)
-        low = int(liquefied.argmax())  # the lowest liquefied element (0 where none is)
-        if not liquefied[low]:
+        if low is None:
+            low = int(liquefied.argmax())  # the lowest liquefied element (0 where none is)
+            if not liquefied[low]:
+                return
+        elif low < 0:
             return
         first = self.d_first_any[0] != self.d_first_any[0]  # (NaN: not yet taken)
         if not first and low >= self.lowest:
@@ -97,7 +106,7 @@ class DamageRecord:
     def columns(self, e: int) -> list:
         """The :data:`DAMAGE_COLUMNS` of element ``e`` (whole column's index: saturated bottom first, then
         the crust); None where it does not apply."""
-        resid = float(self.gamma_end[e] - self.gamma_static[e])
+        resid = float(self._gamma[e] - self.gamma_static[e])
         if e >= self.ns or not self.active or not self.liquefiable[e]:
             return [None] * 5 + [resid]
         c, b = float(self.crr[e]), float(self.b[e])

@@ -62,7 +62,38 @@ FRESH = 5  # the first iterate is accepted on a prediction only if one of these 
 _ENTRY_FLOOR = 1e-2  # entries changing by less than this fraction of tol are not tested one by one
 _SIDE_NOISE = 1e-3  # |V − W| below this fraction of tol × velocity scale: a sign change does not count
 
-_RUNS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # model -> _Run
+class _Runs(weakref.WeakKeyDictionary):
+    """model -> :class:`_Run`, counting its changes (``changes``): :func:`kernel_samples` looks a model up
+    again only where the table changed since it last did."""
+
+    changes = 0
+
+    def __setitem__(self, key, value):
+        self.changes += 1
+        super().__setitem__(key, value)
+
+    def __delitem__(self, key):
+        self.changes += 1
+        super().__delitem__(key)
+
+    def pop(self, key, *args):
+        self.changes += 1
+        return super().pop(key, *args)
+
+    def popitem(self):
+        self.changes += 1
+        return super().popitem()
+
+    def setdefault(self, key, default=None):
+        self.changes += 1
+        return super().setdefault(key, default)
+
+    def update(self, dict=None, /, **kwargs):
+        self.changes += 1
+        super().update(dict, **kwargs)
+
+
+_RUNS: "_Runs" = _Runs()  # model -> _Run
 
 
 class _Run:
@@ -84,8 +115,15 @@ def kernel_samples(model) -> list:
     [count, accepted steps] (int64), the last accepted state, the record they were taken from] (arrays
     with room for this step's sample at least), taken from the stepper's record where its Python path made the last
     step, kept on the model (``_kernel_samples``) while the compiled calls make the steps."""
-    run = model.__dict__.get("_kernel_samples")
-    rec = _RUNS.get(model)
+    d = model.__dict__
+    run = d.get("_kernel_samples")
+    seen = _RUNS.changes
+    mark = d.get("_kernel_samples_seen")  # (the table's count and this model's id when it was last looked up)
+    if run is not None and mark is not None and mark[0] == seen and mark[1] == id(model):  # (the same record)
+        rec = run[4]
+    else:
+        rec = _RUNS.get(model)
+        model._kernel_samples_seen = (seen, id(model))  # (a copy of the model looks itself up)
     if run is None or rec is not run[4]:  # (the stepper made steps of this model since)
         samples = list(rec.samples) if rec is not None else []
         cap = len(samples) + WINDOW + 8
@@ -95,7 +133,7 @@ def kernel_samples(model) -> list:
         meta = np.array([len(samples), rec.steps if rec is not None else 0], dtype=np.int64)
         run = model._kernel_samples = [idx, c, meta, rec.last if rec is not None else None, rec]
     idx, c = run[0], run[1]
-    if idx.size < run[2][0] + 2:  # room for this step's sample
+    if idx.size < run[2].item(0) + 2:  # room for this step's sample
         idx.resize(idx.size + 64, refcheck=False)
         c.resize(c.size + 64, refcheck=False)
     return run
