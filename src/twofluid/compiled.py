@@ -248,10 +248,11 @@ def _sources(funcs) -> list[str]:
     return sorted(files)
 
 
-def _group_name(group: str, exports: dict, helpers: tuple = ()) -> str:
+def _group_name(group: str, exports: dict, helpers: tuple = (), check_layouts: bool = False) -> str:
     """The module of a group of kernels: named after a hash of the package's version, the source
     files of the kernels, of the helpers they call and of every package function or module they
-    name (:func:`_sources`), their names and signatures, the Python ABI and the NumPy version."""
+    name (:func:`_sources`), their names and signatures, whether its arrays' layouts are checked, the
+    Python ABI and the NumPy version."""
     import numpy
 
     from . import __version__
@@ -263,6 +264,7 @@ def _group_name(group: str, exports: dict, helpers: tuple = ()) -> str:
         # function tokenizes the module (~40 ms for the project's kernels); any edit rebuilds
         digest.update(Path(file).read_bytes())
     key = [f"{f.__qualname__}:{sig}" for f, sig in exports.values()] + [f.__qualname__ for f in helpers]
+    key += ["layouts checked"] if check_layouts else []
     digest.update("\n".join(key + [__version__, sys.implementation.cache_tag, numpy.__version__]).encode())
     return f"_twofluid_{group}_{digest.hexdigest()[:16]}"
 
@@ -274,9 +276,10 @@ def _import(path: Path, module: str):
     return mod
 
 
-def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Path | None:
+def _build(folder: Path, module: str, exports: dict, helpers: tuple = (), check_layouts: bool = False) -> Path | None:
     """Compile ``exports`` {name: (func, signature)} into ``folder/<module><ext>``, the ``helpers``
-    they call compiled with them; None if it cannot be done here."""
+    they call compiled with them, their arrays' layouts checked on each call if ``check_layouts``
+    (:func:`_unbox_checked`); None if it cannot be done here."""
     import shutil  # here, not at the top: only a build needs them
     import tempfile
     import warnings
@@ -299,7 +302,8 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
             cc.export(name, signature)(_stub(func) if func in helpers else func)
         with _compiled_helpers(helpers), _no_jit_machine_code(), _helpers_optimised_in_module(), \
                 _plain_typing_messages(), _typing_memo(), _lowering_memo(), _young_gc_only(), \
-                _no_llvm_lock_events(), _unbox_checked(), _no_cfunc_wrappers(), warnings.catch_warnings():
+                _no_llvm_lock_events(), _unbox_checked(check_layouts), _no_cfunc_wrappers(), \
+                warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -808,16 +812,18 @@ def _layout_error(module, pyapi):
 
 
 @contextlib.contextmanager
-def _unbox_checked():
-    """While a module builds, the Python wrapper of each export checks that each array it is given as
-    C-contiguous (``f8[::1]``, ``f8[:, ::1]``) or Fortran-contiguous (``f8[::1, :]``) is so, and raises
-    ValueError (:data:`_LAYOUT_ERROR`) where one is not: ``numba.pycc``'s wrapper checks only the
-    item size, and the compiled code addresses such an array by its shape alone, so a strided view
-    would be read and written at the wrong places, silently. The test is NumPy's (strides of the
-    dimensions of length 1 ignored, an empty array contiguous): a few instructions per array and
-    call. Arrays of any layout (``f8[:]``) are not checked. And the errors of the wrapper's unboxing
-    (this one, numba's own TypeError for an argument that is no array or has another item size) are
-    raised with CPython's exception classes: numba names each by its C variable (``PyExc_TypeError``),
+def _unbox_checked(layouts: bool = True):
+    """While a module builds, if ``layouts`` (a group's ``check_layouts``), the Python wrapper of each
+    export checks that each array it is given as C-contiguous (``f8[::1]``, ``f8[:, ::1]``) or
+    Fortran-contiguous (``f8[::1, :]``) is so, and raises ValueError (:data:`_LAYOUT_ERROR`) where one
+    is not: ``numba.pycc``'s wrapper checks only the item size, and the compiled code addresses such an
+    array by its shape alone, so a strided view would be read and written at the wrong places,
+    silently. The test is NumPy's (strides of the dimensions of length 1 ignored, an empty array
+    contiguous): about seven instructions per array and call (a group whose callers make their arrays
+    themselves does without: the full step's 1.8 M instructions in the bed run). Arrays of any layout
+    (``f8[:]``) are not checked. And, in every module, the errors of the wrapper's unboxing (this one,
+    numba's own TypeError for an argument that is no array or has another item size) are raised with
+    CPython's exception classes: numba names each by its C variable (``PyExc_TypeError``),
     whose address its JIT maps to the class, where the linker of a module gives the variable's own
     address, which crashed the process. Where this numba has no such unboxing registry, nothing is
     changed."""
@@ -864,7 +870,8 @@ def _unbox_checked():
         gv = self.context.get_c_value(self.builder, self.pyobj, name, dllimport=True)
         return self.builder.load(self.builder.bitcast(gv, self.pyobj.as_pointer()))
 
-    registry[types.Array] = unbox_checked
+    if layouts:
+        registry[types.Array] = unbox_checked
     pythonapi.PythonAPI.get_c_object = exception_class
     try:
         yield
@@ -923,10 +930,13 @@ def kernel(name: str, func: Callable, signature: str, build: bool = True, jit: b
 
 
 def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = True,
-          jit: bool = True) -> dict | None:
+          jit: bool = True, check_layouts: bool = False) -> dict | None:
     """Several kernels in one ahead-of-time module (one build, one import): ``exports`` {name:
     (func, signature)}, ``helpers`` the plain functions they call (compiled with them). Returns
-    {name: compiled function} as :func:`kernel` does for one, or None."""
+    {name: compiled function} as :func:`kernel` does for one, or None. With ``check_layouts`` the
+    module's exports raise ValueError for an array not of the layout their signature declares (where
+    callers pass arrays they did not make; :func:`_unbox_checked`), else such an array is read by its
+    shape alone (a wrong answer)."""
     if group_name in _LOADED:
         return _LOADED[group_name]
     if jit_disabled():  # the plain Python functions (module docstring): debugging only
@@ -937,12 +947,12 @@ def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = Tru
     out = None
     helpers = tuple(getattr(f, "py_func", f) for f in helpers)  # a helper the JIT path replaced
     exports = {k: (getattr(f, "py_func", f), sig) for k, (f, sig) in exports.items()}
-    module = _group_name(group_name, exports, helpers)
+    module = _group_name(group_name, exports, helpers, check_layouts)
     path = _find(module)
     folder = cache_dir()
     if path is None and build and folder is not None:
         with _lock(folder, module):  # one build at a time per module; the others wait, then load it
-            path = _find(module) or _build(folder, module, exports, helpers)
+            path = _find(module) or _build(folder, module, exports, helpers, check_layouts)
     if path is not None:
         try:
             mod = _import(path, module)

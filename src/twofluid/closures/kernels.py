@@ -216,7 +216,7 @@ def _viscosity(n, mu_f, k1, k2, eps_blend, n_c, b, c, solid, out):
 
 
 # C-contiguous arrays (the ahead-of-time module checks each on each call, a ValueError otherwise:
-# twofluid.compiled._unbox_checked): the argument types the models' compiled steps call these loops with,
+# check_layouts, twofluid.compiled._unbox_checked): the argument types the models' compiled steps call these loops with,
 # so that a build compiles each once (twofluid.compiled._stub)
 C1 = "f8[::1]"
 SIGNATURES = {
@@ -241,7 +241,8 @@ def _compiled():
                  "viscosity": _viscosity, "wen_yu_reynolds": _wen_yu_reynolds,
                  "wen_yu_given": _wen_yu_given}
         _KERNELS = group("closures_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()},
-                         helpers=(_ergun, _wen_yu, _drag, _saturated, _mooney, _next, *funcs.values()))
+                         helpers=(_ergun, _wen_yu, _drag, _saturated, _mooney, _next, *funcs.values()),
+                         check_layouts=True)
     return _KERNELS
 
 

@@ -541,8 +541,7 @@ _TRIED = False
 # strides let the compiler drop a multiply per access, and the model's parts (closure_points ...
 # state_check) are then the very functions the whole iterate and the column's step call (compiled once,
 # twofluid.compiled._stub). The ahead-of-time module checks each array's layout on each call (a
-# ValueError otherwise, twofluid.compiled._unbox_checked); Reduced1D._whole_args checks n̄, which it
-# does not make itself, before it takes the whole iterate's way
+# ValueError otherwise: check_layouts, twofluid.compiled._unbox_checked)
 C1, C2, F2 = "f8[::1]", "f8[:,::1]", "f8[::1,:]"
 # the kernels' signatures for the ahead-of-time build (twofluid.compiled): the argument types the
 # model passes, in order
@@ -590,7 +589,8 @@ def _compile():
                    laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
                    laws._wen_yu_reynolds, laws._wen_yu_given,
                    laws._solids_pressure, laws._viscosity, laws._mooney)
-        ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers)
+        ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers,
+                    check_layouts=True)
         lu = block_solve_22()
         common = common_kernels()
         if ker is None or lu is None or common is None:
@@ -624,7 +624,7 @@ def common_kernels():
 
         # (its kernels helpers too: the same functions as the reduced group's and the full step's helpers)
         ker = group("common_1d", {k: (f, SIGNATURES[k]) for k, f in COMMON.items()},
-                    helpers=(_fmax, *COMMON.values()))
+                    helpers=(_fmax, *COMMON.values()), check_layouts=True)
         _COMMON = False if ker is None else ker
     return _COMMON or None
 
