@@ -632,7 +632,8 @@ def _typing_memo():
                 return sig
             hit = typed[key] = (sig, self._impl_keys.get(sig.args))
         sig, impl_key = hit
-        self._impl_keys[sig.args] = impl_key  # as numba's own typing leaves it
+        if impl_key is not None:
+            self._impl_keys[sig.args] = impl_key  # as numba's own typing leaves it
         return sig
 
     context.BaseContext.resolve_function_type = resolve_function_type
