@@ -828,3 +828,25 @@ def test_the_models_kernels_given_a_strided_view_give_the_right_answer_or_a_valu
         assert np.array_equal(strided[::2], pred)
     except ValueError as e:
         assert "C-contiguous" in str(e)
+
+
+def test_an_ir_statements_variables_are_listed_as_numba_lists_them_while_a_module_builds():
+    """Inside a build numba's IR lists a statement's variables by one walk (``compiled._ir_vars_listed_once``):
+    the same variables in the same order for every statement of a kernel; numba's own method is back
+    after."""
+    pytest.importorskip("numba")
+    from numba.core import compiler, ir
+
+    from twofluid.models import reduced_kernel
+
+    func_ir = compiler.run_frontend(reduced_kernel._band_system)
+    stmts = [s for block in func_ir.blocks.values() for s in block.body]
+    own = ir.Inst._rec_list_vars
+    expected = [s.list_vars() for s in stmts]
+    with compiled._ir_vars_listed_once():
+        assert ir.Inst._rec_list_vars is not own
+        got = [s.list_vars() for s in stmts]
+        nested = ir.Inst._rec_list_vars(stmts[0], {"a": [(stmts[0],), {"b": func_ir.arg_names}]})
+    assert got == expected and any(got)
+    assert nested == own(stmts[0], {"a": [(stmts[0],), {"b": func_ir.arg_names}]})
+    assert ir.Inst._rec_list_vars is own
