@@ -760,9 +760,10 @@ LAYOUT_CHILD = textwrap.dedent('''
 def test_an_export_given_an_array_of_another_layout_raises_a_value_error_not_a_wrong_answer(toy):
     """An ahead-of-time export whose array argument is declared C-contiguous (or Fortran-ordered) reads
     it by its shape alone: in a group built with ``check_layouts`` its wrapper checks the layout and
-    raises ValueError for a strided view (a wrong answer otherwise), NumPy's way (a dimension of length 1 or an empty array passes); an array of
-    another item size or no array raises numba's TypeError (it crashed the process: its exception
-    class was CPython's variable's address); the layout's error keeps no reference to the array."""
+    raises ValueError for a strided view (a wrong answer otherwise), NumPy's way (a dimension of length
+    1 or an empty array passes); an array of another item size or no array raises numba's TypeError
+    (it crashed the process: its exception class was CPython's variable's address); the layout's error
+    keeps no reference to the array."""
     src, cache = toy
     (src / "kmod_c.py").write_text("def corner(a):\n    return a[0, 1] + 10.0 * a.shape[0] + 100.0 * a.shape[1]\n")
     def calls(mode):

@@ -216,8 +216,8 @@ def _viscosity(n, mu_f, k1, k2, eps_blend, n_c, b, c, solid, out):
 
 
 # C-contiguous arrays (the ahead-of-time module checks each on each call, a ValueError otherwise:
-# check_layouts, twofluid.compiled._unbox_checked): the argument types the models' compiled steps call these loops with,
-# so that a build compiles each once (twofluid.compiled._stub)
+# check_layouts, twofluid.compiled._unbox_checked): the argument types the models' compiled steps call
+# these loops with, so that a build compiles each once (twofluid.compiled._stub)
 C1 = "f8[::1]"
 SIGNATURES = {
     "beta_per_solids": f"void(i8,b1,f8,f8,f8,{C1},{C1},{C1},f8,f8,{C1})",
