@@ -248,10 +248,11 @@ def _sources(funcs) -> list[str]:
     return sorted(files)
 
 
-def _group_name(group: str, exports: dict, helpers: tuple = ()) -> str:
+def _group_name(group: str, exports: dict, helpers: tuple = (), check_layouts: bool = False) -> str:
     """The module of a group of kernels: named after a hash of the package's version, the source
     files of the kernels, of the helpers they call and of every package function or module they
-    name (:func:`_sources`), their names and signatures, the Python ABI and the NumPy version."""
+    name (:func:`_sources`), their names and signatures, whether its arrays' layouts are checked, the
+    Python ABI and the NumPy version."""
     import numpy
 
     from . import __version__
@@ -263,6 +264,7 @@ def _group_name(group: str, exports: dict, helpers: tuple = ()) -> str:
         # function tokenizes the module (~40 ms for the project's kernels); any edit rebuilds
         digest.update(Path(file).read_bytes())
     key = [f"{f.__qualname__}:{sig}" for f, sig in exports.values()] + [f.__qualname__ for f in helpers]
+    key += ["layouts checked"] if check_layouts else []
     digest.update("\n".join(key + [__version__, sys.implementation.cache_tag, numpy.__version__]).encode())
     return f"_twofluid_{group}_{digest.hexdigest()[:16]}"
 
@@ -274,9 +276,10 @@ def _import(path: Path, module: str):
     return mod
 
 
-def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Path | None:
+def _build(folder: Path, module: str, exports: dict, helpers: tuple = (), check_layouts: bool = False) -> Path | None:
     """Compile ``exports`` {name: (func, signature)} into ``folder/<module><ext>``, the ``helpers``
-    they call compiled with them; None if it cannot be done here."""
+    they call compiled with them, their arrays' layouts checked on each call if ``check_layouts``
+    (:func:`_unbox_checked`); None if it cannot be done here."""
     import shutil  # here, not at the top: only a build needs them
     import tempfile
     import warnings
@@ -299,7 +302,8 @@ def _build(folder: Path, module: str, exports: dict, helpers: tuple = ()) -> Pat
             cc.export(name, signature)(_stub(func) if func in helpers else func)
         with _compiled_helpers(helpers), _no_jit_machine_code(), _helpers_optimised_in_module(), \
                 _plain_typing_messages(), _typing_memo(), _lowering_memo(), _young_gc_only(), \
-                _no_llvm_lock_events(), warnings.catch_warnings():
+                _no_llvm_lock_events(), _unbox_checked(check_layouts), _no_cfunc_wrappers(), _ir_vars_listed_once(), \
+                warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = next(work.glob(f"{module}*{suffix}"))
@@ -574,21 +578,32 @@ def _typing_memo():
     every later call with the same types: the same signature, so the same lowering and instructions
     (eleven of the thirteen modules identical instruction by instruction with and without it; the
     column step's and the hysteretic law's the same instructions in another order, as numba numbers
-    the functions it compiles, and fewer are compiled: ``docs/benchmarks.md``). Calls numba
-    fails to type are not kept (its own failure cache replays them). Where this numba's typing context
-    lacks the method replaced, nothing is changed."""
+    the functions it compiles, and fewer are compiled: ``docs/benchmarks.md``). The same for the
+    operators the type inference names by the Python function (``operator.getitem`` of each array
+    access: 1 600 resolutions in the bed models' process) or by name (``"static_getitem"``), and for
+    the function's own typing (``types.Function.get_call_type``), which the lowering asks again at
+    each operator with a constant operand and each array access (2 700 times there, for 44 distinct
+    answers); that one also keeps the key of the implementation it picked (``_impl_keys``, which
+    the lowering looks up), and gives it back with each later answer. Calls numba fails to type are
+    not kept (its own failure cache replays them). Where this numba's typing context lacks the
+    methods replaced, nothing is changed."""
+    import types as pytypes
+
     try:
         from numba.core import types
         from numba.core.typing import context
 
         resolve = context.BaseContext.__dict__["resolve_function_type"]
+        get_call_type = types.Function.get_call_type
+        own = types.Function.__dict__.get("get_call_type")  # (None: BaseFunction's, inherited)
     except (ImportError, AttributeError, KeyError):
         yield
         return
     memo: dict = {}
+    named = (types.Function, str, pytypes.BuiltinFunctionType)  # (the Python operators: builtins)
 
     def resolve_function_type(self, func, args, kws):
-        if not isinstance(func, types.Function):
+        if not isinstance(func, named):
             return resolve(self, func, args, kws)
         try:
             key = (self, func, tuple(args), tuple(sorted(kws.items())) if kws else ())
@@ -601,11 +616,36 @@ def _typing_memo():
                 memo[key] = sig
         return sig
 
+    typed: dict = {}
+
+    def function_call_type(self, context, args, kws):
+        if type(self) is not types.Function or not isinstance(getattr(self, "_impl_keys", None), dict):
+            return get_call_type(self, context, args, kws)
+        try:
+            key = (self, context, tuple(args), tuple(sorted(kws.items())) if kws else ())
+            hit = typed.get(key)
+        except TypeError:
+            return get_call_type(self, context, args, kws)
+        if hit is None:
+            sig = get_call_type(self, context, args, kws)
+            if sig is None:
+                return sig
+            hit = typed[key] = (sig, self._impl_keys.get(sig.args))
+        sig, impl_key = hit
+        if impl_key is not None:
+            self._impl_keys[sig.args] = impl_key  # as numba's own typing leaves it
+        return sig
+
     context.BaseContext.resolve_function_type = resolve_function_type
+    types.Function.get_call_type = function_call_type
     try:
         yield
     finally:
         context.BaseContext.resolve_function_type = resolve
+        if own is None:
+            del types.Function.get_call_type
+        else:
+            types.Function.get_call_type = own
 
 
 @contextlib.contextmanager
@@ -705,6 +745,193 @@ def _young_gc_only():
         gc.set_threshold(*saved)
 
 
+@contextlib.contextmanager
+def _ir_vars_listed_once():
+    """While a module builds, numba lists the variables of an IR statement (``Inst._rec_list_vars``:
+    its liveness and use-def analyses ask it of every statement after each of its passes, some two
+    million times over the bed models' process) into one list, classifying each value it meets by
+    its type once (a variable, an instruction, a sequence, a mapping, or none of them), where
+    numba's own walk builds a list per value and tests it against each kind in turn: the same
+    variables in the same order, in about half the time. Where this numba's IR lacks the method
+    replaced, nothing is changed."""
+    try:
+        from numba.core import ir
+
+        rec_list_vars = ir.Inst.__dict__["_rec_list_vars"]
+    except (ImportError, KeyError):
+        yield
+        return
+    var, inst = ir.Var, ir.Inst
+    kinds: dict = {}
+
+    def kind_of(t):  # numba's tests, in its order, once per type
+        k = kinds[t] = (1 if issubclass(t, var) else 2 if issubclass(t, inst) else
+                        3 if issubclass(t, (list, tuple)) else 4 if issubclass(t, dict) else 0)
+        return k
+
+    def collect(val, out):
+        k = kinds.get(type(val))
+        if k is None:
+            k = kind_of(type(val))
+        if k == 1:
+            out.append(val)
+        elif k == 2:
+            out.extend(val.list_vars())
+        elif k == 3:
+            for v in val:
+                collect(v, out)
+        elif k == 4:
+            for v in val.values():
+                collect(v, out)
+
+    def listed(self, val):
+        out: list = []
+        collect(val, out)
+        return out
+
+    ir.Inst._rec_list_vars = listed
+    try:
+        yield
+    finally:
+        ir.Inst._rec_list_vars = rec_list_vars
+
+
+@contextlib.contextmanager
+def _no_cfunc_wrappers():
+    """While a module builds, numba makes its exports no C-callable wrapper (a ``cfunc`` wrapper):
+    ``numba.pycc`` makes one for each beside the Python wrapper, which alone the module's method table
+    names, so that the wrapper, typed, lowered and optimised with the module, was compiled into every
+    module and called by nothing (a tenth of the modules' optimised instructions). Where this numba's
+    ``numba.pycc`` has no such flags, nothing is changed."""
+    try:
+        from numba.pycc import compiler
+
+        flags_class = compiler.Flags
+        if "no_cfunc_wrapper" not in dir(flags_class):
+            raise AttributeError
+    except (ImportError, AttributeError):
+        yield
+        return
+
+    class Flags(flags_class):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            self.no_cfunc_wrapper = True
+
+    compiler.Flags = Flags
+    try:
+        yield
+    finally:
+        compiler.Flags = flags_class
+
+
+#: the error of an export given an array not of its declared layout (:func:`_unbox_checked`)
+_LAYOUT_ERROR = ("twofluid: a compiled kernel was given an array that is not {} (its ahead-of-time "
+                 "module reads it by its shape alone; np.ascontiguousarray makes one)")
+
+
+def _layout_error(module, pyapi):
+    """The function of ``module`` that the wrapper of :func:`_unbox_checked` calls on an array of
+    another layout, made on first use: it releases the array's reference that the unboxing took (its
+    meminfo, the first argument, where not null; the wrapper releases none of an argument that
+    failed) and sets the ValueError of the message, the second argument. One call per array in the
+    wrapper, its body once per module (never inlined: it runs only on an error)."""
+    from llvmlite import ir
+    from numba.core import cgutils
+
+    fn = cgutils.get_or_insert_function(module, ir.FunctionType(ir.VoidType(), [cgutils.voidptr_t] * 2),
+                                        "_twofluid_layout_error")
+    if not fn.is_declaration:
+        return fn
+    fn.linkage = "linkonce_odr"
+    fn.attributes.add("noinline")
+    fn.attributes.add("cold")
+    builder = ir.IRBuilder(fn.append_basic_block())
+    meminfo, message = fn.args
+    with builder.if_then(cgutils.is_not_null(builder, meminfo)):
+        decref = cgutils.get_or_insert_function(module, ir.FunctionType(ir.VoidType(), [cgutils.voidptr_t]),
+                                                "NRT_decref")
+        builder.call(decref, [meminfo])
+    gv = module.globals.get("PyExc_ValueError") or \
+        cgutils.add_global_variable(module, pyapi.pyobj, "PyExc_ValueError")
+    exc = builder.load(builder.bitcast(gv, pyapi.pyobj.as_pointer()))  # the variable's value: the class
+    set_string = cgutils.get_or_insert_function(module, ir.FunctionType(ir.VoidType(), [pyapi.pyobj,
+                                                                                    cgutils.voidptr_t]),
+                                                "PyErr_SetString")
+    builder.call(set_string, [exc, message])
+    builder.ret_void()
+    return fn
+
+
+@contextlib.contextmanager
+def _unbox_checked(layouts: bool = True):
+    """While a module builds, if ``layouts`` (a group's ``check_layouts``), the Python wrapper of each
+    export checks that each array it is given as C-contiguous (``f8[::1]``, ``f8[:, ::1]``) or
+    Fortran-contiguous (``f8[::1, :]``) is so, and raises ValueError (:data:`_LAYOUT_ERROR`) where one
+    is not: ``numba.pycc``'s wrapper checks only the item size, and the compiled code addresses such an
+    array by its shape alone, so a strided view would be read and written at the wrong places,
+    silently. The test is NumPy's (strides of the dimensions of length 1 ignored, an empty array
+    contiguous): about seven instructions per array and call (a group whose callers make their arrays
+    themselves does without: the full step's 1.8 M instructions in the bed run). Arrays of any layout
+    (``f8[:]``) are not checked. And, in every module, the errors of the wrapper's unboxing (this one,
+    numba's own TypeError for an argument that is no array or has another item size) are raised with
+    CPython's exception classes: numba names each by its C variable (``PyExc_TypeError``),
+    whose address its JIT maps to the class, where the linker of a module gives the variable's own
+    address, which crashed the process. Where this numba has no such unboxing registry, nothing is
+    changed."""
+    try:
+        from numba.core import boxing, cgutils, pythonapi, types  # (boxing registers the unboxing)
+
+        registry = pythonapi._unboxers.functions
+        if registry.get(types.Array) is not boxing.unbox_array:
+            raise KeyError
+        unbox = registry[types.Array]
+    except (ImportError, AttributeError, KeyError):
+        yield
+        return
+
+    def unbox_checked(typ, obj, c):
+        native = unbox(typ, obj, c)
+        if typ.layout not in ("C", "F") or not typ.ndim:
+            return native
+        builder = c.builder
+        ary = c.context.make_array(typ)(c.context, builder, value=native.value)
+        shape = cgutils.unpack_tuple(builder, ary.shape, typ.ndim)
+        strides = cgutils.unpack_tuple(builder, ary.strides, typ.ndim)
+        one = shape[0].type(1)
+        ok, empty, expected = cgutils.true_bit, cgutils.false_bit, ary.itemsize
+        for dim in (reversed(range(typ.ndim)) if typ.layout == "C" else range(typ.ndim)):
+            packed = builder.or_(builder.icmp_signed("<=", shape[dim], one),
+                                 builder.icmp_signed("==", strides[dim], expected))
+            ok = builder.and_(ok, packed)
+            empty = builder.or_(empty, builder.icmp_signed("==", shape[dim], shape[dim].type(0)))
+            expected = builder.mul(expected, shape[dim])
+        bad = builder.and_(builder.not_(native.is_error), builder.not_(builder.or_(ok, empty)))
+        with builder.if_then(bad, likely=False):
+            which = "C-contiguous" if typ.layout == "C" else "Fortran-contiguous"
+            message = c.context.insert_const_string(builder.module, _LAYOUT_ERROR.format(which))
+            meminfo = ary.meminfo if c.context.enable_nrt else cgutils.voidptr_t(None)
+            builder.call(_layout_error(builder.module, c.pyapi), [meminfo, message])
+        return type(native)(native.value, is_error=builder.or_(native.is_error, bad), cleanup=native.cleanup)
+
+    get_c_object = pythonapi.PythonAPI.get_c_object
+
+    def exception_class(self, name):  # CPython's PyExc_* variable's value (its JIT maps the name to the class)
+        if not name.startswith("PyExc_"):
+            return get_c_object(self, name)
+        gv = self.context.get_c_value(self.builder, self.pyobj, name, dllimport=True)
+        return self.builder.load(self.builder.bitcast(gv, self.pyobj.as_pointer()))
+
+    if layouts:
+        registry[types.Array] = unbox_checked
+    pythonapi.PythonAPI.get_c_object = exception_class
+    try:
+        yield
+    finally:
+        registry[types.Array] = unbox
+        pythonapi.PythonAPI.get_c_object = get_c_object
+
+
 def _unliteral(dispatcher):
     """``dispatcher`` typed on its arguments' plain types where a caller passes a constant (numba
     would otherwise compile a helper again for each literal it is called with, ``Literal[int](0)``
@@ -755,10 +982,13 @@ def kernel(name: str, func: Callable, signature: str, build: bool = True, jit: b
 
 
 def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = True,
-          jit: bool = True) -> dict | None:
+          jit: bool = True, check_layouts: bool = False) -> dict | None:
     """Several kernels in one ahead-of-time module (one build, one import): ``exports`` {name:
     (func, signature)}, ``helpers`` the plain functions they call (compiled with them). Returns
-    {name: compiled function} as :func:`kernel` does for one, or None."""
+    {name: compiled function} as :func:`kernel` does for one, or None. With ``check_layouts`` the
+    module's exports raise ValueError for an array not of the layout their signature declares (where
+    callers pass arrays they did not make; :func:`_unbox_checked`), else such an array is read by its
+    shape alone (a wrong answer)."""
     if group_name in _LOADED:
         return _LOADED[group_name]
     if jit_disabled():  # the plain Python functions (module docstring): debugging only
@@ -769,12 +999,12 @@ def group(group_name: str, exports: dict, helpers: tuple = (), build: bool = Tru
     out = None
     helpers = tuple(getattr(f, "py_func", f) for f in helpers)  # a helper the JIT path replaced
     exports = {k: (getattr(f, "py_func", f), sig) for k, (f, sig) in exports.items()}
-    module = _group_name(group_name, exports, helpers)
+    module = _group_name(group_name, exports, helpers, check_layouts)
     path = _find(module)
     folder = cache_dir()
     if path is None and build and folder is not None:
         with _lock(folder, module):  # one build at a time per module; the others wait, then load it
-            path = _find(module) or _build(folder, module, exports, helpers)
+            path = _find(module) or _build(folder, module, exports, helpers, check_layouts)
     if path is not None:
         try:
             mod = _import(path, module)

@@ -664,3 +664,190 @@ def test_a_functions_lowering_is_looked_up_once_per_signature_while_a_module_bui
     assert a is b and a is not c
     assert [fn for fn, first in looked if first] == [operator.add, operator.mul, "__array__", "no_such_function",
                                                      "no_such_function"]
+
+
+def test_a_function_types_own_typing_is_answered_once_per_argument_types_while_a_module_builds():
+    """Inside a build a ``types.Function``'s typing (which the lowering asks again at each operator with
+    a constant operand and each array access) and the typing context's resolution of an operator named
+    by its Python function (``operator.getitem``) are answered from their first answer; the
+    implementation key the first typing stored is given back with each later answer; numba's own
+    methods are back after."""
+    pytest.importorskip("numba")
+    import operator
+
+    from numba.core import types, typing
+    from numba.core.registry import cpu_target
+    from numba.core.types import functions
+
+    ctx = cpu_target.typing_context
+    ctx.refresh()
+    fnty = ctx.resolve_value_type(operator.add)
+    typed = []
+    get_call_type = functions.BaseFunction.get_call_type
+
+    def counted(self, context, args, kws):
+        typed.append((self, tuple(args)))
+        return get_call_type(self, context, args, kws)
+
+    ff = (types.float64, types.float64)
+    with pytest.MonkeyPatch.context() as m:
+        m.setattr(functions.BaseFunction, "get_call_type", counted)
+        with compiled._typing_memo():
+            a = fnty.get_call_type(ctx, ff, {})
+            key = fnty._impl_keys[a.args]
+            fnty._impl_keys[a.args] = "another template's"  # (a later typing with other arguments)
+            b = fnty.get_call_type(ctx, ff, {})
+            assert fnty._impl_keys[a.args] == key
+            c = fnty.get_call_type(ctx, (types.int64, types.int64), {})
+            array = types.float64[::1]
+            d = ctx.resolve_function_type(operator.getitem, (array, types.intp), {})
+            e = ctx.resolve_function_type(operator.getitem, (array, types.intp), {})
+        assert "get_call_type" not in vars(types.Function) and functions.BaseFunction.get_call_type is counted
+    assert a is b and a.return_type == types.float64 and c.return_type == types.int64
+    assert d is e and d.return_type == types.float64
+    assert [args for f, args in typed if f is fnty] == [ff, (types.int64, types.int64)]
+    assert len([args for f, args in typed if f is not fnty]) == 1  # getitem: typed once
+    assert typing.context.BaseContext.resolve_function_type.__qualname__ == "BaseContext.resolve_function_type"
+
+
+def test_an_export_makes_no_c_callable_wrapper_while_its_module_builds(toy, monkeypatch):
+    """numba.pycc's exports are built without numba's C-callable (cfunc) wrapper, which nothing of the
+    module calls: the kernel computes the same, and numba.pycc's flags are its own again after."""
+    pycc = pytest.importorskip("numba.pycc")
+    from numba.core import cpu
+    from numba.pycc import compiler
+
+    kmod_a, kmod_b = _toy_build(toy, monkeypatch)
+    made = []
+    create = cpu.CPUContext.create_cfunc_wrapper
+    monkeypatch.setattr(cpu.CPUContext, "create_cfunc_wrapper",
+                        lambda self, *a, **k: (made.append(a), create(self, *a, **k))[1])
+    flags = compiler.Flags
+    out = compiled.group("toy_no_cfunc", {"total": (kmod_a.total, SIGNATURE)}, helpers=(kmod_b.helper,))
+    monkeypatch.delitem(compiled._LOADED, "toy_no_cfunc")
+    _aot_or_skip("aot" if type(out["total"]).__name__ == "builtin_function_or_method" else "jit")
+    assert out["total"](X) == expected()
+    assert made == [] and compiler.Flags is flags and pycc is not None
+
+
+# the child of the layout test: a toy group whose exports take a C-contiguous vector and a Fortran-ordered
+# matrix, called with arrays of the right and of other layouts; prints one line per call
+LAYOUT_CHILD = textwrap.dedent('''
+    import sys
+    sys.path.insert(0, sys.argv[1])
+    import numpy as np
+    import kmod_a, kmod_b, kmod_c
+    from twofluid import compiled
+    out = compiled.group("toy_layout", {"total": (kmod_a.total, "f8(f8[::1])"),
+                                        "corner": (kmod_c.corner, "f8(f8[::1, :])")}, helpers=(kmod_b.helper,),
+                        check_layouts=sys.argv[2] == "checked")
+    total, corner = out["total"], out["corner"]
+    print("aot" if type(total).__name__ == "builtin_function_or_method" else "jit")
+    x = np.linspace(0.0, 1.0, 22)
+    m = np.arange(12.0).reshape(3, 4)
+    calls = [("contiguous", total, x[:11]), ("strided", total, x[::2]), ("float32", total, x[::2].astype(np.float32)),
+             ("list", total, [0.0, 1.0]), ("fortran", corner, np.asfortranarray(m)), ("C order", corner, m),
+             ("one column", corner, m[:, 1:2]), ("empty", total, x[:0])]
+    for name, f, a in calls:
+        before = sys.getrefcount(a)
+        try:
+            print(name, "value", repr(f(a)), sys.getrefcount(a) - before)
+        except Exception as e:
+            print(name, type(e).__name__, sys.getrefcount(a) - before, str(e).replace(" ", "_"))
+''')
+
+
+def test_an_export_given_an_array_of_another_layout_raises_a_value_error_not_a_wrong_answer(toy):
+    """An ahead-of-time export whose array argument is declared C-contiguous (or Fortran-ordered) reads
+    it by its shape alone: in a group built with ``check_layouts`` its wrapper checks the layout and
+    raises ValueError for a strided view (a wrong answer otherwise), NumPy's way (a dimension of length
+    1 or an empty array passes); an array of another item size or no array raises numba's TypeError
+    (it crashed the process: its exception class was CPython's variable's address); the layout's error
+    keeps no reference to the array."""
+    src, cache = toy
+    (src / "kmod_c.py").write_text("def corner(a):\n    return a[0, 1] + 10.0 * a.shape[0] + 100.0 * a.shape[1]\n")
+    def calls(mode):
+        r = subprocess.run([sys.executable, "-c", LAYOUT_CHILD, str(src), mode], capture_output=True, text=True,
+                           env=_env(cache), timeout=600)
+        assert r.returncode == 0, r.stderr[-3000:]
+        how, *lines = r.stdout.splitlines()
+        _aot_or_skip(how)
+        return {line.split()[0] if not line.startswith(("C order", "one column")) else " ".join(line.split()[:2]):
+                line.split()[-3:] for line in lines}
+
+    got = calls("checked")
+    s = 0.0
+    for v in np.linspace(0.0, 1.0, 22)[:11]:
+        s += 2.0 * float(v)
+    assert got["contiguous"] == ["value", repr(s + 0.5), "0"]
+    assert got["strided"][:2] == ["ValueError", "0"] and "C-contiguous" in got["strided"][2]
+    assert got["float32"][0] == "TypeError" and got["list"][:2] == ["TypeError", "0"]  # (numba's error keeps a
+    # reference to an array of another item size, as it always did)
+    assert got["fortran"] == ["value", repr(1.0 + 30.0 + 400.0), "0"]
+    assert got["C order"][:2] == ["ValueError", "0"] and "Fortran-contiguous" in got["C order"][2]
+    assert got["one column"][:2] == ["ValueError", "0"]  # (3, 1) with a row stride of 4: not contiguous
+    assert got["empty"] == ["value", "0.5", "0"]
+    unchecked = calls("unchecked")  # a group without check_layouts: another module, its errors raised alike
+    assert unchecked["contiguous"] == got["contiguous"] and unchecked["strided"][0] == "value"
+    assert unchecked["float32"][0] == "TypeError" and unchecked["list"][:2] == ["TypeError", "0"]
+
+
+def test_the_models_kernels_given_a_strided_view_give_the_right_answer_or_a_value_error():
+    """The 1D models' kernels typed C-contiguous (the common group's state check, a closure law, the
+    extrapolation) called with a strided view: the ahead-of-time module raises ValueError; the JIT
+    (where no module could be built) or the plain function computes on the view; never the answer of
+    the wrong entries."""
+    from twofluid.closures import kernels as law_kernels
+    from twofluid.models import extrapolation, reduced_kernel
+
+    common = reduced_kernel.common_kernels()
+    if common is None:
+        pytest.skip("no compiled kernels here")
+    n = np.tile([0.5, 2.0], 6)  # the view n[::2] is admissible; the array's first half is not
+    V = np.zeros(12)
+    try:
+        assert common["state_check"](n[::2], V[::2]) == 0
+    except ValueError as e:
+        assert "C-contiguous" in str(e)
+    assert common["state_check"](np.ascontiguousarray(n[::2]), V[:6]) == 0
+    laws = law_kernels._compiled()
+    out = np.empty(6)
+    try:
+        laws["viscosity"](n[::2], 1e-3, 1.0, 1.0, 0.2, 0.5, 0.0, 0.0, False, out)
+        ref = np.empty(6)
+        laws["viscosity"](np.full(6, 0.5), 1e-3, 1.0, 1.0, 0.2, 0.5, 0.0, 0.0, False, ref)
+        assert np.array_equal(out, ref)
+    except ValueError as e:
+        assert "C-contiguous" in str(e)
+    predict = extrapolation._kernels()[0]
+    D = np.arange(12.0).reshape(3, 4)
+    pred = np.empty(4)
+    predict(D, 3, pred)
+    strided = np.empty(8)
+    try:
+        predict(D, 3, strided[::2])
+        assert np.array_equal(strided[::2], pred)
+    except ValueError as e:
+        assert "C-contiguous" in str(e)
+
+
+def test_an_ir_statements_variables_are_listed_as_numba_lists_them_while_a_module_builds():
+    """Inside a build numba's IR lists a statement's variables by one walk (``compiled._ir_vars_listed_once``):
+    the same variables in the same order for every statement of a kernel; numba's own method is back
+    after."""
+    pytest.importorskip("numba")
+    from numba.core import compiler, ir
+
+    from twofluid.models import reduced_kernel
+
+    func_ir = compiler.run_frontend(reduced_kernel._band_system)
+    stmts = [s for block in func_ir.blocks.values() for s in block.body]
+    own = ir.Inst._rec_list_vars
+    expected = [s.list_vars() for s in stmts]
+    with compiled._ir_vars_listed_once():
+        assert ir.Inst._rec_list_vars is not own
+        got = [s.list_vars() for s in stmts]
+        nested = ir.Inst._rec_list_vars(stmts[0], {"a": [(stmts[0],), {"b": func_ir.arg_names}]})
+    assert got == expected and any(got)
+    assert nested == own(stmts[0], {"a": [(stmts[0],), {"b": func_ir.arg_names}]})
+    assert ir.Inst._rec_list_vars is own

@@ -215,13 +215,16 @@ def _viscosity(n, mu_f, k1, k2, eps_blend, n_c, b, c, solid, out):
             out[i] = mu_m
 
 
-A1 = "f8[:]"
+# C-contiguous arrays (the ahead-of-time module checks each on each call, a ValueError otherwise:
+# check_layouts, twofluid.compiled._unbox_checked): the argument types the models' compiled steps call
+# these loops with, so that a build compiles each once (twofluid.compiled._stub)
+C1 = "f8[::1]"
 SIGNATURES = {
-    "beta_per_solids": f"void(i8,b1,f8,f8,f8,{A1},{A1},{A1},f8,f8,{A1})",
-    "solids_pressure": f"void({A1},{A1},{A1},{A1},{A1},b1,{A1},{A1})",
-    "viscosity": f"void({A1},f8,f8,f8,f8,f8,f8,f8,b1,{A1})",
-    "wen_yu_reynolds": f"void(f8,{A1},{A1},{A1},f8,f8,{A1})",
-    "wen_yu_given": f"void(b1,{A1},{A1},{A1},{A1},{A1},f8,{A1})",
+    "beta_per_solids": f"void(i8,b1,f8,f8,f8,{C1},{C1},{C1},f8,f8,{C1})",
+    "solids_pressure": f"void({C1},{C1},{C1},{C1},{C1},b1,{C1},{C1})",
+    "viscosity": f"void({C1},f8,f8,f8,f8,f8,f8,f8,b1,{C1})",
+    "wen_yu_reynolds": f"void(f8,{C1},{C1},{C1},f8,f8,{C1})",
+    "wen_yu_given": f"void(b1,{C1},{C1},{C1},{C1},{C1},f8,{C1})",
 }
 _KERNELS = None
 _TRIED = False
@@ -238,7 +241,8 @@ def _compiled():
                  "viscosity": _viscosity, "wen_yu_reynolds": _wen_yu_reynolds,
                  "wen_yu_given": _wen_yu_given}
         _KERNELS = group("closures_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()},
-                         helpers=(_ergun, _wen_yu, _drag, _saturated, _mooney, _next))
+                         helpers=(_ergun, _wen_yu, _drag, _saturated, _mooney, _next, *funcs.values()),
+                         check_layouts=True)
     return _KERNELS
 
 

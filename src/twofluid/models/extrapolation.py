@@ -48,8 +48,12 @@ def _kernels():
     if _KERNELS is None:
         from ..compiled import group
 
-        ker = group("extrapolation", {"predict": (_predict_entries, "void(f8[:,:], i8, f8[:])"),
-                                      "push": (_push_entries, "void(f8[:], f8[:,:], f8[:,:])")})
+        # C-contiguous arrays (checked on each call: check_layouts, twofluid.compiled._unbox_checked), as
+        # the models' compiled steps call these loops (helpers: compiled once with them,
+        # twofluid.compiled._stub)
+        ker = group("extrapolation", {"predict": (_predict_entries, "void(f8[:,::1], i8, f8[::1])"),
+                                      "push": (_push_entries, "void(f8[::1], f8[:,::1], f8[:,::1])")},
+                    helpers=(_predict_entries, _push_entries), check_layouts=True)
         _KERNELS = (ker["predict"], ker["push"])
     return _KERNELS
 

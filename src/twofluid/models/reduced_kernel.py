@@ -537,22 +537,24 @@ _COMPILED = None
 _TRIED = False
 
 
-A1, A2 = "f8[:]", "f8[:,:]"  # arrays of any layout (C or Fortran order, as the model passes them)
-# the whole iterate's and the fused shift's arrays, all C-contiguous (Reduced1D._whole_args checks
-# the one it does not make itself, n̄): constant strides let the compiler drop a multiply per access
-C1, C2 = "f8[::1]", "f8[:,::1]"
+# the kernels' arrays, all C-contiguous but the band storage (Fortran order, as LAPACK takes it): constant
+# strides let the compiler drop a multiply per access, and the model's parts (closure_points ...
+# state_check) are then the very functions the whole iterate and the column's step call (compiled once,
+# twofluid.compiled._stub). The ahead-of-time module checks each array's layout on each call (a
+# ValueError otherwise: check_layouts, twofluid.compiled._unbox_checked)
+C1, C2, F2 = "f8[::1]", "f8[:,::1]", "f8[::1,:]"
 # the kernels' signatures for the ahead-of-time build (twofluid.compiled): the argument types the
 # model passes, in order
 SIGNATURES = {
-    "closure_points": "void(" + ",".join([A1] * 7 + [A2] * 3) + ")",
-    "band_system": "void(" + ",".join([A1] * 3 + [A2] * 2 + [A1] * 3 + ["b1", "f8", "f8", "f8", "b1", A1, "b1"]
-                                      + [A2] * 4 + [A1, A2]) + ")",
-    "step_pressure": "void(" + ",".join([A1] * 3 + [A2] * 4 + ["b1", A1, "b1", "f8", A1]) + ")",
-    "shift_points": "void(" + ",".join([A1] * 7) + ")",
-    "shift": "void(" + ",".join([A1] * 6 + [A2, A1, A1, "f8", "f8", "f8", A1]) + ")",
-    "step_constants": "void(" + ",".join([A1] * 5 + ["f8", A1, "f8", "f8", "f8", A2, A2, A1, A1, A1, A2, A2]) + ")",
-    "iterate_change": "void(" + ",".join([A1] * 7 + ["f8", A1]) + ")",
-    "state_check": f"i8({A1},{A1})",
+    "closure_points": "void(" + ",".join([C1] * 7 + [C2] * 3) + ")",
+    "band_system": "void(" + ",".join([C1] * 3 + [C2] * 2 + [C1] * 3 + ["b1", "f8", "f8", "f8", "b1", C1, "b1"]
+                                      + [C2] * 3 + [F2, C1, C2]) + ")",
+    "step_pressure": "void(" + ",".join([C1] * 3 + [C2] * 4 + ["b1", C1, "b1", "f8", C1]) + ")",
+    "shift_points": "void(" + ",".join([C1] * 7) + ")",
+    "shift": "void(" + ",".join([C1] * 6 + [C2, C1, C1, "f8", "f8", "f8", C1]) + ")",
+    "step_constants": "void(" + ",".join([C1] * 5 + ["f8", C1, "f8", "f8", "f8", C2, C2, C1, C1, C1, C2, C2]) + ")",
+    "iterate_change": "void(" + ",".join([C1] * 7 + ["f8", C1]) + ")",
+    "state_check": f"i8({C1},{C1})",
     "shift_law_points": "void(" + ",".join([C1] * 5 + ["f8", C1, "f8", "f8", "b1"] + [C1] * 3) + ")",
     "shift_with_laws": "void(" + ",".join([C1] * 9 + ["i8"] + [C1] * 5 + ["b1", "f8", C2] + [C1] * 2
                                           + ["f8"] * 3 + [C1]) + ")",
@@ -578,15 +580,17 @@ def _compile():
                  "step_pressure": _step_pressure, "step_constants": _step_constants, "iterate_points": _iterate_points, "whole_iterate": _whole_iterate,
                  "shift_law_points": _shift_law_points, "shift_with_laws": _shift_with_laws,
                  "first_iterate": _first_iterate}
-        # (the whole iterate's exports are helpers too: compiled once for this group and the column's step,
-        # which calls them with the same argument types; twofluid.compiled._stub)
-        helpers = (_fmax, _sign, _closure_points, _band_system, _iterate_change, _shift_points, _shift, banded._u,
+        # (the exports are helpers too: compiled once for this group, the common one and the column's step,
+        # which call them with the same argument types; twofluid.compiled._stub)
+        helpers = (_fmax, _sign, _closure_points, _band_system, _step_pressure, _step_constants, _state_check,
+                   _iterate_change, _shift_points, _shift, banded._u,
                    banded._gbsv22, banded._bt22, extrapolation._predict_entries, _iterate_points, _whole_iterate,
                    _shift_law_points, _shift_with_laws, _first_iterate,
                    laws._beta_per_solids, laws._drag, laws._ergun, laws._wen_yu, laws._saturated, laws._next,
                    laws._wen_yu_reynolds, laws._wen_yu_given,
                    laws._solids_pressure, laws._viscosity, laws._mooney)
-        ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers)
+        ker = group("reduced_1d", {k: (f, SIGNATURES[k]) for k, f in funcs.items()}, helpers=helpers,
+                    check_layouts=True)
         lu = block_solve_22()
         common = common_kernels()
         if ker is None or lu is None or common is None:
@@ -618,7 +622,9 @@ def common_kernels():
     if _COMMON is None:
         from ..compiled import group
 
-        ker = group("common_1d", {k: (f, SIGNATURES[k]) for k, f in COMMON.items()}, helpers=(_fmax,))
+        # (its kernels helpers too: the same functions as the reduced group's and the full step's helpers)
+        ker = group("common_1d", {k: (f, SIGNATURES[k]) for k, f in COMMON.items()},
+                    helpers=(_fmax, *COMMON.values()), check_layouts=True)
         _COMMON = False if ker is None else ker
     return _COMMON or None
 
