@@ -745,6 +745,11 @@ def _young_gc_only():
         gc.set_threshold(*saved)
 
 
+#: SHA-256 (first 16 hex digits) of the source of numba's ``Inst._rec_list_vars`` that
+#: :func:`_ir_vars_listed_once` repeats (numba 0.68's)
+_REC_LIST_VARS_SOURCE = "c083cbdf60a8f3b5"
+
+
 @contextlib.contextmanager
 def _ir_vars_listed_once():
     """While a module builds, numba lists the variables of an IR statement (``Inst._rec_list_vars``:
@@ -753,12 +758,19 @@ def _ir_vars_listed_once():
     its type once (a variable, an instruction, a sequence, a mapping, or none of them), where
     numba's own walk builds a list per value and tests it against each kind in turn: the same
     variables in the same order, in about half the time. Where this numba's IR lacks the method
-    replaced, nothing is changed."""
+    replaced, or its source is not the one this walk repeats (:data:`_REC_LIST_VARS_SOURCE`: another
+    numba may list other kinds of value), nothing is changed."""
     try:
+        import inspect
+
         from numba.core import ir
 
         rec_list_vars = ir.Inst.__dict__["_rec_list_vars"]
-    except (ImportError, KeyError):
+        source = hashlib.sha256(inspect.cleandoc(inspect.getsource(rec_list_vars)).encode()).hexdigest()[:16]
+    except (ImportError, KeyError, OSError, TypeError):
+        yield
+        return
+    if source != _REC_LIST_VARS_SOURCE:
         yield
         return
     var, inst = ir.Var, ir.Inst

@@ -834,8 +834,11 @@ def test_the_models_kernels_given_a_strided_view_give_the_right_answer_or_a_valu
 def test_an_ir_statements_variables_are_listed_as_numba_lists_them_while_a_module_builds():
     """Inside a build numba's IR lists a statement's variables by one walk (``compiled._ir_vars_listed_once``):
     the same variables in the same order for every statement of a kernel; numba's own method is back
-    after."""
+    after. A numba whose method has another source keeps its own."""
     pytest.importorskip("numba")
+    import hashlib
+    import inspect
+
     from numba.core import compiler, ir
 
     from twofluid.models import reduced_kernel
@@ -843,11 +846,26 @@ def test_an_ir_statements_variables_are_listed_as_numba_lists_them_while_a_modul
     func_ir = compiler.run_frontend(reduced_kernel._band_system)
     stmts = [s for block in func_ir.blocks.values() for s in block.body]
     own = ir.Inst._rec_list_vars
+    known = hashlib.sha256(inspect.cleandoc(inspect.getsource(own)).encode()).hexdigest()[:16] \
+        == compiled._REC_LIST_VARS_SOURCE
     expected = [s.list_vars() for s in stmts]
     with compiled._ir_vars_listed_once():
-        assert ir.Inst._rec_list_vars is not own
+        assert (ir.Inst._rec_list_vars is not own) == known
         got = [s.list_vars() for s in stmts]
         nested = ir.Inst._rec_list_vars(stmts[0], {"a": [(stmts[0],), {"b": func_ir.arg_names}]})
     assert got == expected and any(got)
     assert nested == own(stmts[0], {"a": [(stmts[0],), {"b": func_ir.arg_names}]})
+    assert ir.Inst._rec_list_vars is own
+
+
+def test_numbas_own_variable_listing_is_kept_where_its_source_is_another(monkeypatch):
+    """``compiled._ir_vars_listed_once`` repeats one source of numba's ``Inst._rec_list_vars``: with
+    another (a later numba's), the build keeps numba's own method."""
+    pytest.importorskip("numba")
+    from numba.core import ir
+
+    own = ir.Inst._rec_list_vars
+    monkeypatch.setattr(compiled, "_REC_LIST_VARS_SOURCE", "0" * 16)
+    with compiled._ir_vars_listed_once():
+        assert ir.Inst._rec_list_vars is own
     assert ir.Inst._rec_list_vars is own
