@@ -65,6 +65,18 @@ def _env(cache: Path, **extra) -> dict:
     return env
 
 
+def _edit(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` as a later edit: CPython takes a module's cached bytecode
+    (``__pycache__``) as current where the source has the size and the modification time, in whole
+    seconds, it was compiled from, so an edit of the same size in the same second as the last import
+    would be read as the old module whatever the kernels' cache does. The edit's time is put 2 s
+    after the file's last one, as an edit by hand comes."""
+    before = path.stat().st_mtime_ns
+    path.write_text(text)
+    later = max(path.stat().st_mtime_ns, before + 2_000_000_000)
+    os.utime(path, ns=(later, later))
+
+
 def _child(src: Path, cache: Path, mode: str = "aot", prefix: list[str] | None = None, **env):
     r = subprocess.run([*(prefix or []), sys.executable, "-c", CHILD, str(src), mode], capture_output=True,
                        text=True, env=_env(cache, **env), timeout=600)
@@ -99,9 +111,9 @@ def test_editing_a_callee_in_another_file_recompiles(toy, mode):
         _aot_or_skip(how)
     assert how == mode and value == expected()
     assert _child(src, cache, mode)[0] == value  # found again (same key)
-    (src / "kmod_b.py").write_text(KMOD_B.replace("SCALE = 2.0", "SCALE = 3.0"))
+    _edit(src / "kmod_b.py", KMOD_B.replace("SCALE = 2.0", "SCALE = 3.0"))
     assert _child(src, cache, mode)[0] == expected(3.0)
-    (src / "kmod_b.py").write_text(KMOD_B.replace("SCALE = 2.0", "SCALE = 3.0").replace("OFFSET = 0.5",
+    _edit(src / "kmod_b.py", KMOD_B.replace("SCALE = 2.0", "SCALE = 3.0").replace("OFFSET = 0.5",
                                                                                         "OFFSET = 1.5"))
     assert _child(src, cache, mode)[0] == expected(3.0, 1.5)
 
