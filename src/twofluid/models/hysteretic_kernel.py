@@ -88,7 +88,9 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
     ``quick``: 0, Newton's iterations to the tolerance (the two-fluid run); 1 (the total-stress
     companion, :func:`twofluid.runners.liquefaction_total_stress.one_call`), stopped as well once the
     next update, at the last rate of contraction of this branch's iterations, would be within the
-    tolerance (:func:`_contracted`): the same solution to far below the tolerance, in fewer evaluations of the law."""
+    tolerance (:func:`_contracted`), where both updates are Newton's own (the first four iterations:
+    from the fifth the slope is the chord between the last two iterates, whose rate is another
+    method's): the same solution to far below the tolerance, in fewer evaluations of the law."""
     ne = h.size
     nv = ne + 1
     m = a_in.size
@@ -251,7 +253,8 @@ def _substeps(u, v, a, st, par, nb, n, dn, A, p_ref, rho, eta, h, ns, a0, a1, im
                 dmax, umax = _nb.newton_update(un, du, first, relax)
                 if dmax < 0.0:
                     return 2
-                if dmax <= tol * max(umax, 1e-9) or (quick == 1 and _contracted(dmax, d_last, tol * max(umax, 1e-9))):
+                # (quick: the rate only between two of Newton's own updates, before the chord's from it = 4)
+                if dmax <= tol * max(umax, 1e-9) or (quick == 1 and it < 4 and _contracted(dmax, d_last, tol * max(umax, 1e-9))):
                     converged = True
                     break
                 d_last = dmax
