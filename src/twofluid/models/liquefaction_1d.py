@@ -940,40 +940,35 @@ class LiquefactionColumn:
         if self.shear_only:  # a total-stress companion run: no pore pressure, nothing moves vertically
             vert = s.vertical.copy(t=t_new)
             return ColumnStep(ColumnState(vert, wave, hist), dt, m, 0, 0.0, tuple(surface), samples)
-        its, inflow, made, split = 0, 0.0, None, False
+        its, inflow, made, split, joint = 0, 0.0, None, False, None
+        h = min(dt, t_new - t0)  # the stepper's first try in one compiled call: integrate's first step to t_new
+        h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
         tried = fused and sheared and type(v0) is State and fast is not None and t0 < t_new - eps
         if tried:  # n̄ the shear's own new array: the split step starts from v0 with it (no copy of v0 made)
-            h = min(dt, t_new - t0)  # (integrate's first step to t_new)
-            h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
             # (deferred: the hysteretic sub-steps' own law state, a C-contiguous float64 array, copied for the next)
-            made = self._split_step(v0, h, dt, wave.u, check, fixed, n_bar, wave.gamma if defer else None,
-                                    hist if defer else None)
-            if made is not None:
-                vert, its, outflow = made
-                inflow -= h * outflow
-                split = True
-            elif defer:  # (the call did not make the step: γ as the shear gives it)
+            joint = self._split_step(v0, h, dt, wave.u, check, fixed, n_bar, wave.gamma if defer else None,
+                                     hist if defer else None)
+            if joint is None and defer:  # (the call did not make the step: γ as the shear gives it)
                 u = wave.u
                 wave.gamma = (u[1:] - u[:-1]) / self.wave.h
-        if made is None:
+        if joint is None:
             # the stepper and the compiled step read the old arrays and write new ones: no copy needed
             vert = State(v0.t, v0.V, v0.W, v0.P, v0.n, n_bar) if type(v0) is State else v0.copy(n_bar=n_bar)
             if hasattr(self.v, "continue_from"):  # the reduced model's extrapolation history goes on
                 self.v.continue_from(v0, vert)
-            if not tried and fast is not None and vert.t < t_new - eps:  # the stepper's first try in one compiled call
-                h = min(dt, t_new - t0)  # (integrate's first step to t_new)
-                h = t_new - t0 if t_new - t0 - h < 0.01 * dt else h
+            if not tried and fast is not None and vert.t < t_new - eps:
                 if fused:
-                    made = self._split_step(vert, h, dt, wave.u, check, fixed)
-                    if made is not None:
-                        vert, its, outflow = made
-                        inflow -= h * outflow
-                        split = True
+                    joint = self._split_step(vert, h, dt, wave.u, check, fixed)
                 else:
                     made = fast(vert, h, self.settings)
                     if made is not None:
                         vert, its = made
                         inflow -= h * self.v.solids_outflow(vert)
+        if joint is not None:  # (the split step's call made it: the vertical step and what follows it)
+            made = joint
+            vert, its, outflow = joint
+            inflow -= h * outflow
+            split = True
         if check and made is None and not (np.isfinite(n_bar).all() and np.isfinite(wave.u).all()):
             raise self._not_finite(t0, dt, s)
         if made is None or vert.t < t_new - eps:  # the stepper (all of the step, or the rest)
